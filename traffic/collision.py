@@ -1,0 +1,96 @@
+"""Contact between actors from their oriented ground rectangles (separating-axis test).
+
+SUMO reports only some contacts (vehicles on the same or crossing lanes); geometry catches the
+rest, such as a pedestrian stepping into a car's path off any crossing. Both are merged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from hiyari.traffic.world_state import WorldState
+
+
+@dataclass(frozen=True)
+class Collision:
+    """Two actors in contact at ``time`` (s). ``a`` < ``b`` lexicographically.
+
+    ``depth`` is the smallest overlap along any separating axis (m); 0 when only SUMO saw it.
+    """
+
+    time: float
+    a: str
+    b: str
+    kind: str  # "vehicle-vehicle" or "vehicle-pedestrian"
+    depth: float
+    reported_by_sumo: bool
+
+
+def rectangle_overlap(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:
+    """Penetration depth (m) of rectangle pairs; <= 0 means apart.
+
+    ``ca``, ``cb``: (P, 4, 2) corners in order around each rectangle.
+    """
+    edges_a = ca[:, [1, 2]] - ca[:, [0, 1]]
+    edges_b = cb[:, [1, 2]] - cb[:, [0, 1]]
+    axes = np.concatenate([edges_a, edges_b], axis=1)  # (P, 4, 2)
+    axes = axes / np.maximum(np.linalg.norm(axes, axis=2, keepdims=True), 1e-12)
+    pa = np.einsum("pkc,pac->pak", ca, axes)  # (P, 4 axes, 4 corners)
+    pb = np.einsum("pkc,pac->pak", cb, axes)
+    overlap = np.minimum(pa.max(2), pb.max(2)) - np.maximum(pa.min(2), pb.min(2))
+    return overlap.min(axis=1)
+
+
+class CollisionDetector:
+    """Finds vehicle–vehicle and vehicle–pedestrian contacts in a WorldState."""
+
+    def __init__(self, tolerance: float = 0.0, ignore_walkingarea_contacts: bool = True) -> None:
+        """``tolerance`` (m): overlaps at or below it are not contacts.
+
+        ``ignore_walkingarea_contacts``: SUMO's corner walking areas overlap the swept path of
+        turning vehicles by construction, so a pedestrian standing there is clipped by every
+        right-turner (overlaps up to ~0.3 m seen); such geometric contacts are not counted
+        unless SUMO reports them too.
+        """
+        self.tolerance = tolerance
+        self.ignore_walkingarea_contacts = ignore_walkingarea_contacts
+
+    def detect(
+        self, state: WorldState, sumo_pairs: list[tuple[str, str]] | None = None
+    ) -> list[Collision]:
+        """Contacts at this step, geometric and SUMO-reported, each pair once."""
+        found: dict[tuple[str, str], Collision] = {}
+        ped = state.is_pedestrian
+        if len(state) > 1:
+            radius = 0.5 * np.hypot(state.length, state.width)
+            tree = cKDTree(state.xyz[:, :2])
+            pairs = tree.query_pairs(2.0 * float(radius.max()), output_type="ndarray")
+            if len(pairs):
+                i, j = pairs[:, 0], pairs[:, 1]
+                keep = ~(ped[i] & ped[j])
+                centre_gap = np.linalg.norm(state.xyz[i, :2] - state.xyz[j, :2], axis=1)
+                keep &= centre_gap <= radius[i] + radius[j]
+                if self.ignore_walkingarea_contacts:
+                    on_wa = np.array(["_w" in ln and ln.startswith(":") for ln in state.lane])
+                    keep &= ~((ped[i] & on_wa[i]) | (ped[j] & on_wa[j]))
+                i, j = i[keep], j[keep]
+                corners = state.corners()
+                depth = rectangle_overlap(corners[i], corners[j])
+                hit = depth > self.tolerance
+                for a, b, d in zip(i[hit], j[hit], depth[hit], strict=True):
+                    key = tuple(sorted((state.ids[a], state.ids[b])))
+                    kind = "vehicle-pedestrian" if ped[a] or ped[b] else "vehicle-vehicle"
+                    found[key] = Collision(state.time, key[0], key[1], kind, float(d), False)
+        ped_ids = set(state.ids[ped].tolist())
+        for a, b in sumo_pairs or ():
+            key = tuple(sorted((a, b)))
+            if key in found:
+                c = found[key]
+                found[key] = Collision(c.time, c.a, c.b, c.kind, c.depth, True)
+            else:
+                kind = "vehicle-pedestrian" if a in ped_ids or b in ped_ids else "vehicle-vehicle"
+                found[key] = Collision(state.time, key[0], key[1], kind, 0.0, True)
+        return [found[k] for k in sorted(found)]

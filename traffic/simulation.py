@@ -1,0 +1,220 @@
+"""A libsumo simulation session that yields one WorldState per step."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from hiyari.errors import HiyariError
+from hiyari.sumo_tools import sumo_binary, sumo_home
+from hiyari.traffic.collision import Collision, CollisionDetector
+from hiyari.traffic.sumo_files import check_net, check_routes, check_xml
+from hiyari.traffic.sumo_reader import ReadMode, WorldStateReader
+from hiyari.traffic.world_state import WorldState
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """What SUMO runs: a net with route / demand files, or a .sumocfg.
+
+    Times in seconds of simulation time. ``end_time`` None runs until stopped by the caller.
+    """
+
+    net: Path | None = None
+    routes: Sequence[Path] = ()
+    additional: Sequence[Path] = ()
+    config: Path | None = None
+    step_length: float = 0.1
+    seed: int = 42
+    begin: float = 0.0
+    end_time: float | None = None
+    read_mode: ReadMode = "getters"
+    ignore_route_errors: bool = False
+    extra_args: Sequence[str] = field(default_factory=tuple)
+
+    def validate(self) -> None:
+        """Raise HiyariError for impossible parameters or unreadable input files."""
+        if self.step_length <= 0:
+            raise HiyariError(f"step length must be positive, got {self.step_length} s")
+        if self.end_time is not None and self.end_time <= self.begin:
+            raise HiyariError(f"end time {self.end_time} s must be after begin {self.begin} s")
+        if (self.net is None) == (self.config is None):
+            raise HiyariError("give either a network (net) or a SUMO config (config), not both")
+        if self.config is not None:
+            check_xml(self.config, ("configuration", "sumoConfiguration"), "config")
+        if self.net is not None:
+            check_net(self.net)
+        for r in self.routes:
+            check_routes(r)
+        for a in self.additional:
+            check_xml(a, ("additional", "routes"), "additional file")
+
+    def sumo_args(self, error_log: Path) -> list[str]:
+        """Command line for libsumo.start (without the binary)."""
+        args: list[str] = []
+        if self.config is not None:
+            args += ["-c", str(self.config)]
+        if self.net is not None:
+            args += ["-n", str(self.net)]
+        if self.routes:
+            args += ["-r", ",".join(str(r) for r in self.routes)]
+        if self.additional:
+            args += ["-a", ",".join(str(a) for a in self.additional)]
+        args += [
+            "--step-length",
+            repr(self.step_length),
+            "--seed",
+            str(self.seed),
+            "--begin",
+            repr(self.begin),
+            "--no-step-log",
+            "true",
+            "--no-warnings",
+            "true",
+            "--error-log",
+            str(error_log),
+            "--collision.action",
+            "warn",
+            "--collision.check-junctions",
+            "true",
+            "--time-to-teleport",
+            "-1",
+        ]
+        if self.end_time is not None:
+            args += ["--end", repr(self.end_time)]
+        if self.ignore_route_errors:
+            args += ["--ignore-route-errors", "true"]
+        return args + list(self.extra_args)
+
+
+class Simulation:
+    """One libsumo simulation; a context manager that always closes SUMO.
+
+    libsumo runs one simulation per process: starting a second while one is open raises
+    HiyariError. Use separate processes for parallel runs.
+    """
+
+    def __init__(self, config: SimConfig, detect_collisions: bool = True) -> None:
+        config.validate()
+        self.config = config
+        self._detector = CollisionDetector() if detect_collisions else None
+        self._open = False
+        self._state: WorldState | None = None
+        self._collisions: list[Collision] = []
+        self._tmpdir: tempfile.TemporaryDirectory[str] | None = None
+
+    # ------------------------------------------------------------------ lifecycle
+    def __enter__(self) -> Simulation:
+        self.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def start(self) -> None:
+        """Load the network and demand into libsumo."""
+        import libsumo
+
+        if libsumo.simulation.isLoaded():
+            raise HiyariError(
+                "a libsumo simulation is already running in this process; libsumo allows one "
+                "per process (close it first, or run the second in another process)"
+            )
+        os.environ.setdefault("SUMO_HOME", str(sumo_home()))
+        self._tmpdir = tempfile.TemporaryDirectory(prefix="hiyari-sumo-")
+        err_log = Path(self._tmpdir.name) / "errors.log"
+        try:
+            libsumo.start([str(sumo_binary("sumo")), *self.config.sumo_args(err_log)])
+        except Exception as exc:  # libsumo raises TraCIException / FatalError with no detail
+            detail = _first_error(err_log) or str(exc) or type(exc).__name__
+            self._cleanup_tmp()
+            raise HiyariError(f"SUMO could not load {self._inputs()}: {detail}") from None
+        self._sumo = libsumo
+        self._open = True
+        self._reader = WorldStateReader(libsumo, self.config.read_mode)
+        self._state = self._reader.read()
+
+    def close(self) -> None:
+        """Close SUMO (safe to call twice)."""
+        if self._open:
+            self._sumo.close()
+            self._open = False
+        self._cleanup_tmp()
+
+    def _cleanup_tmp(self) -> None:
+        if self._tmpdir is not None:
+            self._tmpdir.cleanup()
+            self._tmpdir = None
+
+    def _inputs(self) -> str:
+        files = [self.config.config or self.config.net, *self.config.routes]
+        return ", ".join(str(f) for f in files if f is not None)
+
+    # ------------------------------------------------------------------ stepping
+    @property
+    def sumo(self):
+        """The libsumo module, for commands (setSpeed, moveToXY ...) between steps."""
+        self._require_open()
+        return self._sumo
+
+    @property
+    def state(self) -> WorldState:
+        """The WorldState after the latest step (or at load time)."""
+        self._require_open()
+        assert self._state is not None
+        return self._state
+
+    @property
+    def time(self) -> float:
+        """Current simulation time, s."""
+        return self.state.time
+
+    @property
+    def collisions(self) -> list[Collision]:
+        """Contacts found at the latest step (oriented rectangles plus SUMO's own reports)."""
+        return self._collisions
+
+    def step(self) -> WorldState:
+        """Advance one step and return the new WorldState."""
+        self._require_open()
+        try:
+            self._sumo.simulationStep()
+        except Exception as exc:
+            detail = _first_error(Path(self._tmpdir.name) / "errors.log") if self._tmpdir else ""
+            raise HiyariError(f"SUMO stopped at t={self.time:.2f} s: {detail or exc}") from None
+        self._state = self._reader.read()
+        if self._detector is not None:
+            self._collisions = self._detector.detect(self._state, self._sumo_collisions())
+        return self._state
+
+    def run(self, until: float | None = None) -> Iterator[WorldState]:
+        """Step until ``until`` (or the configured end, or until SUMO has no more demand)."""
+        end = until if until is not None else self.config.end_time
+        eps = 1e-9
+        while True:
+            if end is not None and self.time >= end - eps:
+                return
+            if end is None and self._sumo.simulation.getMinExpectedNumber() <= 0:
+                return
+            yield self.step()
+
+    def _sumo_collisions(self) -> list[tuple[str, str]]:
+        return [(c.collider, c.victim) for c in self._sumo.simulation.getCollisions()]
+
+    def _require_open(self) -> None:
+        if not self._open:
+            raise HiyariError(
+                "the simulation is not running (use it inside 'with Simulation(...)')"
+            )
+
+
+def _first_error(log: Path) -> str:
+    if not log.exists():
+        return ""
+    for line in log.read_text(errors="replace").splitlines():
+        if line.startswith("Error:"):
+            return line[len("Error:") :].strip()
+    return ""

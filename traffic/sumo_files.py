@@ -1,0 +1,51 @@
+"""Checks on SUMO input files before SUMO sees them, so errors name the file in one line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from lxml import etree
+
+from hiyari.errors import HiyariError
+
+
+def check_xml(path: str | Path, root_tags: tuple[str, ...], what: str) -> etree._Element:
+    """Parse ``path`` and check its root element; raise HiyariError naming the file otherwise.
+
+    ``what`` names the role of the file ("network", "route file") in the message.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise HiyariError(f"{path}: {what} not found")
+    try:
+        root = etree.parse(str(path), etree.XMLParser(huge_tree=True)).getroot()
+    except etree.XMLSyntaxError as exc:
+        raise HiyariError(f"{path}: {what} is not well-formed XML: {exc.msg}") from None
+    if root.tag not in root_tags:
+        expected = " or ".join(f"<{t}>" for t in root_tags)
+        raise HiyariError(
+            f"{path}: not a SUMO {what} (root element <{root.tag}>, expected {expected})"
+        )
+    return root
+
+
+def check_net(path: str | Path) -> etree._Element:
+    """A SUMO network with at least one lane that vehicles may drive on."""
+    root = check_xml(path, ("net",), "network")
+    drivable = False
+    for lane in root.iter("lane"):
+        allow = lane.get("allow")
+        if allow is not None and allow.split() and set(allow.split()) <= {"pedestrian"}:
+            continue
+        if lane.get("disallow") == "all":
+            continue
+        drivable = True
+        break
+    if not drivable:
+        raise HiyariError(f"{path}: network has no drivable lanes")
+    return root
+
+
+def check_routes(path: str | Path) -> etree._Element:
+    """A SUMO route / demand file (root <routes>)."""
+    return check_xml(path, ("routes",), "route file")

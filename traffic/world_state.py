@@ -1,0 +1,100 @@
+"""WorldState: every traffic participant at one simulation time, as numpy arrays.
+
+Frames and units: SUMO network coordinates in metres (x east, y north, z up); ``xyz`` is the
+centre of the actor's ground rectangle (SUMO reports the front bumper; converted once when
+read); ``heading`` in radians counter-clockwise from +x, in (-pi, pi]; speeds in m/s,
+acceleration in m/s^2 along the heading; sizes in metres. Time in seconds of simulation time.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from hiyari.traffic.actor_class import ActorClass
+
+
+@dataclass(frozen=True, eq=False)
+class WorldState:
+    """All vehicles and persons at one time step (N actors, vehicles first, then persons)."""
+
+    time: float
+    ids: np.ndarray  # (N,) object: SUMO ids
+    cls: np.ndarray  # (N,) int8: ActorClass
+    xyz: np.ndarray  # (N, 3) float64: ground-rectangle centre, metres
+    heading: np.ndarray  # (N,) float64: radians CCW from +x
+    speed: np.ndarray  # (N,) float64: m/s
+    accel: np.ndarray  # (N,) float64: m/s^2
+    length: np.ndarray  # (N,) float64: m
+    width: np.ndarray  # (N,) float64: m
+    height: np.ndarray  # (N,) float64: m
+    lane: np.ndarray  # (N,) object: SUMO lane id ('' when not on a lane)
+    edge: np.ndarray  # (N,) object: SUMO edge id
+
+    def __len__(self) -> int:
+        return len(self.ids)
+
+    @property
+    def is_pedestrian(self) -> np.ndarray:
+        """(N,) bool: persons."""
+        return self.cls == ActorClass.PEDESTRIAN
+
+    @property
+    def is_vehicle(self) -> np.ndarray:
+        """(N,) bool: everything that is not a person."""
+        return self.cls != ActorClass.PEDESTRIAN
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """(N, 2) float64: velocity in the network frame, m/s."""
+        return self.speed[:, None] * np.stack([np.cos(self.heading), np.sin(self.heading)], 1)
+
+    def index(self, actor_id: str) -> int:
+        """Row of ``actor_id``; KeyError when absent."""
+        hits = np.flatnonzero(self.ids == actor_id)
+        if hits.size == 0:
+            raise KeyError(actor_id)
+        return int(hits[0])
+
+    def select(self, mask: np.ndarray) -> WorldState:
+        """A WorldState with only the rows where ``mask`` (bool or index array) selects."""
+        return WorldState(
+            time=self.time,
+            ids=self.ids[mask],
+            cls=self.cls[mask],
+            xyz=self.xyz[mask],
+            heading=self.heading[mask],
+            speed=self.speed[mask],
+            accel=self.accel[mask],
+            length=self.length[mask],
+            width=self.width[mask],
+            height=self.height[mask],
+            lane=self.lane[mask],
+            edge=self.edge[mask],
+        )
+
+    def corners(self) -> np.ndarray:
+        """(N, 4, 2) ground-rectangle corners, counter-clockwise from front-left, metres."""
+        c, s = np.cos(self.heading), np.sin(self.heading)
+        fwd = np.stack([c, s], 1) * (self.length / 2)[:, None]
+        left = np.stack([-s, c], 1) * (self.width / 2)[:, None]
+        ctr = self.xyz[:, :2]
+        return np.stack([ctr + fwd + left, ctr - fwd + left, ctr - fwd - left, ctr + fwd - left], 1)
+
+    def same_as(self, other: WorldState) -> bool:
+        """True when both states are equal bit for bit (ids, classes, every float)."""
+        arrays = ("ids", "cls", "xyz", "heading", "speed", "accel", "length", "width", "height")
+        return (
+            self.time == other.time
+            and all(np.array_equal(getattr(self, a), getattr(other, a)) for a in arrays)
+            and np.array_equal(self.lane, other.lane)
+            and np.array_equal(self.edge, other.edge)
+        )
+
+    @staticmethod
+    def empty(time: float = 0.0) -> WorldState:
+        """A state with no actors."""
+        f = np.zeros(0)
+        o = np.zeros(0, dtype=object)
+        return WorldState(time, o, np.zeros(0, np.int8), np.zeros((0, 3)), f, f, f, f, f, f, o, o)
