@@ -14,6 +14,11 @@ COMMAND_MODULES = [
     "hiyari.bridge.cmd_doctor",
     "hiyari.bridge.cmd_sim",
     "hiyari.bridge.cmd_demo",
+    "hiyari.bridge.cmd_net",
+    "hiyari.bridge.cmd_run",
+    "hiyari.bridge.cmd_sweep",
+    "hiyari.bridge.cmd_boundary",
+    "hiyari.bridge.cmd_r157",
 ]
 
 

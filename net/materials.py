@@ -54,3 +54,19 @@ DEFAULT_OPTICS: dict[Material, MaterialOptics] = {
     Material.RETROREFLECTOR: MaterialOptics(lidar=0.95, visible=0.90, radar_rcs_m2=0.5),
     Material.GRASS: MaterialOptics(lidar=0.40, visible=0.20, radar_rcs_m2=0.002),
 }
+
+#: Display colours (sRGB 0..255) for viewers; chosen for legibility, not measured.
+DISPLAY_RGB: dict[Material, tuple[int, int, int]] = {
+    Material.ASPHALT: (70, 70, 74),
+    Material.LANE_PAINT: (240, 240, 235),
+    Material.CONCRETE: (170, 168, 160),
+    Material.BARRIER_METAL: (190, 196, 204),
+    Material.BUILDING: (196, 170, 140),
+    Material.VEHICLE_PAINT: (40, 90, 170),
+    Material.VEHICLE_GLASS: (30, 40, 50),
+    Material.CLOTHING: (120, 100, 90),
+    Material.DARK_CLOTHING: (20, 20, 22),
+    Material.SKIN: (224, 180, 150),
+    Material.RETROREFLECTOR: (250, 250, 200),
+    Material.GRASS: (90, 140, 70),
+}

@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+import zipfile
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
+
+from hiyari.atomic import atomic_path
+from hiyari.errors import HiyariError
 
 
 @dataclass(frozen=True, eq=False)
@@ -41,3 +46,18 @@ class SceneMesh:
             ),
             np.concatenate([p.material for p in parts]).astype(np.uint8),
         )
+
+    def save_npz(self, path: str | Path) -> Path:
+        """Write ``vertices``, ``faces`` and ``material`` arrays to an .npz file atomically."""
+        with atomic_path(path) as tmp, tmp.open("wb") as f:
+            np.savez_compressed(f, vertices=self.vertices, faces=self.faces, material=self.material)
+        return Path(path)
+
+    @staticmethod
+    def load_npz(path: str | Path) -> SceneMesh:
+        """Read a mesh written by ``save_npz``; HiyariError naming the file if it is not one."""
+        try:
+            with np.load(path) as data:
+                return SceneMesh(data["vertices"], data["faces"], data["material"])
+        except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+            raise HiyariError(f"{path}: not a hiyari scene mesh (.npz): {exc}") from None

@@ -3,13 +3,14 @@
 Two read paths give identical states. ``"getters"`` calls libsumo's per-object getters in one
 pass; ``"subscriptions"`` subscribes each actor to its variables at departure and fetches all
 results with one ``getAllSubscriptionResults`` call per domain. In libsumo (in-process, no
-socket) the getters are the faster of the two (benchmarks/worldstate.py measures both), so
-they are the default. Static attributes (class, size) are read once per actor and cached.
+socket) the getters are the faster of the two (benchmarks/worldstate.py measures both: the
+subscription path also makes every simulation step slower), so they are the default.
+Static attributes (class, size) are read once per actor and kept in arrays.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from itertools import chain
 from typing import Literal
 
 import numpy as np
@@ -20,12 +21,32 @@ from hiyari.traffic.world_state import WorldState
 ReadMode = Literal["getters", "subscriptions"]
 
 
-@dataclass
-class _Static:
-    cls: list[int] = field(default_factory=list)
-    length: list[float] = field(default_factory=list)
-    width: list[float] = field(default_factory=list)
-    height: list[float] = field(default_factory=list)
+class _StaticTable:
+    """Per-actor class and size, appended when an actor is first seen."""
+
+    def __init__(self) -> None:
+        self.row: dict[str, int] = {}
+        self.data = np.zeros((64, 4))  # cls, length, width, height
+        self.prev_speed = np.zeros(64)
+
+    def rows(self, ids: list[str], fetch) -> np.ndarray:
+        get = self.row.get
+        idx = [get(i, -1) for i in ids]
+        if -1 in idx:
+            for k, i in enumerate(ids):
+                if idx[k] < 0:
+                    idx[k] = self._add(i, fetch(i))
+        return np.array(idx, dtype=np.intp)
+
+    def _add(self, actor_id: str, values: tuple[float, float, float, float]) -> int:
+        r = len(self.row)
+        if r == len(self.data):
+            self.data = np.concatenate([self.data, np.zeros_like(self.data)])
+            self.prev_speed = np.concatenate([self.prev_speed, np.zeros_like(self.prev_speed)])
+        self.data[r] = values
+        self.prev_speed[r] = np.nan
+        self.row[actor_id] = r
+        return r
 
 
 class WorldStateReader:
@@ -36,8 +57,26 @@ class WorldStateReader:
             raise ValueError(f"unknown read mode {mode!r} (getters or subscriptions)")
         self._sumo = sumo
         self._mode = mode
-        self._static: dict[str, tuple[int, float, float, float]] = {}
-        self._prev_speed: dict[str, float] = {}
+        self._veh = _StaticTable()
+        self._per = _StaticTable()
+        self._edge_of: dict[str, str] = {}
+        # the SWIG functions themselves: libsumo's Python wrappers add a call layer per value
+        c = sumo._libsumo
+        self._v = (
+            c.vehicle_getIDList,
+            c.vehicle_getPosition3D,
+            c.vehicle_getAngle,
+            c.vehicle_getSpeed,
+            c.vehicle_getAcceleration,
+            c.vehicle_getLaneID,
+        )
+        self._p = (
+            c.person_getIDList,
+            c.person_getPosition3D,
+            c.person_getAngle,
+            c.person_getSpeed,
+            c.person_getLaneID,
+        )
         if mode == "subscriptions":
             tc = sumo.constants
             self._veh_vars = [
@@ -50,61 +89,52 @@ class WorldStateReader:
             self._per_vars = [tc.VAR_POSITION3D, tc.VAR_ANGLE, tc.VAR_SPEED, tc.VAR_LANE_ID]
             sumo.simulation.subscribe([tc.VAR_DEPARTED_VEHICLES_IDS, tc.VAR_DEPARTED_PERSONS_IDS])
 
-    def _static_of(self, domain, actor_id: str, is_person: bool) -> tuple[int, float, float, float]:
-        info = self._static.get(actor_id)
-        if info is None:
-            cls = (
-                ActorClass.PEDESTRIAN
-                if is_person
-                else actor_class_from_vclass(domain.getVehicleClass(actor_id))
-            )
-            info = (
-                int(cls),
-                domain.getLength(actor_id),
-                domain.getWidth(actor_id),
-                domain.getHeight(actor_id),
-            )
-            self._static[actor_id] = info
-        return info
+    def _vehicle_static(self, vid: str) -> tuple[float, float, float, float]:
+        v = self._sumo.vehicle
+        cls = actor_class_from_vclass(v.getVehicleClass(vid))
+        return float(cls), v.getLength(vid), v.getWidth(vid), v.getHeight(vid)
+
+    def _person_static(self, pid: str) -> tuple[float, float, float, float]:
+        p = self._sumo.person
+        return float(ActorClass.PEDESTRIAN), p.getLength(pid), p.getWidth(pid), p.getHeight(pid)
 
     def read(self) -> WorldState:
         """The WorldState at the simulation's current time."""
         s = self._sumo
         time = s.simulation.getTime()
         if self._mode == "subscriptions":
-            veh_ids, veh_rows, per_ids, per_rows = self._read_subscriptions()
+            vids, vcols, pids, pcols = self._read_subscriptions()
         else:
-            veh_ids, veh_rows, per_ids, per_rows = self._read_getters()
-        ids = veh_ids + per_ids
-        n, nv = len(ids), len(veh_ids)
-        static = [self._static_of(s.vehicle, i, False) for i in veh_ids]
-        static += [self._static_of(s.person, i, True) for i in per_ids]
-        st = np.array(static, dtype=np.float64).reshape(n, 4)
-        pos = np.array(veh_rows[0] + per_rows[0], dtype=np.float64).reshape(n, 3)
-        angle = np.array(veh_rows[1] + per_rows[1], dtype=np.float64)
-        speed = np.array(veh_rows[2] + per_rows[2], dtype=np.float64)
-        accel = np.zeros(n)
-        accel[:nv] = veh_rows[3]
+            vids, vcols, pids, pcols = self._read_getters()
+        nv, n = len(vids), len(vids) + len(pids)
+        vrow = self._veh.rows(vids, self._vehicle_static)
+        prow = self._per.rows(pids, self._person_static)
+        st = np.concatenate([self._veh.data[vrow], self._per.data[prow]])
+        pos = np.fromiter(chain.from_iterable(vcols[0] + pcols[0]), float, 3 * n).reshape(n, 3)
+        angle = np.fromiter(chain(vcols[1], pcols[1]), float, n)
+        speed = np.fromiter(chain(vcols[2], pcols[2]), float, n)
+        accel = np.empty(n)
+        accel[:nv] = vcols[3]
         # persons have no acceleration getter: difference of speeds over the last step
-        dt = s.simulation.getDeltaT()
-        prev = self._prev_speed
-        for k, pid in enumerate(per_ids, start=nv):
-            accel[k] = (speed[k] - prev.get(pid, speed[k])) / dt
-        self._prev_speed = dict(zip(per_ids, speed[nv:].tolist(), strict=True))
+        prev = self._per.prev_speed[prow]
+        pspeed = speed[nv:]
+        accel[nv:] = np.where(np.isnan(prev), 0.0, (pspeed - prev) / s.simulation.getDeltaT())
+        self._per.prev_speed[prow] = pspeed
 
         heading = np.radians(90.0 - angle)
         heading = np.arctan2(np.sin(heading), np.cos(heading))
-        lanes = veh_rows[4] + per_rows[4]
         length = st[:, 1]
-        xyz = pos.copy()
         # SUMO reports the front-bumper centre; the toolkit uses the rectangle centre
-        xyz[:, 0] -= 0.5 * length * np.cos(heading)
-        xyz[:, 1] -= 0.5 * length * np.sin(heading)
+        pos[:, 0] -= 0.5 * length * np.cos(heading)
+        pos[:, 1] -= 0.5 * length * np.sin(heading)
+        lanes = vcols[4] + pcols[4]
+        edge_of = self._edge_of
+        edges = [edge_of.get(ln) or self._edge(ln) for ln in lanes]
         return WorldState(
             time=time,
-            ids=np.array(ids, dtype=object),
+            ids=np.array(vids + pids, dtype=object),
             cls=st[:, 0].astype(np.int8),
-            xyz=xyz,
+            xyz=pos,
             heading=heading,
             speed=speed,
             accel=accel,
@@ -112,27 +142,33 @@ class WorldStateReader:
             width=st[:, 2],
             height=st[:, 3],
             lane=np.array(lanes, dtype=object),
-            # a SUMO lane id is '<edge id>_<index>'
-            edge=np.array([ln.rpartition("_")[0] for ln in lanes], dtype=object),
+            edge=np.array(edges, dtype=object),
         )
 
+    def _edge(self, lane: str) -> str:
+        # a SUMO lane id is '<edge id>_<index>'
+        edge = lane.rpartition("_")[0]
+        self._edge_of[lane] = edge
+        return edge
+
     def _read_getters(self):
-        v, p = self._sumo.vehicle, self._sumo.person
-        vids = list(v.getIDList())
-        pids = list(p.getIDList())
+        ids, pos, ang, spd, acc, lane = self._v
+        vids = list(ids())
         veh = (
-            [v.getPosition3D(i) for i in vids],
-            [v.getAngle(i) for i in vids],
-            [v.getSpeed(i) for i in vids],
-            [v.getAcceleration(i) for i in vids],
-            [v.getLaneID(i) for i in vids],
+            [pos(i) for i in vids],
+            [ang(i) for i in vids],
+            [spd(i) for i in vids],
+            [acc(i) for i in vids],
+            [lane(i) for i in vids],
         )
+        ids, pos, ang, spd, lane = self._p
+        pids = list(ids())
         per = (
-            [p.getPosition3D(i) for i in pids],
-            [p.getAngle(i) for i in pids],
-            [p.getSpeed(i) for i in pids],
+            [pos(i) for i in pids],
+            [ang(i) for i in pids],
+            [spd(i) for i in pids],
             None,
-            [p.getLaneID(i) for i in pids],
+            [lane(i) for i in pids],
         )
         return vids, veh, pids, per
 
@@ -144,31 +180,17 @@ class WorldStateReader:
             s.vehicle.subscribe(vid, self._veh_vars)
         for pid in dep.get(tc.VAR_DEPARTED_PERSONS_IDS, ()):
             s.person.subscribe(pid, self._per_vars)
-        # subscriptions of actors that departed this very step fill in on the next step, so
-        # actors are listed from getIDList to keep both read paths identical
+        # actors are listed from getIDList so both read paths give the same order
         vids = list(s.vehicle.getIDList())
         pids = list(s.person.getIDList())
         vres = s.vehicle.getAllSubscriptionResults()
         pres = s.person.getAllSubscriptionResults()
-        vr = [vres.get(i) or self._fetch_vehicle(i) for i in vids]
-        pr = [pres.get(i) or self._fetch_person(i) for i in pids]
+        vr = [vres.get(i) or self._fetch(self._v, self._veh_vars, i) for i in vids]
+        pr = [pres.get(i) or self._fetch(self._p, self._per_vars, i) for i in pids]
         veh = tuple([r[k] for r in vr] for k in self._veh_vars)
-        per_cols = [[r[k] for r in pr] for k in self._per_vars]
-        per = (per_cols[0], per_cols[1], per_cols[2], None, per_cols[3])
-        return vids, veh, pids, per
+        pc = [[r[k] for r in pr] for k in self._per_vars]
+        return vids, veh, pids, (pc[0], pc[1], pc[2], None, pc[3])
 
-    def _fetch_vehicle(self, vid: str) -> dict:
-        v = self._sumo.vehicle
-        vals = (
-            v.getPosition3D(vid),
-            v.getAngle(vid),
-            v.getSpeed(vid),
-            v.getAcceleration(vid),
-            v.getLaneID(vid),
-        )
-        return dict(zip(self._veh_vars, vals, strict=True))
-
-    def _fetch_person(self, pid: str) -> dict:
-        p = self._sumo.person
-        vals = (p.getPosition3D(pid), p.getAngle(pid), p.getSpeed(pid), p.getLaneID(pid))
-        return dict(zip(self._per_vars, vals, strict=True))
+    @staticmethod
+    def _fetch(getters, keys, actor_id: str) -> dict:
+        return dict(zip(keys, (g(actor_id) for g in getters[1:]), strict=True))

@@ -1,0 +1,78 @@
+"""``hiyari r157 ...``: UN R157 (JAMA Annex G) test points and their evaluation.
+
+A command group: each subcommand is one ``add_<name>(subparsers)`` function in
+``SUBCOMMANDS`` that adds its parser and sets ``func``.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from hiyari.bridge.cmd_boundary import add_model_options, model_params
+from hiyari.errors import HiyariError
+from hiyari.risk.boundary import Grid
+from hiyari.risk.r157_points import (
+    SCENARIOS,
+    R157Config,
+    generate_points,
+    write_points_csv,
+    write_points_json,
+)
+
+
+def run_points(args: argparse.Namespace) -> int:
+    scenarios = tuple(s.strip() for s in args.scenarios.split(",") if s.strip())
+    if args.resolution <= 0:
+        raise HiyariError(f"--resolution must be > 0 m, got {args.resolution}")
+    config = R157Config(
+        ve0_kmh=Grid.parse(args.ve, "--ve"),
+        dv_kmh=Grid.parse(args.dv, "--dv"),
+        vy_fine=Grid.parse(args.vy_fine, "--vy-fine"),
+        vy_coarse=Grid.parse(args.vy_coarse, "--vy-coarse"),
+        gx_max_g=Grid.parse(args.gx, "--gx"),
+        scenarios=scenarios,
+        resolution_m=args.resolution,
+    )
+    point_set = generate_points(config, model_params(args))
+    out = Path(args.out)
+    csv_path = write_points_csv(point_set.points, out / "r157_points.csv")
+    json_path = write_points_json(point_set, out / "r157_points.json")
+    print(f"{len(point_set.points)} R157 test points:")
+    for key, count in sorted(point_set.counts().items()):
+        print(f"   {key}: {count}")
+    for reason, count in sorted(point_set.skipped.items()):
+        print(f"   skipped, {reason}: {count}")
+    print(f"   {csv_path}\n   {json_path}")
+    return 0
+
+
+def add_points(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "points",
+        help="test points on / around the C&C Preventable boundaries (Annex G.5.7)",
+        description="Concrete scenarios with their expected verdict, as CSV and JSON.",
+    )
+    p.add_argument("-o", "--out", default="out/r157", help="output folder")
+    p.add_argument("--ve", default="20:60:10", help="ODD ego speeds Ve0, km/h start:stop:step")
+    p.add_argument("--dv", default="0:60:10", help="cut-in relative speeds Ve0 - Vo0, km/h")
+    p.add_argument("--vy-fine", default="0.1:3:0.1", help="Vy for boundary, +1, +2 m (m/s)")
+    p.add_argument("--vy-coarse", default="0.5:3:0.5", help="Vy for +10, +30, -5 m (m/s)")
+    p.add_argument("--gx", default="0.1:1:0.1", help="deceleration-scenario Gx_max, g")
+    p.add_argument(
+        "--scenarios", default=",".join(SCENARIOS), help="comma list of cut-in,cut-out,decel"
+    )
+    p.add_argument("--resolution", type=float, default=0.1, help="boundary rounding, m")
+    add_model_options(p)
+    p.set_defaults(func=run_points)
+
+
+# Each adds one ``hiyari r157 <name>`` subcommand.
+SUBCOMMANDS = [add_points]
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("r157", help="UN R157 test points (JAMA Annex G)")
+    commands = p.add_subparsers(dest="r157_command", required=True, metavar="SUBCOMMAND")
+    for add in SUBCOMMANDS:
+        add(commands)

@@ -1,0 +1,111 @@
+"""Sweeps: same table on 1 worker, 2 workers and Ray; resumable after a kill; failures kept."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from hiyari.bridge.scenario_file import load_scenario
+from hiyari.bridge.sweep import SweepOptions, read_table, run_sweep
+
+GRID = """
+[scenario]
+type = "dart-out"
+name = "dart-out speed sweep"
+seed = 100
+duration = 10.0
+step_length = 0.1
+[ego]
+perception = "perfect"
+{stack}
+[parameters]
+ve0_kmh = {{ range = [20, 69], step = 1 }}
+ped_speed_kmh = 5
+impact_fraction = 0.5
+"""
+
+
+def _scenario(tmp_path: Path, stack: str = "") -> Path:
+    p = tmp_path / "sweep.toml"
+    p.write_text(GRID.format(stack=stack))
+    return p
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("ref")
+    s = run_sweep(
+        load_scenario(_scenario(tmp)), SweepOptions(tmp / "w1", workers=1, progress=False)
+    )
+    assert s.total == 50 and s.ran == 50 and s.failed == 0
+    return s.table.read_bytes()
+
+
+def test_two_workers_same_table(reference, tmp_path):
+    s = run_sweep(
+        load_scenario(_scenario(tmp_path)), SweepOptions(tmp_path / "w2", workers=2, progress=False)
+    )
+    assert s.table.read_bytes() == reference
+    rows = read_table(s.table)
+    # the sweep covers both outcomes: slow runs stop short, fast ones cannot
+    collisions = [r["collision"] for r in rows.values()]
+    assert "True" in collisions and "False" in collisions
+    assert (tmp_path / "w2" / "summary.png").stat().st_size > 1000
+
+
+def test_ray_local_cluster_same_table(reference, tmp_path):
+    pytest.importorskip("ray")
+    s = run_sweep(
+        load_scenario(_scenario(tmp_path)),
+        SweepOptions(tmp_path / "ray", backend="ray", workers=2, progress=False),
+    )
+    assert s.table.read_bytes() == reference
+
+
+def test_killed_sweep_resumes_only_missing_rows(reference, tmp_path):
+    scen = _scenario(tmp_path)
+    out = tmp_path / "killed"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "hiyari", "sweep", str(scen), "-o", str(out), "-j", "1", "-q"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    table = out / "results.csv"
+    deadline = time.time() + 120
+    while time.time() < deadline and len(read_table(table)) < 10:
+        time.sleep(0.2)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    before = len(read_table(table))
+    assert 10 <= before < 50
+    s = run_sweep(load_scenario(scen), SweepOptions(out, workers=1, progress=False))
+    assert s.skipped == before and s.ran == 50 - before
+    assert table.read_bytes() == reference
+
+
+def test_failing_run_is_recorded(tmp_path, monkeypatch):
+    mod = tmp_path / "exploding_stack.py"
+    mod.write_text(
+        "from hiyari.bridge.run_scenario import build_stack\n"
+        "from dataclasses import replace\n"
+        "def Exploding(cs):\n"
+        "    if cs.params['ve0_kmh'] == 23:\n"
+        "        raise RuntimeError('planner diverged at 23 km/h')\n"
+        "    return build_stack(replace(cs, stack=''))\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    scen = _scenario(tmp_path, stack='stack = "exploding_stack:Exploding"')
+    s = run_sweep(load_scenario(scen), SweepOptions(tmp_path / "fail", workers=2, progress=False))
+    rows = read_table(s.table)
+    assert s.failed == 1 and len(rows) == 50
+    bad = [r for r in rows.values() if r["status"] == "failed"]
+    assert [r["ve0_kmh"] for r in bad] == ["23.0"]
+    assert bad[0]["error"] == "RuntimeError: planner diverged at 23 km/h"
+    assert all(r["status"] == "ok" for r in rows.values() if r["ve0_kmh"] != "23.0")
