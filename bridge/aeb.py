@@ -10,7 +10,7 @@ brake is applied after an actuation delay (a command buffer).
 from __future__ import annotations
 
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from enum import IntEnum
 
 import numpy as np
@@ -42,6 +42,7 @@ class AEBConfig:
     actuation_delay: float = 0.2  # 0.8 s reproduces the DIVP evaluation car
     lateral_margin: float = 0.2  # m added to each side of the ego's width
     horizon: float = 10.0  # s, TTCs beyond this count as no threat
+    require_classified: bool = True  # act on camera / LiDAR-classified tracks, not radar-only
     hold_after_stop: bool = True  # keep full brake once stopped with a threat ahead
     latch_until_stop: bool = True  # once braking, brake to standstill (as production AEBs do)
 
@@ -71,15 +72,46 @@ def time_to_collision(tracks: ObjectList, ego: EgoPose, cfg: AEBConfig) -> np.nd
     x, y = tracks.position[:, 0], tracks.position[:, 1]
     vx = np.nan_to_num(tracks.velocity[:, 0])
     vy = np.nan_to_num(tracks.velocity[:, 1])
-    lo, wo = tracks.size[:, 0], tracks.size[:, 1]
-    half_x = (lo + ego.length) / 2
-    half_y = (wo + ego.width) / 2 + cfg.lateral_margin
+    ext_x, ext_y = footprint_extent(tracks, ego)
+    half_x = ext_x + ego.length / 2
+    half_y = ext_y + ego.width / 2 + cfg.lateral_margin
     tx0, tx1 = _interval(x, vx, half_x)
     ty0, ty1 = _interval(y, vy, half_y)
     t0 = np.maximum(np.maximum(tx0, ty0), 0.0)
     t1 = np.minimum(tx1, ty1)
     ttc = np.where((t0 <= t1) & (t1 >= 0), t0, np.inf)
     return np.where(ttc <= cfg.horizon, ttc, np.inf)
+
+
+def select(ol: ObjectList, mask: np.ndarray) -> ObjectList:
+    """The objects of ``ol`` where ``mask`` is true."""
+    return replace(
+        ol,
+        object_id=ol.object_id[mask],
+        cls=ol.cls[mask],
+        position=ol.position[mask],
+        velocity=ol.velocity[mask],
+        size=ol.size[mask],
+        confidence=ol.confidence[mask],
+        truth=ol.truth[mask],
+        box_2d=None if ol.box_2d is None else ol.box_2d[mask],
+    )
+
+
+def footprint_extent(tracks: ObjectList, ego: EgoPose, min_speed: float = 0.5):
+    """Half extents (m) along the ego's x and y of each object's footprint.
+
+    Objects are taken to head along their velocity over ground (Annex G's other vehicles do),
+    so a car changing lane reaches further sideways than its half width; objects slower than
+    ``min_speed`` are taken as aligned with the ego.
+    """
+    vx_abs = np.nan_to_num(tracks.velocity[:, 0]) + ego.speed
+    vy_abs = np.nan_to_num(tracks.velocity[:, 1])
+    moving = np.hypot(vx_abs, vy_abs) > min_speed
+    psi = np.where(moving, np.arctan2(vy_abs, np.where(moving, vx_abs, 1.0)), 0.0)
+    c, s = np.abs(np.cos(psi)), np.abs(np.sin(psi))
+    lo, wo = tracks.size[:, 0], tracks.size[:, 1]
+    return (lo * c + wo * s) / 2, (lo * s + wo * c) / 2
 
 
 def _interval(p: np.ndarray, v: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -119,6 +151,10 @@ class AEBPlanner:
 
     def plan(self, tracks: ObjectList, ego: EgoPose, time: float) -> EgoCommand:
         """Acceleration command for this step from the fused tracks (ego frame)."""
+        if self.aeb.require_classified and len(tracks):
+            # radar alone cannot tell a parked car beside the lane from one in it (azimuth
+            # resolution): like production AEBs, act on objects another sensor classified
+            tracks = select(tracks, tracks.cls >= 0)
         ttc = time_to_collision(tracks, ego, self.aeb)
         k = int(np.argmin(ttc)) if len(ttc) else -1
         ttc_min = float(ttc[k]) if k >= 0 else float("inf")
@@ -159,19 +195,20 @@ class AEBPlanner:
         c = self.acc
         accel = c.k_speed * (c.set_speed - ego.speed)
         if len(tracks):
+            ext_x, ext_y = footprint_extent(tracks, ego)
             ahead = (tracks.position[:, 0] > 0) & (
-                np.abs(tracks.position[:, 1]) < (tracks.size[:, 1] + ego.width) / 2
+                np.abs(tracks.position[:, 1]) < ext_y + ego.width / 2
             )
             if ahead.any():
                 i = np.flatnonzero(ahead)[np.argmin(tracks.position[ahead, 0])]
-                gap = tracks.position[i, 0] - (tracks.size[i, 0] + ego.length) / 2
+                gap = tracks.position[i, 0] - ext_x[i] - ego.length / 2
                 v_lead = ego.speed + float(np.nan_to_num(tracks.velocity[i, 0]))
-                desired = c.standstill_gap + c.thw * ego.speed
+                desired = max(c.standstill_gap, c.thw * ego.speed)
                 follow = c.k_gap * (gap - desired) + c.k_speed * (v_lead - ego.speed)
                 if v_lead < c.stopped_speed:
                     # a proportional law only creeps up to a stopped car: brake to a standstill
                     room = gap - c.standstill_gap
-                    follow = -ego.speed**2 / (2 * room) if room > 0.1 else -c.max_decel
+                    follow = -(ego.speed**2) / (2 * room) if room > 0.1 else -c.max_decel
                 accel = min(accel, follow)
         if accel < 0 and ego.speed < 1e-3:
             return 0.0

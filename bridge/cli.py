@@ -19,6 +19,7 @@ COMMAND_MODULES = [
     "hiyari.bridge.cmd_sweep",
     "hiyari.bridge.cmd_boundary",
     "hiyari.bridge.cmd_r157",
+    "hiyari.bridge.cmd_sensors",
 ]
 
 

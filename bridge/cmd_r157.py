@@ -7,6 +7,7 @@ A command group: each subcommand is one ``add_<name>(subparsers)`` function in
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 
 from hiyari.bridge.cmd_boundary import add_model_options, model_params
@@ -67,8 +68,68 @@ def add_points(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_points)
 
 
+def run_judge(args: argparse.Namespace) -> int:
+    from hiyari.bridge.r157_judge import JudgeOptions, judge, write_report
+    from hiyari.risk.r157_points import load_points
+
+    points = load_points(args.points)
+    if args.scenarios:
+        wanted = {s.strip() for s in args.scenarios.split(",")}
+        points = [p for p in points if p.scenario in wanted]
+    if not points:
+        raise HiyariError(f"{args.points}: no test points to run")
+    if args.sample is not None and args.sample < 1:
+        raise HiyariError(f"--sample must be >= 1, got {args.sample}")
+    options = JudgeOptions(
+        perception=args.perception,
+        presets=tuple(p.strip() for p in args.presets.split(",") if p.strip()),
+        aeb_delay=args.aeb_delay,
+        workers=args.workers,
+        sample=args.sample,
+        seed=args.seed,
+    )
+    report = judge(points, options, progress=not args.quiet)
+    paths = write_report(report, Path(args.out))
+    for cond, s in report.summary().items():
+        print(
+            f"{cond}: {s['verdict'].upper()}: {s['passed']}/{s['preventable']} Preventable points "
+            f"passed, {s['failed']} failed; {s['unpreventable_collided']} of "
+            f"{s['points'] - s['preventable']} unpreventable points collided"
+        )
+        for pid in s["failed_points"][:10]:
+            print(f"   failed: {pid}")
+        if s["failed"] > 10:
+            print(f"   ... and {s['failed'] - 10} more (see judge.csv)")
+    for p in paths:
+        print(f"   {p}")
+    return 0
+
+
+def add_judge(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "judge",
+        help="run test points through the closed loop and judge pass / fail",
+        description="Every Preventable point must be passed without a collision.",
+    )
+    p.add_argument("points", help="points file from 'hiyari r157 points' (CSV or JSON)")
+    p.add_argument("-o", "--out", default="out/r157_judge", help="output folder")
+    p.add_argument("--perception", choices=["perfect", "sensors", "none"], default="perfect")
+    p.add_argument(
+        "--presets",
+        default="clear",
+        help="disturbance presets for --perception sensors, comma list",
+    )
+    p.add_argument("--scenarios", default="", help="only these scenario types (comma list)")
+    p.add_argument("--sample", type=int, default=None, help="a seeded random subset of N points")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--aeb-delay", type=float, default=0.2, help="brake actuation delay, s")
+    p.add_argument("--workers", "-j", type=int, default=os.cpu_count() or 1)
+    p.add_argument("-q", "--quiet", action="store_true")
+    p.set_defaults(func=run_judge)
+
+
 # Each adds one ``hiyari r157 <name>`` subcommand.
-SUBCOMMANDS = [add_points]
+SUBCOMMANDS = [add_points, add_judge]
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -35,15 +35,16 @@ class RunOptions:
     plot: bool = True
 
 
-def build_stack(cs: ConcreteScenario) -> EgoStack:
-    """The default ego stack for a scenario, or the user's class named in ``cs.stack``."""
+def build_stack(cs: ConcreteScenario, net: Path) -> EgoStack:
+    """The default ego stack for a scenario on ``net``, or the user's class named in
+    ``cs.stack`` (called as ``cls(cs, net)``)."""
     if cs.stack:
         module, _, name = cs.stack.partition(":")
         try:
             cls = getattr(importlib.import_module(module), name)
         except (ImportError, AttributeError) as exc:
             raise HiyariError(f"ego.stack: cannot load {cs.stack!r}: {exc}") from None
-        return cls(cs)
+        return cls(cs, net)
     if cs.perception == "perfect":
         perception = PerfectPerception()
     elif cs.perception == "none":
@@ -51,7 +52,7 @@ def build_stack(cs: ConcreteScenario) -> EgoStack:
     else:
         from hiyari.bridge.perception_sensors import SensorPerception
 
-        perception = SensorPerception.for_scenario(cs)
+        perception = SensorPerception.for_scenario(cs, net)
     set_speed = cs.params.get("ve0_kmh", 40.0) / 3.6
     planner = AEBPlanner(ACCConfig(set_speed=set_speed), AEBConfig(actuation_delay=cs.aeb_delay))
     return EgoStack(perception, KalmanFusion(), planner)
@@ -65,7 +66,7 @@ def run_concrete(
     with tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
         work = options.out_dir / "roads" if options.out_dir else Path(tmp)
         sc = build_scenario(cs, work)
-        stack = build_stack(cs)
+        stack = build_stack(cs, sc.net)
         cfg = SimConfig(net=sc.net, routes=sc.routes, step_length=cs.step_length, seed=cs.seed)
         with Simulation(cfg) as sim:
             sc.insert(sim)

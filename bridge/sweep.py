@@ -142,7 +142,7 @@ def run_sweep(logical: LogicalScenario, options: SweepOptions) -> SweepSummary:
         ) as bar,
     ):
         writer = csv.DictWriter(f, fieldnames=cols)
-        for row, wall in _execute(todo, options):
+        for row, wall in execute_runs(todo, options):
             writer.writerow({k: _fmt(row.get(k)) for k in cols})
             f.flush()
             tf.write(f"{row['index']},{wall:.4f}\n")
@@ -165,7 +165,10 @@ def _write_rows(path: Path, cols: list[str], rows: list[dict]) -> None:
             w.writerow({k: r.get(k, "") for k in cols})
 
 
-def _execute(todo: list[ConcreteScenario], options: SweepOptions) -> Iterator[tuple[dict, float]]:
+def execute_runs(
+    todo: list[ConcreteScenario], options: SweepOptions
+) -> Iterator[tuple[dict, float]]:
+    """Run concrete scenarios on the configured backend; yield (row, wall s) as they finish."""
     if not todo:
         return
     if options.backend == "ray":

@@ -1,0 +1,57 @@
+"""Ray-cast sensor models with perception disturbances: LiDAR, radar, camera, recognition.
+
+Closed-loop use (build the scene once per network, update the actors every step)::
+
+    from hiyari.sensors import (Environment, RayScene, SensorRig, VehiclePose,
+                                disturbance_preset)
+    scene = RayScene(static_mesh)                    # Embree BVH of the road, built once
+    rig = SensorRig.default()                         # 64ch LiDAR 10 Hz, radar 20 Hz, camera 30 Hz
+    preset = disturbance_preset("rain")               # or Environment(...) directly
+    scene.set_appearance(preset.appearance)
+    rng = np.random.default_rng(seed)
+    for world in sim.run():
+        scene.update(world, ego_id)                   # actor shapes only
+        ego = VehiclePose.from_world(world, ego_id)   # or any object with x, y, z, heading, speed
+        env = preset.environment_for(ego.heading)
+        for sensor in rig.due(world.time, step):
+            raw, objects = rig.sense(sensor, scene, ego, world, env, rng)
+
+``raw`` is a PointCloud, RadarDetections or CameraFrame (None unless the rig renders images)
+and ``objects`` an ObjectList with ground truth (sensors.outputs).
+"""
+
+from importlib import import_module
+
+# Names load on first use, so that ``hiyari.sensors.outputs`` stays light for its readers.
+_WHERE = {
+    "ActorAppearance": "actor_shapes",
+    "Camera": "camera",
+    "CameraConfig": "camera_model",
+    "DisturbancePreset": "presets",
+    "Environment": "environment",
+    "Illumination": "environment",
+    "Lidar": "lidar",
+    "LidarConfig": "lidar_config",
+    "LidarRecognitionConfig": "lidar_recognition",
+    "Mount": "frames",
+    "PRESETS": "presets",
+    "Radar": "radar",
+    "RadarConfig": "radar_config",
+    "RadarRecognitionConfig": "radar_recognition",
+    "RayScene": "ray_scene",
+    "SensorRig": "rig",
+    "Soiling": "environment",
+    "SoilingSpot": "environment",
+    "VehiclePose": "frames",
+    "disturbance_preset": "presets",
+    "recognise_lidar": "lidar_recognition",
+    "recognise_radar": "radar_recognition",
+    "sensor_to_world": "frames",
+}
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name: str):
+    if name in _WHERE:
+        return getattr(import_module(f"hiyari.sensors.{_WHERE[name]}"), name)
+    raise AttributeError(f"module 'hiyari.sensors' has no attribute {name!r}")

@@ -105,7 +105,8 @@ class ObjectList:
     velocity: np.ndarray  # (N, 3) m/s, nan when not measured
     size: np.ndarray  # (N, 3) length, width, height, m; nan when unknown
     confidence: np.ndarray  # (N,) 0..1
-    truth: np.ndarray  # (N,) object: SUMO id, or '' for a false positive
+    truth: np.ndarray  # (N,) object: SUMO id, 'static' (static scene), or '' for a false positive
+    box_2d: np.ndarray | None = None  # (N, 4) camera boxes u0, v0, u1, v1 in pixels; else None
 
     def __len__(self) -> int:
         return len(self.object_id)

@@ -56,3 +56,20 @@ def test_cut_in_inside_preventable_region_is_passed():
         _cs("cut-in", {"ve0_kmh": 60.0, "vo0_kmh": 30.0, "dx0_m": 40.0, "vy_ms": 1.0}, "none", 20.0)
     )
     assert blind.collision and blind.collided_with == "other"
+
+
+def test_dart_out_with_full_sensor_stack_stops_short():
+    r = run_concrete(_cs("dart-out", DART, "sensors", environment="clear"))
+    assert not r.collision
+    assert r.detection["camera"].target_frames > 0 and r.detection["lidar"].target_frames > 0
+
+
+def test_night_dark_clothing_camera_only_worse_than_camera_lidar():
+    """DIVP: the camera alone misses a dark-clothed pedestrian at night; LiDAR ranges it."""
+    env = "night_headlights_dark_clothing"
+    cam = run_concrete(_cs("dart-out", DART, "sensors", sensors=("camera",), environment=env))
+    cam_lidar = run_concrete(
+        _cs("dart-out", DART, "sensors", sensors=("camera", "lidar"), environment=env)
+    )
+    assert cam.collision and not cam_lidar.collision
+    assert cam_lidar.detection["lidar"].target_frames > 0

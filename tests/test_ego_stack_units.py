@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from hiyari.bridge.aeb import AEBConfig, AEBPlanner, AEBStage, time_to_collision
+from hiyari.bridge.aeb import AEBConfig, AEBPlanner, AEBStage, footprint_extent, time_to_collision
 from hiyari.bridge.ego_pose import EgoPose
 from hiyari.bridge.fusion import KalmanFusion
 from hiyari.sensors.outputs import ObjectList
@@ -38,8 +38,8 @@ def _objs(pos, vel, size, source="truth", truth=None, frame=None, cls=0):
 def test_ttc_rear_end_and_crossing_by_hand():
     cfg = AEBConfig(lateral_margin=0.0)
     tracks = _objs(
-        pos=[[30.0, 0.0], [30.0, 5.0], [20.0, -3.0], [20.0, 3.0]],
-        vel=[[-10.0, 0.0], [-10.0, 0.0], [-10.0, 1.5], [0.0, 0.0]],
+        pos=[[30.0, 0.0], [30.0, 5.0], [20.0, -4.0], [20.0, 3.0]],
+        vel=[[-10.0, 0.0], [-10.0, 0.0], [-20.0, 1.5], [0.0, 0.0]],
         size=[[4.0, 2.0, 1.5]] * 4,
     )
     ttc = time_to_collision(tracks, EGO, cfg)
@@ -47,11 +47,23 @@ def test_ttc_rear_end_and_crossing_by_hand():
     assert ttc[0] == pytest.approx(2.56)
     # same car one lane over (5 m left) never overlaps laterally
     assert ttc[1] == math.inf
-    # crossing from the right: longitudinal overlap from (20-4.4)/10 = 1.56 s to 2.44 s;
-    # lateral overlap once |y| <= 1.95: y = -3 + 1.5 t -> t in [0.7, 3.3]: first contact 1.56 s
-    assert ttc[2] == pytest.approx(1.56)
+    # a car crossing from the right at 1.5 m/s over ground (the ego does 20 m/s), so it
+    # heads across the road: its footprint spans 1 m along the ego's x and 2 m along y.
+    # Longitudinal overlap while |20 - 20 t| <= 1 + 2.4, i.e. t in [0.83, 1.17];
+    # lateral while |-4 + 1.5 t| <= 2 + 0.95, i.e. t in [0.7, 4.63]: first contact 0.83 s
+    assert ttc[2] == pytest.approx(16.6 / 20.0)
     # a parked car beside the path is no threat
     assert ttc[3] == math.inf
+
+
+def test_footprint_extent_follows_heading():
+    # Annex G: a car cutting in at Vy = 1 m/s while doing 10 m/s heads atan(0.1) off the road
+    ego = EgoPose(0.0, 0.0, 0.0, 0.0, 15.0, 0.0, 4.8, 1.9)
+    tracks = _objs([[20.0, 3.5]], [[-5.0, -1.0]], [[5.3, 1.9, 1.5]])
+    ext_x, ext_y = footprint_extent(tracks, ego)
+    psi = math.atan2(1.0, 10.0)
+    assert ext_y[0] == pytest.approx((5.3 * math.sin(psi) + 1.9 * math.cos(psi)) / 2)
+    assert ext_x[0] == pytest.approx((5.3 * math.cos(psi) + 1.9 * math.sin(psi)) / 2)
 
 
 def test_aeb_stages_and_actuation_delay():

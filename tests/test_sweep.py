@@ -95,10 +95,10 @@ def test_failing_run_is_recorded(tmp_path, monkeypatch):
     mod.write_text(
         "from hiyari.bridge.run_scenario import build_stack\n"
         "from dataclasses import replace\n"
-        "def Exploding(cs):\n"
+        "def Exploding(cs, net):\n"
         "    if cs.params['ve0_kmh'] == 23:\n"
         "        raise RuntimeError('planner diverged at 23 km/h')\n"
-        "    return build_stack(replace(cs, stack=''))\n"
+        "    return build_stack(replace(cs, stack=''), net)\n"
     )
     monkeypatch.syspath_prepend(str(tmp_path))
     scen = _scenario(tmp_path, stack='stack = "exploding_stack:Exploding"')

@@ -80,6 +80,9 @@ class SimConfig:
             "warn",
             "--collision.check-junctions",
             "true",
+            # SUMO's default counts a gap below minGap (2.5 m) as a collision: contact only
+            "--collision.mingap-factor",
+            "0",
             "--time-to-teleport",
             "-1",
         ]

@@ -1,0 +1,66 @@
+"""The UN R157 judge: Preventable points pass with perfect perception, not without sensors."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from hiyari.bridge.r157_judge import JudgeOptions, judge, write_report
+from hiyari.risk.boundary import Grid
+from hiyari.risk.r157_points import R157Config, generate_points, write_points_csv
+
+
+@pytest.fixture(scope="module")
+def points():
+    cfg = R157Config(
+        ve0_kmh=Grid(40, 60, 20),
+        dv_kmh=Grid(10, 40, 30),
+        vy_fine=Grid(1.0, 2.0, 1.0),
+        vy_coarse=Grid(1.0, 2.0, 1.0),
+        gx_max_g=Grid(0.5, 1.0, 0.5),
+    )
+    return generate_points(cfg).points
+
+
+def test_perfect_perception_passes_every_preventable_point(points, tmp_path):
+    report = judge(points, JudgeOptions(perception="perfect", workers=2), progress=False)
+    s = report.summary()["perfect"]
+    assert s["preventable"] >= 20
+    assert s["verdict"] == "pass" and s["failed"] == 0, s["failed_points"]
+    paths = write_report(report, tmp_path)
+    assert {p.name for p in paths} >= {"judge.csv", "summary.json", "judge_cut-in.png"}
+
+
+def test_without_sensors_the_judge_fails(points):
+    cut_in = [p for p in points if p.scenario == "cut-in" and p.expected == "preventable"][:8]
+    report = judge(cut_in, JudgeOptions(perception="none", workers=2), progress=False)
+    s = report.summary()["none"]
+    assert s["verdict"] == "fail" and s["failed"] >= 4
+
+
+def test_cli_judge(points, tmp_path):
+    f = write_points_csv([p for p in points if p.scenario == "decel"][:4], tmp_path / "p.csv")
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "hiyari",
+            "r157",
+            "judge",
+            str(f),
+            "-o",
+            str(tmp_path / "j"),
+            "-q",
+            "-j",
+            "1",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "PASS: 4/4 Preventable points passed" in proc.stdout
+    assert json.loads((tmp_path / "j" / "summary.json").read_text())["perfect"]["verdict"] == "pass"
