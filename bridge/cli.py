@@ -17,6 +17,7 @@ COMMAND_MODULES = [
     "hiyari.bridge.cmd_net",
     "hiyari.bridge.cmd_run",
     "hiyari.bridge.cmd_sweep",
+    "hiyari.bridge.cmd_replay",
     "hiyari.bridge.cmd_boundary",
     "hiyari.bridge.cmd_r157",
     "hiyari.bridge.cmd_sensors",

@@ -128,7 +128,8 @@ def run_closed_loop(
 ) -> RunResult:
     """Run until ``duration`` (s of simulation time from now), a collision or ``hooks.done``.
 
-    ``on_step(world, ego_step)`` is called after every stack step (recording, custom metrics).
+    ``on_step(world, ego_step, collisions)`` is called after every stack step (recording,
+    custom metrics).
     """
     from tqdm import tqdm
 
@@ -155,7 +156,7 @@ def run_closed_loop(
             ego = EgoPose.from_world(world, row)
             _metrics(res, world, row, ego, step, hooks, truth_eye, ttc_cfg)
             if on_step is not None:
-                on_step(world, step)
+                on_step(world, step, sim.collisions)
             hit = [c for c in sim.collisions if ego_id in (c.a, c.b)]
             if hit:
                 other = hit[0].b if hit[0].a == ego_id else hit[0].a

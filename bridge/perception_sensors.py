@@ -11,6 +11,7 @@ from hiyari.bridge.ego_pose import EgoPose
 from hiyari.bridge.scenario_file import ConcreteScenario
 from hiyari.net.road_geometry import RoadGeometry
 from hiyari.net.road_mesh import build_scene_mesh
+from hiyari.sensors.camera import Camera
 from hiyari.sensors.outputs import CameraFrame, ObjectList, PointCloud, RadarDetections
 from hiyari.sensors.presets import DisturbancePreset, disturbance_preset
 from hiyari.sensors.ray_scene import RayScene
@@ -39,6 +40,8 @@ class SensorPerception:
         self.step = step
         self.rng = np.random.default_rng(seed)
         self.last_raw: list[RawOutput] = []
+        self.render_every = 0  # render every Nth camera frame as an image (0: never)
+        self._camera_frames = 0
         scene.set_appearance(preset.appearance)
 
     @staticmethod
@@ -62,6 +65,12 @@ class SensorPerception:
         env = self.preset.environment_for(ego.heading)
         lists = []
         for sensor in due:
+            if isinstance(sensor, Camera):
+                # images cost ~50 ms each: only the frames a recording keeps are rendered
+                self.rig.render_images = self.render_every > 0 and (
+                    self._camera_frames % self.render_every == 0
+                )
+                self._camera_frames += 1
             raw, objects = self.rig.sense(sensor, self.scene, ego, world, env, self.rng)
             if raw is not None:
                 self.last_raw.append(raw)

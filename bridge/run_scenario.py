@@ -19,6 +19,7 @@ from hiyari.bridge.aeb import ACCConfig, AEBConfig, AEBPlanner  # noqa: E402
 from hiyari.bridge.closed_loop import RunResult, run_closed_loop  # noqa: E402
 from hiyari.bridge.ego_stack import EgoStack  # noqa: E402
 from hiyari.bridge.fusion import KalmanFusion  # noqa: E402
+from hiyari.bridge.perception_sensors import SensorPerception  # noqa: E402
 from hiyari.bridge.perception_truth import NoPerception, PerfectPerception  # noqa: E402
 from hiyari.bridge.scenario_file import ConcreteScenario  # noqa: E402
 from hiyari.bridge.scenarios import build_scenario  # noqa: E402
@@ -33,6 +34,8 @@ class RunOptions:
     out_dir: Path | None = None
     progress: bool = False
     plot: bool = True
+    record: bool = False  # write out_dir/run.mcap (needs out_dir)
+    camera_image_every: int = 10  # when recording: render every Nth camera frame (0: none)
 
 
 def build_stack(cs: ConcreteScenario, net: Path) -> EgoStack:
@@ -50,8 +53,6 @@ def build_stack(cs: ConcreteScenario, net: Path) -> EgoStack:
     elif cs.perception == "none":
         perception = NoPerception()
     else:
-        from hiyari.bridge.perception_sensors import SensorPerception
-
         perception = SensorPerception.for_scenario(cs, net)
     set_speed = cs.params.get("ve0_kmh", 40.0) / 3.6
     planner = AEBPlanner(ACCConfig(set_speed=set_speed), AEBConfig(actuation_delay=cs.aeb_delay))
@@ -69,19 +70,49 @@ def run_concrete(
         stack = build_stack(cs, sc.net)
         cfg = SimConfig(net=sc.net, routes=sc.routes, step_length=cs.step_length, seed=cs.seed)
         with Simulation(cfg) as sim:
+            sim.fast_forward(sc.warmup)
             sc.insert(sim)
-            result = run_closed_loop(
-                sim,
-                stack,
-                sc,
-                cs.duration,
-                label=cs.label(),
-                on_step=on_step,
-                progress=options.progress,
-            )
+            recorder = None
+            if options.record:
+                if options.out_dir is None:
+                    raise HiyariError("recording needs an output folder")
+                from hiyari.bridge.run_recording import StepRecorder, open_recorder
+
+                recorder = open_recorder(options.out_dir / "run.mcap", cs, stack, sc.net)
+                if isinstance(stack.perception, SensorPerception):
+                    stack.perception.render_every = options.camera_image_every
+                on_step = _chain(StepRecorder(recorder, stack, sc.ego_id), on_step)
+            try:
+                result = run_closed_loop(
+                    sim,
+                    stack,
+                    sc,
+                    cs.duration,
+                    label=cs.label(),
+                    on_step=on_step,
+                    progress=options.progress,
+                )
+            except BaseException:
+                if recorder is not None:
+                    recorder.close(complete=False)
+                raise
+            if recorder is not None:
+                recorder.close()
     if options.out_dir is not None:
         write_result(result, cs, options.out_dir, plot=options.plot)
     return result
+
+
+def _chain(first, second):
+    """Call ``first`` and then ``second`` (when given) with the same arguments."""
+    if second is None:
+        return first
+
+    def both(*args):
+        first(*args)
+        second(*args)
+
+    return both
 
 
 def write_result(result: RunResult, cs: ConcreteScenario, out_dir: Path, plot: bool = True) -> None:

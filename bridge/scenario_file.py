@@ -72,9 +72,10 @@ PARAMETERS: dict[str, dict[str, tuple[float | None, tuple[float, float]]]] = {
         "gap_m": (150.0, (10.0, 1000.0)),
     },
     "city": {
-        "vehicles_per_hour": (1200.0, (0.0, 20000.0)),
-        "persons_per_hour": (1200.0, (0.0, 20000.0)),
+        "vehicles_per_hour": (1800.0, (0.0, 20000.0)),
+        "persons_per_hour": (1800.0, (0.0, 20000.0)),
         "ve0_kmh": (40.0, (1.0, 100.0)),
+        "warmup_s": (300.0, (0.0, 7200.0)),
     },
 }
 

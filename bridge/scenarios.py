@@ -84,6 +84,7 @@ class Scenario(ScenarioHooks):
     ego_speed_mode: int = 0
     scripted: list = field(default_factory=list)
     lead_in: float = 0.0
+    warmup: float = 0.0  # s of traffic before the ego enters
     start_time: float = 0.0
     settle_after_stop: float = 1.0
     sizes: ActorSizes = field(default_factory=ActorSizes)
@@ -283,17 +284,20 @@ def build_scenario(
             DemandConfig(
                 vehicles_per_hour=p["vehicles_per_hour"],
                 persons_per_hour=p["persons_per_hour"],
-                end=cs.duration + 600.0,
+                end=p["warmup_s"] + cs.duration + 60.0,
                 seed=cs.seed,
                 vehicle_mix={"car": 0.85, "truck": 0.05, "bus": 0.05, "motorcycle": 0.05},
             ),
         )
         ego_route = _long_route(net)
+        first = sumolib.net.readNet(str(net)).getEdge(ego_route[0])
+        lane = next(ln for ln in first.getLanes() if ln.allows("passenger"))
         sc = Scenario(
             net=net,
             routes=[routes],
             ego_route=ego_route,
-            ego_lane=0,
+            ego_lane=lane.getIndex(),
+            warmup=p["warmup_s"],
             ego_start_s=5.0,
             ego_speed=ve0,
             ego_speed_mode=k.city_speed_mode,

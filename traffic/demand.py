@@ -77,32 +77,41 @@ def _arrivals(rng: np.random.Generator, rate_per_hour: float, begin: float, end:
     return np.round(t[t < end], 1)
 
 
-def _reachable(start, vclass: str, directed: bool) -> set[str]:
-    """Edge ids reachable from ``start`` for ``vclass`` (undirected walk graph for persons)."""
-    seen = {start.getID()}
-    queue = deque([start])
-    while queue:
-        e = queue.popleft()
-        nxt = [o for o in e.getOutgoing() if o.allows(vclass)]
-        if not directed:
-            nodes = (e.getFromNode(), e.getToNode())
-            nxt = [o for n in nodes for o in n.getIncoming() + n.getOutgoing() if o.allows(vclass)]
-        for o in nxt:
-            if o.getID() not in seen and not o.getID().startswith(":"):
-                seen.add(o.getID())
-                queue.append(o)
-    return seen
-
-
 def _od_pairs(net, vclass: str, directed: bool) -> list[tuple[str, str]]:
-    edges = [e for e in net.getEdges() if e.allows(vclass) and e.getFunction() == ""]
-    fringe = [e for e in edges if e.is_fringe()]
+    """Fringe-to-fringe edge pairs connected for ``vclass``.
+
+    Vehicles follow connections (directed); persons may walk either way along any edge that
+    allows them and change edges at shared junctions.
+    """
+    edges = [e for e in net.getEdges() if e.getFunction() == "" and e.allows(vclass)]
+    allowed = {e.getID() for e in edges}
+    if directed:
+        adj = {
+            e.getID(): [o.getID() for o in e.getOutgoing() if o.getID() in allowed] for e in edges
+        }
+    else:
+        at_node: dict[str, list[str]] = {}
+        for e in edges:
+            for n in (e.getFromNode(), e.getToNode()):
+                at_node.setdefault(n.getID(), []).append(e.getID())
+        adj = {
+            e.getID(): at_node[e.getFromNode().getID()] + at_node[e.getToNode().getID()]
+            for e in edges
+        }
+    fringe = [e.getID() for e in edges if e.is_fringe()]
     if len(fringe) < 2:
-        fringe = edges
+        fringe = [e.getID() for e in edges]
+    fringe_set = set(fringe)
     pairs = []
-    for o in fringe:
-        reach = _reachable(o, vclass, directed)
-        pairs += [(o.getID(), d.getID()) for d in fringe if d is not o and d.getID() in reach]
+    for origin in fringe:
+        seen = {origin}
+        queue = deque([origin])
+        while queue:
+            for nxt in adj[queue.popleft()]:
+                if nxt not in seen:
+                    seen.add(nxt)
+                    queue.append(nxt)
+        pairs += [(origin, d) for d in fringe if d != origin and d in seen and d in fringe_set]
     return pairs
 
 

@@ -193,6 +193,15 @@ class Simulation:
             self._collisions = self._detector.detect(self._state, self._sumo_collisions())
         return self._state
 
+    def fast_forward(self, until: float) -> WorldState:
+        """Step SUMO to ``until`` without reading states or checking contacts (warm-ups)."""
+        self._require_open()
+        while self._sumo.simulation.getTime() < until - 1e-9:
+            self._sumo.simulationStep()
+        self._state = self._reader.read()
+        self._collisions = []
+        return self._state
+
     def run(self, until: float | None = None) -> Iterator[WorldState]:
         """Step until ``until`` (or the configured end, or until SUMO has no more demand)."""
         end = until if until is not None else self.config.end_time
