@@ -38,7 +38,12 @@ class SensorPerception:
         self.preset = preset
         self.ego_id = ego_id
         self.step = step
-        self.rng = np.random.default_rng(seed)
+        self._seed = seed
+        # one stream per sensor kind: adding a sensor must not change another's noise draws
+        self.rngs = {
+            name: np.random.default_rng([seed, k])
+            for k, name in enumerate(("camera", "radar", "lidar"))
+        }
         self.last_raw: list[RawOutput] = []
         self.render_every = 0  # render every Nth camera frame as an image (0: never)
         self._camera_frames = 0
@@ -71,7 +76,10 @@ class SensorPerception:
                     self._camera_frames % self.render_every == 0
                 )
                 self._camera_frames += 1
-            raw, objects = self.rig.sense(sensor, self.scene, ego, world, env, self.rng)
+            rng = self.rngs.setdefault(
+                sensor.name, np.random.default_rng([self._seed, len(self.rngs)])
+            )
+            raw, objects = self.rig.sense(sensor, self.scene, ego, world, env, rng)
             if raw is not None:
                 self.last_raw.append(raw)
             lists.append(objects)

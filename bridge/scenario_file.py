@@ -66,6 +66,7 @@ PARAMETERS: dict[str, dict[str, tuple[float | None, tuple[float, float]]]] = {
         "ve0_kmh": (40.0, (1.0, 100.0)),
         "ped_speed_kmh": (5.0, (1.0, 25.0)),
         "impact_fraction": (0.5, (0.0, 1.0)),
+        "parked_car": (1.0, (0.0, 1.0)),  # 1: the child steps out from behind a parked car
     },
     "stationary": {
         "ve0_kmh": (50.0, (1.0, 200.0)),

@@ -269,10 +269,15 @@ def build_scenario(
             target_id="child",
             **base,
         )
-        sc.scripted = [
-            ScriptedVehicle("parked", frame, _const_speed(s_parked, 0.0, d_parked), z.other_length),
-            ScriptedPerson("child", frame, child),
-        ]
+        sc.scripted = [ScriptedPerson("child", frame, child)]
+        if p.get("parked_car", 1.0) >= 0.5:
+            sc.scripted.insert(
+                0,
+                ScriptedVehicle(
+                    "parked", frame, _const_speed(s_parked, 0.0, d_parked), z.other_length
+                ),
+            )
+
         sc.conflict_point = frame.to_xy(s_path, d_impact)[:2]
         return sc
 
