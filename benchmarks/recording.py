@@ -10,9 +10,8 @@
    (index every message) and drawn to its first frame in a viser scene; the baseline is
    reading every message of the same file with the mcap library's own reader.
 
-The workloads are entries of WORKLOADS: a function (recorder or None, warm-up s, measured s)
--> wall seconds of the measured part. The closed-loop demo is added there as another entry
-when it exists; until then the figures are for traffic-only runs.
+3. The closed-loop demo (dart-out with camera, radar and LiDAR) with and without recording
+   everything (ground truth, raw sensor outputs, object lists, tracks, ego status).
 
 Run: .venv/bin/python benchmarks/recording.py [--warm 120] [--measure 60] [--replay-minutes 5]
 """
@@ -32,6 +31,8 @@ from mcap.reader import make_reader
 from hiyari.bridge.recorder import Recorder
 from hiyari.bridge.recording_reader import Recording
 from hiyari.bridge.recording_traffic import record_traffic
+from hiyari.bridge.run_scenario import RunOptions, run_concrete
+from hiyari.bridge.scenario_file import ConcreteScenario
 from hiyari.net.build import CityGridParams, build_city_grid
 from hiyari.sensors.outputs import HIT_STATIC, PointCloud
 from hiyari.traffic import DemandConfig, SimConfig, Simulation, write_demand
@@ -108,6 +109,31 @@ def replay_load(path: Path) -> tuple[float, float, float]:
     return baseline, opened, first
 
 
+def closed_loop_overhead(d: Path) -> str:
+    """The demo's dart-out with camera, radar and LiDAR, with and without recording."""
+    cs = ConcreteScenario(
+        "dart-out",
+        "benchmark dart-out",
+        0,
+        1,
+        12.0,
+        0.05,
+        {"ve0_kmh": 40.0, "ped_speed_kmh": 5.0, "impact_fraction": 0.5, "parked_car": 1.0},
+        perception="sensors",
+    )
+    plain = run_concrete(cs, RunOptions(out_dir=d / "cl_plain", plot=False))
+    rec = run_concrete(cs, RunOptions(out_dir=d / "cl_rec", plot=False, record=True))
+    size = (d / "cl_rec" / "run.mcap").stat().st_size
+    mb_min = size / 2**20 / (rec.sim_seconds / 60.0)
+    return (
+        f"\nclosed-loop demo (dart-out, LiDAR 10 Hz + radar 20 Hz + camera, images every 10th "
+        f"frame), {rec.sim_seconds:.1f} s simulated\n"
+        f"{'closed loop, no recording (baseline)':44s} {plain.wall_seconds:7.2f} {1.0:6.2f}\n"
+        f"{'closed loop, everything recorded':44s} {rec.wall_seconds:7.2f} "
+        f"{rec.wall_seconds / plain.wall_seconds:6.2f} {mb_min:13.2f}"
+    )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--warm", type=float, default=120.0, help="untimed warm-up, s")
@@ -153,6 +179,8 @@ def main() -> None:
         for name, wall, size in rows:
             mb_min = size / 2**20 / (args.measure / 60.0)
             print(f"{name:44s} {wall:7.2f} {wall / base:6.2f} {mb_min:13.2f}")
+
+        print(closed_loop_overhead(d))
 
         long = record_traffic(
             config,

@@ -73,18 +73,27 @@ class CollisionDetector:
                 keep = ~(ped[i] & ped[j])
                 centre_gap = np.linalg.norm(state.xyz[i, :2] - state.xyz[j, :2], axis=1)
                 keep &= centre_gap <= radius[i] + radius[j]
-                if self.ignore_walkingarea_contacts:
-                    on_wa = np.array(["_w" in ln and ln.startswith(":") for ln in state.lane])
-                    keep &= ~((ped[i] & on_wa[i]) | (ped[j] & on_wa[j]))
                 i, j = i[keep], j[keep]
-                corners = state.corners()
-                depth = rectangle_overlap(corners[i], corners[j])
+                if self.ignore_walkingarea_contacts and len(i):
+                    lane = state.lane
+                    on_wa = np.array(
+                        [
+                            _on_walkingarea(lane[a]) or _on_walkingarea(lane[b])
+                            for a, b in zip(i, j, strict=True)
+                        ],
+                        dtype=bool,
+                    )
+                    on_wa &= ped[i] | ped[j]
+                    i, j = i[~on_wa], j[~on_wa]
+                rows, inverse = np.unique(np.concatenate([i, j]), return_inverse=True)
+                corners = state.select(rows).corners()
+                depth = rectangle_overlap(corners[inverse[: len(i)]], corners[inverse[len(i) :]])
                 hit = depth > self.tolerance
                 for a, b, d in zip(i[hit], j[hit], depth[hit], strict=True):
                     key = tuple(sorted((state.ids[a], state.ids[b])))
                     kind = "vehicle-pedestrian" if ped[a] or ped[b] else "vehicle-vehicle"
                     found[key] = Collision(state.time, key[0], key[1], kind, float(d), False)
-        ped_ids = set(state.ids[ped].tolist())
+        ped_ids = set(state.ids[ped].tolist()) if sumo_pairs else set()
         for a, b in sumo_pairs or ():
             key = tuple(sorted((a, b)))
             if key in found:
@@ -94,3 +103,8 @@ class CollisionDetector:
                 kind = "vehicle-pedestrian" if a in ped_ids or b in ped_ids else "vehicle-vehicle"
                 found[key] = Collision(state.time, key[0], key[1], kind, 0.0, True)
         return [found[k] for k in sorted(found)]
+
+
+def _on_walkingarea(lane: str) -> bool:
+    """SUMO walking areas are internal lanes named ':<junction>_w<k>_0'."""
+    return lane.startswith(":") and "_w" in lane
