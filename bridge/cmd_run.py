@@ -9,24 +9,12 @@ from pathlib import Path
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
 
-RESULT_COLUMNS = [
-    "collision",
-    "collided_with",
-    "impact_speed_kmh",
-    "relative_impact_speed_kmh",
-    "min_ttc_s",
-    "min_gap_m",
-    "stop_distance_m",
-    "aeb_first_time_s",
-    "aeb_max_stage",
-    "final_speed_kmh",
-]
-
 
 def run(args: argparse.Namespace) -> int:
     # imported here so `hiyari --help` and the other commands start fast
     from hiyari.bridge.run_scenario import RunOptions, run_concrete
     from hiyari.bridge.scenario_file import load_scenario
+    from hiyari.bridge.sweep import RESULT_KEYS
 
     logical = load_scenario(args.scenario)
     runs = logical.expand()
@@ -44,7 +32,7 @@ def run(args: argparse.Namespace) -> int:
         res = run_concrete(cs, RunOptions(out_dir=folder, progress=not args.quiet))
         d = res.as_dict()
         rows.append(
-            {"index": cs.index, "seed": cs.seed, **cs.params, **{k: d[k] for k in RESULT_COLUMNS}}
+            {"index": cs.index, "seed": cs.seed, **cs.params, **{k: d[k] for k in RESULT_KEYS}}
         )
         ttc = "inf" if d["min_ttc_s"] is None else f"{d['min_ttc_s']:.2f} s"
         impact = (
