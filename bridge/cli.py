@@ -21,6 +21,7 @@ COMMAND_MODULES = [
     "hiyari.bridge.cmd_boundary",
     "hiyari.bridge.cmd_r157",
     "hiyari.bridge.cmd_sensors",
+    "hiyari.bridge.cmd_study",
 ]
 
 
