@@ -39,18 +39,22 @@ def run(args: argparse.Namespace) -> int:
         f"({time.perf_counter() - t:.1f} s)"
     )
 
-    summaries = {}
-    for name, stype, params in (
-        ("cut_in", "cut-in", cl.CUT_IN),
-        ("dart_out", "dart-out", cl.DART_OUT),
+    for name, stype, params, label in (
+        (
+            "cut_in",
+            "cut-in",
+            cl.CUT_IN,
+            "expressway cut-in (UN R157 road), Ve0 60 km/h, Vo0 30 km/h, dx0 25 m",
+        ),
+        (
+            "dart_out",
+            "dart-out",
+            cl.DART_OUT,
+            "city dart-out (CPNC-50) from behind a parked car at 40 km/h",
+        ),
     ):
-        label = {
-            "cut_in": "expressway cut-in (UN R157 road), Ve0 60 km/h, Vo0 30 km/h, dx0 25 m",
-            "dart_out": "city dart-out (CPNC-50) from behind a parked car at 40 km/h",
-        }[name]
         t = _stage(f"closed loop, camera + radar + LiDAR: {label}")
         r = cl.run_sensor_scenario(stype, params, out / name)
-        summaries[name] = r
         verdict = (
             f"COLLISION at {r['impact_speed_kmh']:.1f} km/h" if r["collision"] else "no collision"
         )

@@ -38,11 +38,12 @@ class SensorPerception:
         self.preset = preset
         self.ego_id = ego_id
         self.step = step
-        self._seed = seed
-        # one stream per sensor kind: adding a sensor must not change another's noise draws
+        # one stream per sensor, keyed by its position in the default rig's order, so that
+        # adding or removing a sensor does not change another's noise draws
+        order = ("camera", "radar", "lidar")
         self.rngs = {
-            name: np.random.default_rng([seed, k])
-            for k, name in enumerate(("camera", "radar", "lidar"))
+            s.name: np.random.default_rng([seed, order.index(s.name) if s.name in order else k + 3])
+            for k, s in enumerate(rig.sensors)
         }
         self.last_raw: list[RawOutput] = []
         self.render_every = 0  # render every Nth camera frame as an image (0: never)
@@ -76,10 +77,9 @@ class SensorPerception:
                     self._camera_frames % self.render_every == 0
                 )
                 self._camera_frames += 1
-            rng = self.rngs.setdefault(
-                sensor.name, np.random.default_rng([self._seed, len(self.rngs)])
+            raw, objects = self.rig.sense(
+                sensor, self.scene, ego, world, env, self.rngs[sensor.name]
             )
-            raw, objects = self.rig.sense(sensor, self.scene, ego, world, env, rng)
             if raw is not None:
                 self.last_raw.append(raw)
             lists.append(objects)

@@ -93,7 +93,7 @@ SENSOR_NAMES = ("camera", "radar", "lidar")
 
 _SECTIONS = {
     "scenario": {"type", "name", "seed", "duration", "step_length"},
-    "ego": {"perception", "sensors", "aeb_delay", "aeb", "fusion", "stack"},
+    "ego": {"perception", "sensors", "aeb_delay", "stack"},
     "environment": {"preset"},
     "parameters": None,  # checked per scenario type
     "sampling": {"mode", "n", "seed"},
