@@ -3,8 +3,8 @@
 Measured in this run, on one core, as CPU time of this process (time.process_time), so that
 other load on a shared machine does not skew the ratio; wall times are printed beside:
   loop        - the straightforward evaluation: one cut-in scenario at a time, 0.01 s steps,
-                judgements taken online (hiyari.risk.cc_reference_sim);
-  vectorised  - the closed-form evaluator (hiyari.risk.cc_evaluator) on arrays of scenarios;
+                judgements taken online (hiyari.risk.cc.reference_sim);
+  vectorised  - the closed-form evaluator (hiyari.risk.cc.evaluator) on arrays of scenarios;
 both on cut-in scenarios drawn from the Annex G ranges extended to 130 km/h. Prints scenario
 evaluations per second of both and their ratio (target >= 1000 x), the verdict agreement on
 the loop's sample, then the time of the full cut-in datasheet: every (Ve0, Vo0, Vy) on a
@@ -22,10 +22,10 @@ import time
 
 import numpy as np
 
-from hiyari.risk.boundary import Grid, cut_in_datasheet, cut_out_datasheet, decel_datasheet
-from hiyari.risk.cc_evaluator import evaluate_cut_in
-from hiyari.risk.cc_model import CCParams
-from hiyari.risk.cc_reference_sim import simulate_cut_in
+from hiyari.risk.cc.boundary import Grid, cut_in_datasheet, cut_out_datasheet, decel_datasheet
+from hiyari.risk.cc.evaluator import evaluate_cut_in
+from hiyari.risk.cc.model import CCParams
+from hiyari.risk.cc.reference_sim import simulate_cut_in
 
 KMH = 1 / 3.6
 

@@ -15,9 +15,9 @@ import tempfile
 import time
 from pathlib import Path
 
-from hiyari.bridge.run_scenario import RunOptions, run_concrete
-from hiyari.bridge.scenario_file import ConcreteScenario
-from hiyari.bridge.scenarios import build_scenario
+from hiyari.bridge.scenario.presets import build_scenario
+from hiyari.bridge.scenario.run import RunOptions, run_concrete
+from hiyari.bridge.scenario.toml_file import ConcreteScenario
 from hiyari.traffic.simulation import SimConfig, Simulation
 
 PARAMS = {

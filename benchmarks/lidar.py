@@ -23,21 +23,21 @@ from embreex import rtcore_scene
 from embreex.mesh_construction import TriangleMesh
 from tqdm import tqdm
 
-from hiyari.net.build import CityGridParams, build_city_grid
-from hiyari.net.road_geometry import RoadGeometry
-from hiyari.net.road_mesh import build_scene_mesh
-from hiyari.net.scene_mesh import SceneMesh
-from hiyari.sensors.actor_shapes import ActorAppearance, build_actor_mesh
-from hiyari.sensors.camera import Camera
-from hiyari.sensors.camera_model import CameraConfig
-from hiyari.sensors.environment import Environment
+from hiyari.net.mesh.road_mesh import build_scene_mesh
+from hiyari.net.mesh.scene_mesh import SceneMesh
+from hiyari.net.road.geometry import RoadGeometry
+from hiyari.net.sumo.build import CityGridParams, build_city_grid
+from hiyari.sensors.camera.config import CameraConfig
+from hiyari.sensors.camera.sensor import Camera
+from hiyari.sensors.environment.conditions import Environment
 from hiyari.sensors.frames import Mount, VehiclePose
-from hiyari.sensors.lidar import Lidar
-from hiyari.sensors.lidar_config import LidarConfig
-from hiyari.sensors.lidar_recognition import recognise_lidar
-from hiyari.sensors.radar import Radar
-from hiyari.sensors.radar_config import RadarConfig
-from hiyari.sensors.ray_scene import RayScene
+from hiyari.sensors.lidar.config import LidarConfig
+from hiyari.sensors.lidar.recognition import recognise_lidar
+from hiyari.sensors.lidar.sensor import Lidar
+from hiyari.sensors.radar.config import RadarConfig
+from hiyari.sensors.radar.sensor import Radar
+from hiyari.sensors.scene.actor_shapes import ActorAppearance, build_actor_mesh
+from hiyari.sensors.scene.ray_scene import RayScene
 from hiyari.traffic.demand import DemandConfig, write_demand
 from hiyari.traffic.simulation import SimConfig, Simulation
 

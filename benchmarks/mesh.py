@@ -17,11 +17,11 @@ import tempfile
 import time
 from pathlib import Path
 
-from hiyari.net.build import CityGridParams, city_grid_plain
-from hiyari.net.opendrive import import_opendrive
-from hiyari.net.plain_xml import write_plain
-from hiyari.net.road_geometry import RoadGeometry
-from hiyari.net.road_mesh import build_scene_mesh
+from hiyari.net.mesh.road_mesh import build_scene_mesh
+from hiyari.net.road.geometry import RoadGeometry
+from hiyari.net.sumo.build import CityGridParams, city_grid_plain
+from hiyari.net.sumo.opendrive import import_opendrive
+from hiyari.net.sumo.plain_xml import write_plain
 from hiyari.sumo_tools import run_sumo_tool
 
 CITY = CityGridParams(blocks_x=10, blocks_y=10, block_length=200.0)

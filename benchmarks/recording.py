@@ -28,12 +28,12 @@ from pathlib import Path
 import numpy as np
 from mcap.reader import make_reader
 
-from hiyari.bridge.recorder import Recorder
-from hiyari.bridge.recording_reader import Recording
-from hiyari.bridge.recording_traffic import record_traffic
-from hiyari.bridge.run_scenario import RunOptions, run_concrete
-from hiyari.bridge.scenario_file import ConcreteScenario
-from hiyari.net.build import CityGridParams, build_city_grid
+from hiyari.bridge.record.reader import Recording
+from hiyari.bridge.record.recorder import Recorder
+from hiyari.bridge.record.traffic import record_traffic
+from hiyari.bridge.scenario.run import RunOptions, run_concrete
+from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.net.sumo.build import CityGridParams, build_city_grid
 from hiyari.sensors.outputs import HIT_STATIC, PointCloud
 from hiyari.traffic import DemandConfig, SimConfig, Simulation, write_demand
 
@@ -88,7 +88,7 @@ def replay_load(path: Path) -> tuple[float, float, float]:
     """(mcap reader s, Recording.open s, open + first frame drawn s) for one file."""
     import viser
 
-    from hiyari.bridge.replay_scene import ReplayScene
+    from hiyari.bridge.replay.scene import ReplayScene
 
     t0 = time.perf_counter()
     with path.open("rb") as f:

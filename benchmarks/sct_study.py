@@ -18,8 +18,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from hiyari.risk.sct_report import summarise
-from hiyari.risk.sct_study import StudyConfig, build_inputs, run_bare_tasks, run_study
+from hiyari.bridge.campaign.sct_report import summarise
+from hiyari.bridge.campaign.sct_study import StudyConfig, build_inputs, run_bare_tasks, run_study
 
 
 def main() -> None:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import libsumo
 
-from hiyari.net.build import CityGridParams, build_city_grid
+from hiyari.net.sumo.build import CityGridParams, build_city_grid
 from hiyari.sumo_tools import sumo_binary
 from hiyari.traffic import DemandConfig, SimConfig, Simulation, write_demand
 
@@ -59,17 +59,28 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="hiyari-bench-") as tmp:
         net = build_city_grid(Path(tmp) / "city.net.xml", CityGridParams())
         demand = write_demand(
-            net, Path(tmp) / "demand.rou.xml",
-            DemandConfig(vehicles_per_hour=2400, persons_per_hour=2400, end=args.warm + args.measure,
-                         seed=1),
+            net,
+            Path(tmp) / "demand.rou.xml",
+            DemandConfig(
+                vehicles_per_hour=2400, persons_per_hour=2400, end=args.warm + args.measure, seed=1
+            ),
         )
         base = SimConfig(net=net, routes=[demand], seed=1)
         bare_sps, nveh, nper = bare(base, args.warm, args.measure)
         rows = [("bare libsumo.simulationStep", bare_sps)]
-        rows.append(("Simulation + WorldState (getters)", hiyari_run(base, args.warm, args.measure, False)))
+        rows.append(
+            ("Simulation + WorldState (getters)", hiyari_run(base, args.warm, args.measure, False))
+        )
         sub = SimConfig(net=net, routes=[demand], seed=1, read_mode="subscriptions")
-        rows.append(("Simulation + WorldState (subscriptions)", hiyari_run(sub, args.warm, args.measure, False)))
-        rows.append(("... getters + collision detection", hiyari_run(base, args.warm, args.measure, True)))
+        rows.append(
+            (
+                "Simulation + WorldState (subscriptions)",
+                hiyari_run(sub, args.warm, args.measure, False),
+            )
+        )
+        rows.append(
+            ("... getters + collision detection", hiyari_run(base, args.warm, args.measure, True))
+        )
     print(f"city grid, {nveh} vehicles and {nper} pedestrians in the network at the end")
     print(f"{'run':42s} {'steps/s':>9s} {'cost vs bare':>13s}")
     for name, sps in rows:

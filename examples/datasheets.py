@@ -11,8 +11,8 @@ from __future__ import annotations
 import argparse
 import time
 
-from hiyari.risk.cc_model import CCParams
-from hiyari.risk.datasheets import write_datasheets
+from hiyari.risk.cc.datasheets import write_datasheets
+from hiyari.risk.cc.model import CCParams
 
 
 def main() -> None:

@@ -16,12 +16,12 @@ import argparse
 import threading
 from pathlib import Path
 
-from hiyari.bridge.recorder import Recorder
-from hiyari.bridge.recording_reader import Recording
-from hiyari.bridge.recording_traffic import record_simulation
-from hiyari.net.build import CityGridParams, build_city_grid
-from hiyari.net.road_geometry import RoadGeometry
-from hiyari.net.road_mesh import build_scene_mesh
+from hiyari.bridge.record.reader import Recording
+from hiyari.bridge.record.recorder import Recorder
+from hiyari.bridge.record.traffic import record_simulation
+from hiyari.net.mesh.road_mesh import build_scene_mesh
+from hiyari.net.road.geometry import RoadGeometry
+from hiyari.net.sumo.build import CityGridParams, build_city_grid
 from hiyari.traffic import DemandConfig, SimConfig, Simulation, write_demand
 
 
@@ -57,12 +57,12 @@ def main() -> None:
 
     recording = Recording.open(path)
     if args.export:
-        from hiyari.bridge.replay_export import export_html
+        from hiyari.bridge.replay.export import export_html
 
         html = export_html(recording, out / "replay.html")
         print(f"static replay: {html} (open it in a browser)")
         return
-    from hiyari.bridge.replay_server import ReplayApp
+    from hiyari.bridge.replay.server import ReplayApp
 
     app = ReplayApp(recording, port=args.port)
     print(f"replay at {app.url} (Ctrl-C to stop)")

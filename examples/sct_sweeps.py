@@ -23,8 +23,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from tqdm import tqdm  # noqa: E402
 
 from hiyari.atomic import atomic_path  # noqa: E402
-from hiyari.risk.sct_report import summarise  # noqa: E402
-from hiyari.risk.sct_study import StudyConfig, build_inputs, run_tasks  # noqa: E402
+from hiyari.bridge.campaign.sct_report import summarise  # noqa: E402
+from hiyari.bridge.campaign.sct_study import StudyConfig, build_inputs, run_tasks  # noqa: E402
 
 
 def main() -> None:

@@ -2,6 +2,6 @@
 
 import sys
 
-from hiyari.bridge.cli import main
+from hiyari.bridge.cli.main import main
 
 sys.exit(main())

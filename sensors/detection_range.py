@@ -17,16 +17,16 @@ import numpy as np
 
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
-from hiyari.sensors.camera import Camera
-from hiyari.sensors.camera_model import CameraConfig
+from hiyari.sensors.camera.config import CameraConfig
+from hiyari.sensors.camera.sensor import Camera
+from hiyari.sensors.environment.presets import PRESETS, DisturbancePreset
 from hiyari.sensors.frames import Mount, VehiclePose
-from hiyari.sensors.lidar import Lidar
-from hiyari.sensors.lidar_config import LidarConfig
-from hiyari.sensors.presets import PRESETS, DisturbancePreset
-from hiyari.sensors.radar import Radar
-from hiyari.sensors.radar_config import RadarConfig
-from hiyari.sensors.ray_scene import RayScene
-from hiyari.sensors.synthetic_scenes import DEFAULT_SIZE, StraightRoad, actor_world
+from hiyari.sensors.lidar.config import LidarConfig
+from hiyari.sensors.lidar.sensor import Lidar
+from hiyari.sensors.radar.config import RadarConfig
+from hiyari.sensors.radar.sensor import Radar
+from hiyari.sensors.scene.ray_scene import RayScene
+from hiyari.sensors.scene.synthetic import DEFAULT_SIZE, StraightRoad, actor_world
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 

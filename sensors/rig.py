@@ -17,16 +17,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from hiyari.sensors.camera import Camera
-from hiyari.sensors.camera_model import CameraConfig
-from hiyari.sensors.environment import Environment
+from hiyari.sensors.camera.config import CameraConfig
+from hiyari.sensors.camera.sensor import Camera
+from hiyari.sensors.environment.conditions import Environment
 from hiyari.sensors.frames import Mount, PoseLike
-from hiyari.sensors.lidar import Lidar
-from hiyari.sensors.lidar_config import LidarConfig
+from hiyari.sensors.lidar.config import LidarConfig
+from hiyari.sensors.lidar.sensor import Lidar
 from hiyari.sensors.outputs import CameraFrame, ObjectList, PointCloud, RadarDetections
-from hiyari.sensors.radar import Radar
-from hiyari.sensors.radar_config import RadarConfig
-from hiyari.sensors.ray_scene import RayScene
+from hiyari.sensors.radar.config import RadarConfig
+from hiyari.sensors.radar.sensor import Radar
+from hiyari.sensors.scene.ray_scene import RayScene
 from hiyari.traffic.world_state import WorldState
 
 Sensor = Lidar | Radar | Camera

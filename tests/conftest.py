@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from hiyari.net.build import IntersectionParams, build_intersection
+from hiyari.net.sumo.build import IntersectionParams, build_intersection
 from hiyari.traffic.demand import DemandConfig, write_demand
 
 SHARED = Path(__file__).resolve().parents[2] / "shared"
@@ -24,7 +24,10 @@ def intersection_demand(intersection_net, tmp_path_factory) -> Path:
     """Ten minutes of mixed vehicles and pedestrians on the intersection."""
     out = tmp_path_factory.mktemp("demand") / "demand.rou.xml"
     cfg = DemandConfig(
-        vehicles_per_hour=1200, persons_per_hour=1200, end=600, seed=7,
+        vehicles_per_hour=1200,
+        persons_per_hour=1200,
+        end=600,
+        seed=7,
         vehicle_mix={"car": 0.7, "truck": 0.1, "bus": 0.1, "motorcycle": 0.1},
     )
     return write_demand(intersection_net, out, cfg)

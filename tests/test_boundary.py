@@ -10,7 +10,7 @@ import pytest
 from matplotlib.image import imread
 
 from hiyari.errors import HiyariError
-from hiyari.risk.boundary import (
+from hiyari.risk.cc.boundary import (
     Grid,
     cut_in_boundary,
     cut_in_datasheet,
@@ -19,9 +19,9 @@ from hiyari.risk.boundary import (
     decel_boundary_gap,
     decel_datasheet,
 )
-from hiyari.risk.cc_evaluator import evaluate_cut_in, evaluate_cut_out, evaluate_decel
-from hiyari.risk.cc_model import CCParams
-from hiyari.risk.datasheet_plot import plot_cut_in, plot_cut_out, plot_decel
+from hiyari.risk.cc.datasheet_plot import plot_cut_in, plot_cut_out, plot_decel
+from hiyari.risk.cc.evaluator import evaluate_cut_in, evaluate_cut_out, evaluate_decel
+from hiyari.risk.cc.model import CCParams
 
 KMH = 1 / 3.6
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from hiyari.errors import HiyariError
-from hiyari.risk.cc_evaluator import evaluate_cut_in, evaluate_cut_out, evaluate_decel
-from hiyari.risk.cc_model import CCParams
-from hiyari.risk.cc_reference_sim import simulate_cut_in, simulate_cut_out, simulate_decel
+from hiyari.risk.cc.evaluator import evaluate_cut_in, evaluate_cut_out, evaluate_decel
+from hiyari.risk.cc.model import CCParams
+from hiyari.risk.cc.reference_sim import simulate_cut_in, simulate_cut_out, simulate_decel
 
 KMH = 1 / 3.6
 A = 0.774 * 9.81  # 7.59294 m/s²

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hiyari.risk.cc_kinematics import (
+from hiyari.risk.cc.kinematics import (
     Motion,
     PiecewiseCubic,
     max_of_profiles,

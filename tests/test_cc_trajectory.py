@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from hiyari.errors import HiyariError
-from hiyari.risk.cc_evaluator import evaluate_cut_in, evaluate_cut_out, evaluate_decel
-from hiyari.risk.cc_trajectory import cut_in_tracks, cut_out_tracks, decel_tracks
+from hiyari.risk.cc.evaluator import evaluate_cut_in, evaluate_cut_out, evaluate_decel
+from hiyari.risk.cc.trajectory import cut_in_tracks, cut_out_tracks, decel_tracks
 
 KMH = 1 / 3.6
 T = np.arange(0, 15, 0.01)

@@ -25,7 +25,9 @@ def _assert_one_line_error(proc, *needles: str) -> None:
 
 
 def test_missing_net(tmp_path):
-    _assert_one_line_error(_hiyari("sim", "-n", str(tmp_path / "nope.net.xml")), "nope.net.xml", "not found")
+    _assert_one_line_error(
+        _hiyari("sim", "-n", str(tmp_path / "nope.net.xml")), "nope.net.xml", "not found"
+    )
 
 
 def test_malformed_net(tmp_path):
@@ -43,7 +45,8 @@ def test_not_a_net(tmp_path):
 def test_missing_and_malformed_routes(intersection_net, tmp_path):
     _assert_one_line_error(
         _hiyari("sim", "-n", str(intersection_net), "-r", str(tmp_path / "r.rou.xml")),
-        "r.rou.xml", "not found",
+        "r.rou.xml",
+        "not found",
     )
     bad = tmp_path / "bad.rou.xml"
     bad.write_text("<routes><vehicle id='x'")
@@ -70,19 +73,34 @@ def test_unknown_vehicle_type_in_routes(intersection_net, tmp_path):
 def test_unknown_vehicle_type_in_mix(intersection_net):
     _assert_one_line_error(
         _hiyari("sim", "-n", str(intersection_net), "--vph", "100", "--mix", "car=1,tank=1"),
-        "tank", "unknown vehicle type",
+        "tank",
+        "unknown vehicle type",
     )
 
 
 @pytest.mark.parametrize("step", ["0", "-0.1"])
 def test_impossible_step_length(intersection_net, step):
-    _assert_one_line_error(_hiyari("sim", "-n", str(intersection_net), "--step", step), "step length")
+    _assert_one_line_error(
+        _hiyari("sim", "-n", str(intersection_net), "--step", step), "step length"
+    )
 
 
 def test_sim_runs_generated_demand(intersection_net, tmp_path):
     out = tmp_path / "summary.json"
-    proc = _hiyari("sim", "-n", str(intersection_net), "--vph", "600", "--pph", "600", "-d", "120",
-                   "-q", "--json", str(out))
+    proc = _hiyari(
+        "sim",
+        "-n",
+        str(intersection_net),
+        "--vph",
+        "600",
+        "--pph",
+        "600",
+        "-d",
+        "120",
+        "-q",
+        "--json",
+        str(out),
+    )
     assert proc.returncode == 0, proc.stderr
     assert "steps/s" in proc.stdout
     import json

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from hiyari.bridge.recording_reader import Recording
-from hiyari.bridge.run_scenario import RunOptions, run_concrete
-from hiyari.bridge.scenario_file import ConcreteScenario
+from hiyari.bridge.record.reader import Recording
+from hiyari.bridge.scenario.run import RunOptions, run_concrete
+from hiyari.bridge.scenario.toml_file import ConcreteScenario
 
 
 def test_sensor_run_records_and_reads_back(tmp_path):

@@ -7,9 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from hiyari.bridge.aeb import AEBConfig, AEBPlanner, AEBStage, footprint_extent, time_to_collision
-from hiyari.bridge.ego_pose import EgoPose
-from hiyari.bridge.fusion import KalmanFusion
+from hiyari.bridge.stack.aeb import (
+    AEBConfig,
+    AEBPlanner,
+    AEBStage,
+    footprint_extent,
+    time_to_collision,
+)
+from hiyari.bridge.stack.ego_pose import EgoPose
+from hiyari.bridge.stack.fusion import KalmanFusion
 from hiyari.sensors.outputs import ObjectList
 
 EGO = EgoPose(0.0, 0.0, 0.0, 0.0, 20.0, 0.0, 4.8, 1.9)

@@ -9,14 +9,14 @@ import numpy as np
 import pytest
 
 from hiyari.errors import HiyariError
-from hiyari.risk.incidents import (
+from hiyari.risk.metrics.contact import PetEvent
+from hiyari.risk.metrics.incidents import (
     IncidentConfig,
     IncidentDetector,
     straight_line_metrics,
     vehicle_pedestrian_pairs,
     write_encounters_csv,
 )
-from hiyari.risk.sct_metrics import PetEvent
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 

@@ -10,8 +10,9 @@ import pytest
 from lxml import etree
 
 from hiyari.errors import HiyariError
-from hiyari.net.alignment import Alignment, Element
-from hiyari.net.build import (
+from hiyari.net.road.geometry import LaneKind, RoadGeometry
+from hiyari.net.sumo.alignment import Alignment, Element
+from hiyari.net.sumo.build import (
     CityGridParams,
     ExpresswayParams,
     IntersectionParams,
@@ -21,7 +22,6 @@ from hiyari.net.build import (
     build_intersection,
     build_r157_road,
 )
-from hiyari.net.road_geometry import LaneKind, RoadGeometry
 from hiyari.traffic import DemandConfig, SimConfig, Simulation, write_demand
 
 #: A short expressway with every feature (curve, both ramps) so SUMO runs stay quick.

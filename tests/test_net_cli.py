@@ -7,10 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hiyari.bridge.cli import main
-from hiyari.net.plain_xml import build_net
-from hiyari.net.road_geometry import RoadGeometry
-from hiyari.net.scene_mesh import SceneMesh
+from hiyari.bridge.cli.main import main
+from hiyari.net.mesh.scene_mesh import SceneMesh
+from hiyari.net.road.geometry import RoadGeometry
+from hiyari.net.sumo.plain_xml import build_net
 
 ALKS = Path(__file__).resolve().parents[2] / "shared" / "data" / "opendrive" / "alks"
 

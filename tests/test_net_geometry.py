@@ -8,14 +8,14 @@ from lxml import etree
 from shapely.geometry import Point
 
 from hiyari.errors import HiyariError
-from hiyari.net.build import (
+from hiyari.net.road.geometry import LaneKind, RoadGeometry, parse_shape
+from hiyari.net.sumo.build import (
     CityGridParams,
     ExpresswayParams,
     build_city_grid,
     build_expressway,
 )
-from hiyari.net.plain_xml import build_net
-from hiyari.net.road_geometry import LaneKind, RoadGeometry, parse_shape
+from hiyari.net.sumo.plain_xml import build_net
 
 
 @pytest.fixture(scope="module")

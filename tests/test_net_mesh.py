@@ -15,7 +15,11 @@ from scipy.sparse.csgraph import connected_components
 from shapely.geometry import Point
 
 from hiyari.errors import HiyariError
-from hiyari.net.build import (
+from hiyari.net.mesh.materials import DISPLAY_RGB, Material
+from hiyari.net.mesh.road_mesh import MeshParams, build_scene_mesh, export_mesh
+from hiyari.net.mesh.scene_mesh import SceneMesh
+from hiyari.net.road.geometry import LaneKind, RoadGeometry
+from hiyari.net.sumo.build import (
     CityGridParams,
     ExpresswayParams,
     IntersectionParams,
@@ -25,11 +29,7 @@ from hiyari.net.build import (
     build_intersection,
     build_r157_road,
 )
-from hiyari.net.materials import DISPLAY_RGB, Material
-from hiyari.net.opendrive import import_opendrive
-from hiyari.net.road_geometry import LaneKind, RoadGeometry
-from hiyari.net.road_mesh import MeshParams, build_scene_mesh, export_mesh
-from hiyari.net.scene_mesh import SceneMesh
+from hiyari.net.sumo.opendrive import import_opendrive
 
 ALKS = Path(__file__).resolve().parents[2] / "shared" / "data" / "opendrive" / "alks"
 

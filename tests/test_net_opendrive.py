@@ -14,10 +14,10 @@ import pytest
 from lxml import etree
 
 from hiyari.errors import HiyariError
-from hiyari.net.materials import Material
-from hiyari.net.opendrive import import_opendrive
-from hiyari.net.road_geometry import LaneKind, RoadGeometry
-from hiyari.net.road_mesh import MeshParams, build_scene_mesh
+from hiyari.net.mesh.materials import Material
+from hiyari.net.mesh.road_mesh import MeshParams, build_scene_mesh
+from hiyari.net.road.geometry import LaneKind, RoadGeometry
+from hiyari.net.sumo.opendrive import import_opendrive
 from hiyari.traffic import DemandConfig, SimConfig, Simulation, write_demand
 
 ALKS = Path(__file__).resolve().parents[2] / "shared" / "data" / "opendrive" / "alks"

@@ -8,9 +8,9 @@ import sys
 
 import pytest
 
-from hiyari.bridge.r157_judge import JudgeOptions, judge, write_report
-from hiyari.risk.boundary import Grid
-from hiyari.risk.r157_points import R157Config, generate_points, write_points_csv
+from hiyari.bridge.campaign.r157_judge import JudgeOptions, judge, write_report
+from hiyari.risk.cc.boundary import Grid
+from hiyari.risk.cc.r157_points import R157Config, generate_points, write_points_csv
 
 
 @pytest.fixture(scope="module")

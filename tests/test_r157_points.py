@@ -9,13 +9,14 @@ from collections import Counter
 import numpy as np
 import pytest
 
-from hiyari.bridge import cmd_boundary, cmd_r157
-from hiyari.bridge.cli import main
+from hiyari.bridge.cli.commands import boundary as cmd_boundary
+from hiyari.bridge.cli.commands import r157 as cmd_r157
+from hiyari.bridge.cli.main import main
 from hiyari.errors import HiyariError
-from hiyari.risk.boundary import Grid, cut_in_boundary
-from hiyari.risk.cc_evaluator import evaluate_cut_in, evaluate_cut_out
-from hiyari.risk.cc_model import CCParams
-from hiyari.risk.r157_points import (
+from hiyari.risk.cc.boundary import Grid, cut_in_boundary
+from hiyari.risk.cc.evaluator import evaluate_cut_in, evaluate_cut_out
+from hiyari.risk.cc.model import CCParams
+from hiyari.risk.cc.r157_points import (
     R157Config,
     generate_points,
     load_points,

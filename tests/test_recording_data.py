@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from hiyari.bridge.recorder import Recorder, RecorderConfig
-from hiyari.net.materials import Material
-from hiyari.net.scene_mesh import SceneMesh
+from hiyari.bridge.record.recorder import Recorder, RecorderConfig
+from hiyari.net.mesh.materials import Material
+from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.sensors.outputs import (
     HIT_NONE,
     HIT_STATIC,
@@ -31,10 +31,10 @@ CREATED = "2026-01-01T00:00:00Z"  # fixed creation time: identical inputs give i
 
 
 def road_mesh(net: Path) -> SceneMesh:
-    """The network's scene mesh (hiyari.net.road_mesh), or four quads when it is unavailable."""
+    """The network's scene mesh (hiyari.net.mesh.road_mesh), or four quads when it is unavailable."""
     try:
-        from hiyari.net.road_geometry import RoadGeometry
-        from hiyari.net.road_mesh import build_scene_mesh
+        from hiyari.net.mesh.road_mesh import build_scene_mesh
+        from hiyari.net.road.geometry import RoadGeometry
     except ImportError:
         return quad_mesh()
     return build_scene_mesh(RoadGeometry.from_net(net))

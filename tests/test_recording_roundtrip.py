@@ -25,10 +25,10 @@ from osi_utilities.tracefile._config import (
 )
 from test_recording_data import CREATED, record_run
 
-from hiyari.bridge.cli import main
-from hiyari.bridge.osi_convert import world_state_from_ground_truth
-from hiyari.bridge.recorder import Recorder, RecorderConfig
-from hiyari.bridge.recording_reader import Recording
+from hiyari.bridge.cli.main import main
+from hiyari.bridge.record.osi_convert import world_state_from_ground_truth
+from hiyari.bridge.record.reader import Recording
+from hiyari.bridge.record.recorder import Recorder, RecorderConfig
 from hiyari.errors import HiyariError
 from hiyari.traffic import ActorClass, SimConfig, Simulation, WorldState
 
@@ -250,7 +250,7 @@ def test_same_input_gives_identical_file(tmp_path):
 CRASH_SCRIPT = """
 import sys
 from pathlib import Path
-from hiyari.bridge.recorder import Recorder, RecorderConfig
+from hiyari.bridge.record.recorder import Recorder, RecorderConfig
 from hiyari.traffic import SimConfig, Simulation
 net, routes, out = map(Path, sys.argv[1:4])
 with Simulation(SimConfig(net=net, routes=[routes], seed=3)) as sim:

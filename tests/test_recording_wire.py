@@ -8,9 +8,9 @@ from foxglove_schemas_protobuf.SceneUpdate_pb2 import SceneUpdate
 from osi3.osi_groundtruth_pb2 import GroundTruth
 from osi3.osi_object_pb2 import MovingObject
 
-from hiyari.bridge.foxglove_convert import truth_boxes
-from hiyari.bridge.osi_convert import GroundTruthEncoder, interface_version
-from hiyari.bridge.recording_wire import splice, varint
+from hiyari.bridge.record.foxglove_convert import truth_boxes
+from hiyari.bridge.record.osi_convert import GroundTruthEncoder, interface_version
+from hiyari.bridge.record.wire import splice, varint
 from hiyari.traffic import ActorClass, WorldState
 
 

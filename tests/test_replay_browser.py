@@ -25,8 +25,8 @@ import numpy as np
 import pytest
 from test_recording_data import record_run
 
-from hiyari.bridge.cli import main
-from hiyari.bridge.replay_style import CLASS_COLORS, EGO_COLOR
+from hiyari.bridge.cli.main import main
+from hiyari.bridge.replay.style import CLASS_COLORS, EGO_COLOR
 from hiyari.traffic import ActorClass
 
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"

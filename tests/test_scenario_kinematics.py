@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hiyari.bridge.scenario_file import ConcreteScenario
-from hiyari.bridge.scenarios import ScenarioConstants, build_scenario
-from hiyari.risk.cc_trajectory import cut_in_tracks, cut_out_tracks, decel_tracks
+from hiyari.bridge.scenario.presets import ScenarioConstants, build_scenario
+from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.risk.cc.trajectory import cut_in_tracks, cut_out_tracks, decel_tracks
 
 T = np.array([0.0, 0.5, 1.0, 2.0, 3.5, 6.0])
 

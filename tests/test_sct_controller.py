@@ -9,16 +9,16 @@ import numpy as np
 import pytest
 
 from hiyari.errors import HiyariError
-from hiyari.net.build import IntersectionParams, build_intersection
-from hiyari.risk.sct_controller import (
+from hiyari.net.sumo.build import IntersectionParams, build_intersection
+from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
+from hiyari.risk.sct.controller import (
     G,
     SCTController,
     SCTControllerConfig,
     ramp_profiles,
     travel,
 )
-from hiyari.risk.sct_geometry import NetGeometry
-from hiyari.risk.sct_model import SCTModel
+from hiyari.risk.sct.model import SCTModel
 from hiyari.traffic import SimConfig, Simulation
 
 pytestmark = pytest.mark.timeout(120)

@@ -7,9 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from hiyari.net.build import IntersectionParams, build_intersection
-from hiyari.risk.sct_geometry import NetGeometry
-from hiyari.risk.sct_metrics import (
+from hiyari.net.sumo.build import IntersectionParams, build_intersection
+from hiyari.risk.metrics.contact import (
     ContactGeometry,
     Path,
     PostEncroachmentTracker,
@@ -21,6 +20,7 @@ from hiyari.risk.sct_metrics import (
     safety_cushion_time,
     time_to_contact,
 )
+from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
 
 R = 0.3  # pedestrian disc radius, m
 CAR = dict(veh_length=np.array([4.0]), veh_width=np.array([2.0]))

@@ -9,10 +9,10 @@ import matplotlib.image
 import numpy as np
 import pytest
 
-from hiyari.bridge.cli import main
-from hiyari.risk.incidents import write_encounters_csv
-from hiyari.risk.sct_report import summarise, write_report
-from hiyari.risk.sct_study import StudyConfig, build_inputs, run_tasks
+from hiyari.bridge.campaign.sct_report import summarise, write_report
+from hiyari.bridge.campaign.sct_study import StudyConfig, build_inputs, run_tasks
+from hiyari.bridge.cli.main import main
+from hiyari.risk.metrics.incidents import write_encounters_csv
 
 pytestmark = pytest.mark.timeout(300)
 

@@ -8,15 +8,15 @@ import numpy as np
 import pytest
 
 from hiyari.errors import HiyariError
-from hiyari.net.materials import Material
-from hiyari.sensors.actor_shapes import ActorAppearance
-from hiyari.sensors.camera import Camera
-from hiyari.sensors.camera_model import CameraConfig
-from hiyari.sensors.environment import Environment, Illumination
+from hiyari.net.mesh.materials import Material
+from hiyari.sensors.camera.config import CameraConfig
+from hiyari.sensors.camera.sensor import Camera
+from hiyari.sensors.environment.conditions import Environment, Illumination
+from hiyari.sensors.environment.presets import PRESETS
 from hiyari.sensors.frames import Mount, VehiclePose
-from hiyari.sensors.presets import PRESETS
-from hiyari.sensors.ray_scene import RayScene
-from hiyari.sensors.synthetic_scenes import StraightRoad, actor_world
+from hiyari.sensors.scene.actor_shapes import ActorAppearance
+from hiyari.sensors.scene.ray_scene import RayScene
+from hiyari.sensors.scene.synthetic import StraightRoad, actor_world
 from hiyari.traffic.actor_class import ActorClass
 
 LANE = -1.75

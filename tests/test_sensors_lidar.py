@@ -9,18 +9,18 @@ import numpy as np
 import pytest
 
 from hiyari.errors import HiyariError
-from hiyari.net.materials import DEFAULT_OPTICS, Material
-from hiyari.net.scene_mesh import SceneMesh
-from hiyari.sensors.atmosphere import AtmosphereModel
+from hiyari.net.mesh.materials import DEFAULT_OPTICS, Material
+from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.sensors.detection_range import RangeStudy, RangeSweep
-from hiyari.sensors.environment import Environment
+from hiyari.sensors.environment.atmosphere import AtmosphereModel
+from hiyari.sensors.environment.conditions import Environment
+from hiyari.sensors.environment.presets import PRESETS
 from hiyari.sensors.frames import Mount, VehiclePose
-from hiyari.sensors.lidar import Lidar
-from hiyari.sensors.lidar_config import LidarConfig
+from hiyari.sensors.lidar.config import LidarConfig
+from hiyari.sensors.lidar.sensor import Lidar
 from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
-from hiyari.sensors.presets import PRESETS
-from hiyari.sensors.ray_scene import RayScene
-from hiyari.sensors.synthetic_scenes import actor_world, wall
+from hiyari.sensors.scene.ray_scene import RayScene
+from hiyari.sensors.scene.synthetic import actor_world, wall
 from hiyari.traffic.actor_class import ActorClass
 
 SENSOR_Z = 1.0

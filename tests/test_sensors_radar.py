@@ -9,17 +9,17 @@ import numpy as np
 import pytest
 
 from hiyari.errors import HiyariError
-from hiyari.net.materials import Material
-from hiyari.net.scene_mesh import SceneMesh
-from hiyari.sensors.atmosphere import AtmosphereModel
-from hiyari.sensors.environment import Environment
+from hiyari.net.mesh.materials import Material
+from hiyari.net.mesh.scene_mesh import SceneMesh
+from hiyari.sensors.environment.atmosphere import AtmosphereModel
+from hiyari.sensors.environment.conditions import Environment
 from hiyari.sensors.frames import Mount, VehiclePose
 from hiyari.sensors.outputs import HIT_NONE
-from hiyari.sensors.radar import Radar
-from hiyari.sensors.radar_config import RadarConfig
-from hiyari.sensors.radar_recognition import recognise_radar
-from hiyari.sensors.ray_scene import RayScene
-from hiyari.sensors.synthetic_scenes import StraightRoad, actor_world, box
+from hiyari.sensors.radar.config import RadarConfig
+from hiyari.sensors.radar.recognition import recognise_radar
+from hiyari.sensors.radar.sensor import Radar
+from hiyari.sensors.scene.ray_scene import RayScene
+from hiyari.sensors.scene.synthetic import StraightRoad, actor_world, box
 from hiyari.traffic.actor_class import ActorClass
 
 QUIET = replace(RadarConfig.preset("narrow"), false_alarms_per_cycle=0.0)

@@ -8,21 +8,21 @@ import cv2
 import numpy as np
 import pytest
 
-from hiyari.bridge.cli import main
+from hiyari.bridge.cli.main import main
 from hiyari.errors import HiyariError
-from hiyari.net.materials import Material
+from hiyari.net.mesh.materials import Material
 from hiyari.sensors.detection_range import RangeStudy, perception_table, table_markdown, write_table
-from hiyari.sensors.environment import Environment, Soiling, SoilingSpot
+from hiyari.sensors.environment.conditions import Environment, Soiling, SoilingSpot
+from hiyari.sensors.environment.presets import PRESETS, disturbance_preset
 from hiyari.sensors.frames import Mount, VehiclePose, sensor_to_world
-from hiyari.sensors.lidar import Lidar
-from hiyari.sensors.lidar_config import LidarConfig
+from hiyari.sensors.lidar.config import LidarConfig
+from hiyari.sensors.lidar.sensor import Lidar
 from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
-from hiyari.sensors.presets import PRESETS, disturbance_preset
-from hiyari.sensors.radar import Radar
-from hiyari.sensors.radar_config import RadarConfig
-from hiyari.sensors.ray_scene import RayScene
+from hiyari.sensors.radar.config import RadarConfig
+from hiyari.sensors.radar.sensor import Radar
 from hiyari.sensors.rig import SensorRig
-from hiyari.sensors.synthetic_scenes import StraightRoad, actor_world, street_scenario, wall
+from hiyari.sensors.scene.ray_scene import RayScene
+from hiyari.sensors.scene.synthetic import StraightRoad, actor_world, street_scenario, wall
 from hiyari.traffic.actor_class import ActorClass
 
 

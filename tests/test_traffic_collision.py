@@ -80,8 +80,11 @@ def test_pedestrian_in_lane_is_hit(intersection_net):
         for state in sim.run(until=12.0):
             s.person.moveToXY("ped", "w_in", x, y, angle=0.0, keepRoute=2)
             if "ped" in state.ids and "car" in state.ids:
-                gaps.append(np.linalg.norm(
-                    state.xyz[state.index("ped"), :2] - state.xyz[state.index("car"), :2]))
+                gaps.append(
+                    np.linalg.norm(
+                        state.xyz[state.index("ped"), :2] - state.xyz[state.index("car"), :2]
+                    )
+                )
             hits += [c for c in sim.collisions if "ped" in (c.a, c.b)]
             if hits:
                 break

@@ -102,9 +102,18 @@ def test_corners_and_velocity_frames():
     from hiyari.traffic import WorldState
 
     ws = WorldState(
-        0.0, np.array(["a"], dtype=object), np.array([0], np.int8), np.array([[10.0, 5.0, 0.0]]),
-        np.array([math.pi / 2]), np.array([2.0]), np.zeros(1), np.array([4.0]), np.array([2.0]),
-        np.array([1.5]), np.array(["l_0"], dtype=object), np.array(["l"], dtype=object),
+        0.0,
+        np.array(["a"], dtype=object),
+        np.array([0], np.int8),
+        np.array([[10.0, 5.0, 0.0]]),
+        np.array([math.pi / 2]),
+        np.array([2.0]),
+        np.zeros(1),
+        np.array([4.0]),
+        np.array([2.0]),
+        np.array([1.5]),
+        np.array(["l_0"], dtype=object),
+        np.array(["l"], dtype=object),
     )
     # facing +y: front-left corner is at (x - w/2, y + L/2)
     assert ws.corners()[0, 0] == pytest.approx([9.0, 7.0])

@@ -9,9 +9,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from hiyari.errors import HiyariError
+from hiyari.net.sumo.files import check_net, check_routes, check_xml
 from hiyari.sumo_tools import sumo_binary, sumo_home
 from hiyari.traffic.collision import Collision, CollisionDetector
-from hiyari.traffic.sumo_files import check_net, check_routes, check_xml
 from hiyari.traffic.sumo_reader import ReadMode, WorldStateReader
 from hiyari.traffic.world_state import WorldState
 

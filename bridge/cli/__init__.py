@@ -1,0 +1,1 @@
+"""The ``hiyari`` command line: argparse commands and demos (the only place that picks matplotlib's backend)."""

@@ -1,0 +1,1 @@
+"""One module per ``hiyari`` subcommand; each has ``register(subparsers)``."""

@@ -1,0 +1,107 @@
+"""``hiyari boundary {cut-in,cut-out,decel}``: C&C Preventable boundary datasheets (CSV + PNG)."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from hiyari.risk.cc.boundary import (
+    Grid,
+    cut_in_datasheet,
+    cut_out_datasheet,
+    decel_datasheet,
+)
+from hiyari.risk.cc.datasheet_plot import plot_cut_in, plot_cut_out, plot_decel
+from hiyari.risk.cc.model import CCParams
+
+
+def add_model_options(parser: argparse.ArgumentParser) -> None:
+    """``--aeb`` and ``--param NAME=VALUE`` (any CCParams field), shared with ``hiyari r157``."""
+    parser.add_argument("--aeb", action="store_true", help="AEB-equipped C&C driver")
+    parser.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="override a C&C model parameter, e.g. max_decel_g=0.7 (repeatable)",
+    )
+
+
+def model_params(args: argparse.Namespace) -> CCParams:
+    """CCParams from ``--aeb`` and ``--param`` options."""
+    overrides = list(args.param) + (["aeb=true"] if args.aeb else [])
+    return CCParams().with_overrides(overrides)
+
+
+def _grid(text: str, name: str) -> Grid:
+    return Grid.parse(text, name)
+
+
+def run(args: argparse.Namespace) -> int:
+    params = model_params(args)
+    out = Path(args.out)
+    started = time.perf_counter()
+    if args.scenario == "cut-in":
+        sheet = cut_in_datasheet(
+            _grid(args.ve, "--ve"),
+            _grid(args.dv, "--dv"),
+            _grid(args.vy, "--vy"),
+            params,
+            resolution_m=args.resolution,
+        )
+        paths = [
+            sheet.write_csv(out / "cut_in_boundary.csv"),
+            plot_cut_in(sheet, out / "cut_in_boundary.png"),
+        ]
+        rows = sheet.ve0_kmh.size
+    elif args.scenario == "cut-out":
+        sheet = cut_out_datasheet(
+            _grid(args.ve, "--ve"), _grid(args.vy, "--vy"), params, resolution_m=args.resolution
+        )
+        paths = [
+            sheet.write_csv(out / "cut_out_boundary.csv"),
+            plot_cut_out(sheet, out / "cut_out_boundary.png"),
+        ]
+        rows = sheet.ve0_kmh.size
+    else:
+        sheet = decel_datasheet(_grid(args.ve, "--ve"), _grid(args.gx, "--gx"), params)
+        paths = [
+            sheet.write_csv(out / "decel_map.csv"),
+            plot_decel(sheet, out / "decel_map.png"),
+        ]
+        rows = sheet.ve0_kmh.size
+    print(
+        f"{args.scenario}: {rows} scenarios in {time.perf_counter() - started:.2f} s "
+        f"({'with' if params.aeb else 'without'} AEB)"
+    )
+    for path in paths:
+        print(f"   {path}")
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "boundary",
+        help="C&C driver Preventable boundary datasheets (JAMA Fig. 26/28/30)",
+        description="Preventable boundaries of the competent and careful driver as CSV and PNG.",
+    )
+    scenarios = p.add_subparsers(dest="scenario", required=True, metavar="SCENARIO")
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("-o", "--out", default="out/boundary", help="output folder")
+    common.add_argument("--ve", default="10:130:1", help="ego speeds Ve0, km/h start:stop:step")
+    add_model_options(common)
+    cut_in = scenarios.add_parser(
+        "cut-in", parents=[common], help="boundary dx0 per (Ve0, Vo0, Vy)"
+    )
+    cut_in.add_argument("--dv", default="0:60:1", help="relative speeds Ve0 - Vo0, km/h")
+    cut_in.add_argument("--vy", default="0.1:3:0.1", help="lateral velocities, m/s")
+    cut_in.add_argument("--resolution", type=float, default=0.1, help="boundary grid, m")
+    cut_out = scenarios.add_parser("cut-out", parents=[common], help="boundary dx0_f per (Ve0, Vy)")
+    cut_out.add_argument("--vy", default="0.1:3:0.1", help="lateral velocities, m/s")
+    cut_out.add_argument("--resolution", type=float, default=0.1, help="boundary grid, m")
+    decel = scenarios.add_parser(
+        "decel", parents=[common], help="Preventable map over (Ve0, Gx_max)"
+    )
+    decel.add_argument("--gx", default="0.01:1:0.01", help="lead decelerations, g")
+    p.set_defaults(func=run)

@@ -1,0 +1,132 @@
+"""``hiyari net``: build road networks, import OpenDRIVE maps, triangulate the 3D road scene.
+
+hiyari net build {expressway,city,intersection,r157} -o NET [--param value ...]
+hiyari net import MAP.xodr -o MAP.net.xml [--all-lanes]
+hiyari net mesh NET -o scene.glb [-o scene.npz ...] [--buildings]
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import time
+from collections import Counter
+from pathlib import Path
+
+from hiyari.errors import HiyariError
+from hiyari.net.mesh.export import SUFFIXES, export_mesh
+from hiyari.net.mesh.materials import Material
+from hiyari.net.mesh.road_mesh import MeshParams, build_scene_mesh
+from hiyari.net.road.geometry import RoadGeometry
+from hiyari.net.sumo.build import (
+    CityGridParams,
+    ExpresswayParams,
+    IntersectionParams,
+    R157RoadParams,
+    build_city_grid,
+    build_expressway,
+    build_intersection,
+    build_r157_road,
+    param_docs,
+)
+from hiyari.net.sumo.opendrive import ImportOptions, import_opendrive
+
+GENERATORS = {
+    "expressway": (ExpresswayParams, build_expressway),
+    "city": (CityGridParams, build_city_grid),
+    "intersection": (IntersectionParams, build_intersection),
+    "r157": (R157RoadParams, build_r157_road),
+}
+
+
+def _summary(net: Path) -> str:
+    g = RoadGeometry.from_net(net)
+    kinds = Counter(ln.kind.value for ln in g.lanes.values() if not ln.internal)
+    normal = sum(1 for e in g.edges.values() if e.function == "")
+    return f"{normal} edges, " + ", ".join(f"{n} {k} lanes" for k, n in sorted(kinds.items()))
+
+
+def _run_build(args: argparse.Namespace) -> None:
+    cls, builder = GENERATORS[args.kind]
+    values = {f.name: getattr(args, f.name) for f in dataclasses.fields(cls)}
+    net = builder(args.out, cls(**values))
+    print(f"network: {net} ({_summary(net)})")
+
+
+def _run_import(args: argparse.Namespace) -> None:
+    opts = ImportOptions(all_lanes=args.all_lanes, curve_resolution=args.curve_resolution)
+    net = import_opendrive(args.xodr, args.out, opts)
+    print(f"network: {net} ({_summary(net)})")
+
+
+def _run_mesh(args: argparse.Namespace) -> None:
+    for out in args.out:
+        if Path(out).suffix.lower() not in SUFFIXES:
+            raise HiyariError(f"{out}: unknown mesh format (use {', '.join(SUFFIXES)})")
+    t0 = time.perf_counter()
+    geometry = RoadGeometry.from_net(args.net)
+    mesh = build_scene_mesh(
+        geometry, buildings=args.buildings, params=MeshParams(ground=args.ground, seed=args.seed)
+    )
+    dt = time.perf_counter() - t0
+    counts = Counter(Material(int(m)).name.lower() for m in mesh.material)
+    detail = ", ".join(f"{k} {n}" for k, n in sorted(counts.items()))
+    print(
+        f"mesh: {len(mesh.vertices)} vertices, {len(mesh.faces)} triangles ({detail}) in {dt:.2f} s"
+    )
+    for out in args.out:
+        print(f"scene: {export_mesh(mesh, out)}")
+
+
+def run(args: argparse.Namespace) -> int:
+    {"build": _run_build, "import": _run_import, "mesh": _run_mesh}[args.net_command](args)
+    return 0
+
+
+def _add_params(parser: argparse.ArgumentParser, cls) -> None:
+    docs = param_docs(cls)
+    for f in dataclasses.fields(cls):
+        flag = "--" + f.name.replace("_", "-")
+        text = f"{docs[f.name]} (default: {f.default})"
+        if isinstance(f.default, bool):
+            parser.add_argument(
+                flag, action=argparse.BooleanOptionalAction, default=f.default, help=text
+            )
+        else:
+            parser.add_argument(flag, type=type(f.default), default=f.default, help=text)
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("net", help="road networks: build, import OpenDRIVE, 3D scene mesh")
+    p.set_defaults(func=run)
+    nsub = p.add_subparsers(dest="net_command", required=True, metavar="NET_COMMAND")
+
+    b = nsub.add_parser("build", help="generate a SUMO network (plain XML + netconvert)")
+    bsub = b.add_subparsers(dest="kind", required=True, metavar="KIND")
+    for kind, (cls, _) in GENERATORS.items():
+        kp = bsub.add_parser(kind, help=(cls.__doc__ or "").splitlines()[0])
+        kp.add_argument("-o", "--out", required=True, help="output .net.xml")
+        _add_params(kp, cls)
+
+    i = nsub.add_parser("import", help="convert an OpenDRIVE map (.xodr) to a SUMO net")
+    i.add_argument("xodr", help="OpenDRIVE file")
+    i.add_argument("-o", "--out", required=True, help="output .net.xml")
+    i.add_argument(
+        "--all-lanes", action="store_true", help="import every lane type (border, median ...)"
+    )
+    i.add_argument("--curve-resolution", type=float, default=2.0, help="point spacing on curves, m")
+
+    m = nsub.add_parser("mesh", help="triangulate a SUMO net into the 3D road scene")
+    m.add_argument("net", help="SUMO .net.xml")
+    m.add_argument(
+        "-o",
+        "--out",
+        action="append",
+        required=True,
+        help="output file, repeatable: .glb / .gltf / .ply (viewers) or .npz (arrays)",
+    )
+    m.add_argument("--buildings", action="store_true", help="simple buildings on enclosed blocks")
+    m.add_argument(
+        "--ground", action=argparse.BooleanOptionalAction, default=True, help="grass ground plane"
+    )
+    m.add_argument("--seed", type=int, default=0, help="seed of the building heights")

@@ -1,0 +1,53 @@
+"""``hiyari sweep scenario.toml``: every concrete run of a logical scenario, in parallel."""
+
+from __future__ import annotations
+
+import argparse
+import os
+from pathlib import Path
+
+
+def run(args: argparse.Namespace) -> int:
+    from hiyari.bridge.campaign.sweep import SweepOptions, run_sweep
+    from hiyari.bridge.scenario.toml_file import load_scenario
+
+    logical = load_scenario(args.scenario)
+    s = run_sweep(
+        logical,
+        SweepOptions(
+            out_dir=Path(args.out),
+            backend=args.backend,
+            workers=args.workers,
+            ray_address=args.ray_address,
+            retry_failed=args.retry_failed,
+            progress=not args.quiet,
+        ),
+    )
+    print(
+        f"{s.total} runs: {s.ran} ran now, {s.skipped} already done, {s.failed} failed; "
+        f"{s.wall_seconds:.1f} s wall"
+    )
+    print(f"table: {s.table}\nplot:  {s.table.parent / 'summary.png'}")
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("sweep", help="run every concrete scenario of a logical scenario file")
+    p.add_argument("scenario", help="scenario file (TOML) with parameter ranges")
+    p.add_argument("-o", "--out", default="out/sweep", help="output folder (resumable)")
+    p.add_argument(
+        "--workers",
+        "-j",
+        type=int,
+        default=os.cpu_count() or 1,
+        help="local worker processes (default: all cores)",
+    )
+    p.add_argument("--backend", choices=["local", "ray"], default="local")
+    p.add_argument(
+        "--ray-address",
+        default=None,
+        help="Ray cluster: 'auto' or host:port (default: start a local Ray)",
+    )
+    p.add_argument("--retry-failed", action="store_true", help="run failed rows again")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=run)

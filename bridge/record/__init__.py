@@ -1,0 +1,1 @@
+"""MCAP recording (ASAM OSI + Foxglove schemas), its reader and crash recovery."""

@@ -1,0 +1,84 @@
+"""Static replay: one self-contained HTML file that plays a recording in a browser without
+Python.
+
+viser records every scene message sent while a scene serializer is open, with the sleeps
+between frames, and ``StateSerializer.as_html`` embeds that recording in its prebuilt
+client (zstd-compressed, base64). The page has viser's own player: play / pause, a timeline
+and playback speed. GUI panels are not part of a serialized scene, so the heads-up text
+(time, ego status, collisions) is drawn as a 3D label and camera images are left out.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import viser
+from tqdm import tqdm
+
+from hiyari.atomic import atomic_path
+from hiyari.bridge.record.reader import Recording
+from hiyari.bridge.replay.scene import FrameInfo, ReplayOptions, ReplayScene
+from hiyari.errors import HiyariError
+
+
+def hud_label(info: FrameInfo) -> str:
+    """One-line heads-up text for the static replay."""
+    text = f"t = {info.time:.1f} s · {info.vehicles} vehicles · {info.pedestrians} pedestrians"
+    s = info.ego_status
+    if s is not None:
+        ttc = "-" if s.get("ttc_s") is None else f"{s['ttc_s']:.1f} s"
+        text += f" · ego {s['speed_mps'] * 3.6:.0f} km/h, TTC {ttc}, AEB {s['aeb_state']}"
+    if info.collisions:
+        text += f" · collisions {len(info.collisions)}"
+    return text
+
+
+def frame_range(recording: Recording, start: float | None, end: float | None, every: int) -> range:
+    """Frame indices between ``start`` and ``end`` (s, inclusive), every ``every``-th."""
+    if every < 1:
+        raise HiyariError(f"--every must be >= 1, got {every}")
+    t = recording.times
+    k0 = 0 if start is None else int(np.searchsorted(t, start - 1e-9))
+    k1 = len(t) - 1 if end is None else int(np.searchsorted(t, end + 1e-9, side="right")) - 1
+    if k0 > k1 or k0 >= len(t):
+        raise HiyariError(
+            f"{recording.path}: no frames between {start} and {end} s "
+            f"(the recording spans {t[0]:.2f}-{t[-1]:.2f} s)"
+        )
+    return range(k0, k1 + 1, every)
+
+
+def export_html(
+    recording: Recording,
+    out: str | Path,
+    options: ReplayOptions | None = None,
+    frames: range | None = None,
+    progress: bool = True,
+) -> Path:
+    """Write a self-contained HTML replay of ``frames`` (default: all) to ``out``."""
+    frames = frames if frames is not None else range(len(recording))
+    server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
+    try:
+        scene = ReplayScene(server, recording, options)
+        position, look_at = scene.camera_pose()
+        server.initial_camera.position = tuple(position)
+        server.initial_camera.look_at = tuple(look_at)
+        server.initial_camera.far = 10 * scene.extent
+        label_at = scene.centre + np.array([0.0, 0.55 * scene.extent, 5.0])
+        label = server.scene.add_label("/hud", "", position=tuple(label_at))
+        serializer = server.get_scene_serializer()
+        previous = None
+        for k in tqdm(frames, unit="frame", desc="export", disable=not progress):
+            t = float(recording.times[k])
+            if previous is not None:
+                serializer.insert_sleep(t - previous)
+            label.text = hud_label(scene.draw(k))
+            previous = t
+        html = serializer.as_html()
+    finally:
+        server.stop()
+    out = Path(out)
+    with atomic_path(out) as tmp:
+        tmp.write_text(html)
+    return out

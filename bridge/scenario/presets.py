@@ -1,0 +1,331 @@
+"""Scenario scripts on the generated roads: JAMA / UN R157 cut-in, cut-out and deceleration
+(other vehicles moved exactly as Annex G defines), the DIVP / Euro NCAP CPNC-50 pedestrian
+dart-out from behind a parked car, a car-to-stationary-car approach, and free city driving.
+
+Each builder returns a ``Scenario``: the files SUMO loads, and hooks that insert the ego and
+the scripted actors and move them every step. Road coordinates: ``s`` along the ego lane's
+centre line, ``d`` to its left (metres). Script time 0 is the start of the manoeuvre; the run
+starts ``lead_in`` seconds earlier so that tracks are established.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import sumolib
+
+from hiyari.bridge.scenario.closed_loop import ScenarioHooks
+from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.bridge.stack.ego_pose import EgoPose
+from hiyari.errors import HiyariError
+from hiyari.net.sumo.build import (
+    CityGridParams,
+    IntersectionParams,
+    R157RoadParams,
+    build_city_grid,
+    build_intersection,
+    build_r157_road,
+)
+from hiyari.traffic.demand import DemandConfig, write_demand
+from hiyari.traffic.manoeuvres import RoadFrame, ScriptedPerson, ScriptedVehicle, add_vehicle
+from hiyari.traffic.simulation import Simulation
+from hiyari.traffic.world_state import WorldState
+
+G = 9.81
+
+
+@dataclass(frozen=True)
+class ActorSizes:
+    """Vehicle and pedestrian dimensions (m). Annex G: other vehicles 1.9 m x 5.3 m; the ego
+    1.9 m x 4.8 m (MODELS.md §1); CPNC child dummy about 1.15 m tall."""
+
+    ego_length: float = 4.8
+    ego_width: float = 1.9
+    ego_height: float = 1.5
+    other_length: float = 5.3
+    other_width: float = 1.9
+    other_height: float = 1.5
+    child_width: float = 0.5
+    child_depth: float = 0.3
+    child_height: float = 1.15
+
+
+@dataclass(frozen=True)
+class ScenarioConstants:
+    """Fixed scenario choices (MODELS.md §1 and the toolkit's own where the seeds are silent)."""
+
+    lane_width: float = 3.5
+    follow_thw: float = 2.0  # s, ego to lead in cut-out and deceleration (JAMA)
+    lead_in: float = 1.5  # s before the manoeuvre starts
+    ego_start_s: float = 20.0  # m, ego front position on the road at the start of the run
+    parked_gap_to_path: float = 0.5  # m, parked car front to the pedestrian's path
+    kerb_offset: float = 1.0  # m, parked car centre beyond the lane's right edge
+    ped_start_beyond_lane: float = 2.0  # m, child start from the lane's right edge
+    settle_after_stop: float = 1.0  # s the run continues once the ego has stopped
+    city_speed_mode: int = 24  # SUMO respects lights and right of way; safety is the stack's
+
+
+@dataclass
+class Scenario(ScenarioHooks):
+    """A ready-to-run scripted scenario."""
+
+    net: Path = Path()
+    ego_id: str = "ego"
+    target_id: str = ""
+    conflict_point: tuple[float, float] | None = None
+    routes: list[Path] = field(default_factory=list)
+    ego_route: list[str] = field(default_factory=list)
+    ego_lane: int = 0
+    ego_start_s: float = 0.0
+    ego_speed: float = 0.0
+    ego_speed_mode: int = 0
+    scripted: list = field(default_factory=list)
+    lead_in: float = 0.0
+    warmup: float = 0.0  # s of traffic before the ego enters
+    start_time: float = 0.0
+    settle_after_stop: float = 1.0
+    sizes: ActorSizes = field(default_factory=ActorSizes)
+    _stopped_at: float = float("nan")
+
+    def insert(self, sim: Simulation) -> None:
+        """Create vehicle types, the ego and the scripted actors (at sim.time)."""
+        s = sim.sumo
+        z = self.sizes
+        s.vehicletype.copy("DEFAULT_VEHTYPE", "ego")
+        for attr, v in (("Length", z.ego_length), ("Width", z.ego_width), ("Height", z.ego_height)):
+            getattr(s.vehicletype, f"set{attr}")("ego", v)
+        s.vehicletype.setMaxSpeed("ego", 70.0)
+        s.vehicletype.copy("DEFAULT_VEHTYPE", "other")
+        for attr, v in (
+            ("Length", z.other_length),
+            ("Width", z.other_width),
+            ("Height", z.other_height),
+        ):
+            getattr(s.vehicletype, f"set{attr}")("other", v)
+        s.vehicletype.setMaxSpeed("other", 70.0)
+        s.vehicletype.copy("DEFAULT_PEDTYPE", "child")
+        s.vehicletype.setLength("child", z.child_depth)
+        s.vehicletype.setWidth("child", z.child_width)
+        s.vehicletype.setHeight("child", z.child_height)
+        add_vehicle(
+            s,
+            self.ego_id,
+            self.ego_route,
+            "ego",
+            self.ego_lane,
+            self.ego_start_s,
+            self.ego_speed,
+            scripted=True,
+        )
+        s.vehicle.setSpeedMode(self.ego_id, self.ego_speed_mode)
+        for actor in self.scripted:
+            if isinstance(actor, ScriptedVehicle):
+                add_vehicle(
+                    s,
+                    actor.vid,
+                    [actor.frame.edge],
+                    "other",
+                    actor.frame.lane_index,
+                    1.0,
+                    0.0,
+                    scripted=True,
+                )
+            else:
+                s.person.add(actor.pid, actor.frame.edge, pos=1.0, typeID="child")
+                s.person.appendWaitingStage(actor.pid, 3600.0)
+        self.start_time = sim.time
+
+    def script_time(self, sim_time: float) -> float:
+        return sim_time - self.start_time - self.lead_in
+
+    def before_step(self, sim: Simulation, script_time: float) -> None:
+        for actor in self.scripted:
+            actor.place(sim.sumo, script_time)
+
+    def done(self, world: WorldState, ego: EgoPose, script_time: float) -> bool:
+        """Ends ``settle_after_stop`` seconds after the ego first comes to a standstill."""
+        if ego.speed < 0.05 and script_time > 0 and not np.isfinite(self._stopped_at):
+            self._stopped_at = script_time
+        return script_time - self._stopped_at >= self.settle_after_stop
+
+
+def _road_lanes(net: Path) -> tuple[RoadFrame, RoadFrame, list[str]]:
+    """Right (ego) and left lane frames of the two-lane R157 road, and the ego route."""
+    n = sumolib.net.readNet(str(net))
+    edges = [e for e in n.getEdges() if not e.isSpecial() and e.getLaneNumber() >= 2]
+    if not edges:
+        raise HiyariError(f"{net}: no two-lane edge for the R157 scenarios")
+    edge = max(edges, key=lambda e: e.getLength())
+    right, left = edge.getLane(0), edge.getLane(1)
+    return (
+        RoadFrame.from_lane(str(net), right.getID()),
+        RoadFrame.from_lane(str(net), left.getID()),
+        [edge.getID()],
+    )
+
+
+def _const_speed(s0: float, v: float, d: float = 0.0):
+    return lambda t: (s0 + v * t, d, v, 0.0)
+
+
+def build_scenario(
+    cs: ConcreteScenario,
+    workdir: Path,
+    k: ScenarioConstants | None = None,
+    sizes: ActorSizes | None = None,
+) -> Scenario:
+    """The Scenario for one concrete scenario; road files are written into ``workdir``."""
+    k = k or ScenarioConstants()
+    z = sizes or ActorSizes()
+    p = cs.params
+    ve0 = p.get("ve0_kmh", 0.0) / 3.6
+    workdir.mkdir(parents=True, exist_ok=True)
+    base = dict(ego_speed=ve0, lead_in=k.lead_in, settle_after_stop=k.settle_after_stop, sizes=z)
+    # ego front at script time 0 if it holds Ve0 through the lead-in
+    s_front0 = k.ego_start_s + ve0 * k.lead_in
+
+    if cs.type in ("cut-in", "cut-out", "decel", "stationary"):
+        net = build_r157_road(workdir / "r157.net.xml", R157RoadParams())
+        right, left, route = _road_lanes(net)
+        sc = Scenario(
+            net=net,
+            ego_route=route,
+            ego_lane=right.lane_index,
+            ego_start_s=k.ego_start_s,
+            target_id="other",
+            **base,
+        )
+        w = k.lane_width
+        if cs.type == "cut-in":
+            vo0, vy, dx0 = p["vo0_kmh"] / 3.6, p["vy_ms"], p["dx0_m"]
+            s_c0 = s_front0 + dx0 + z.other_length / 2
+
+            def cut_in(t: float) -> tuple[float, float, float, float]:
+                d = w if t < 0 else max(0.0, w - vy * t)
+                vd = -vy if 0 <= t < w / vy else 0.0
+                return s_c0 + vo0 * t, d, vo0, vd
+
+            sc.scripted = [ScriptedVehicle("other", right, cut_in, z.other_length)]
+        elif cs.type == "cut-out":
+            vy, dx0f = p["vy_ms"], p["dx0_f_m"]
+            s_lead0 = s_front0 + k.follow_thw * ve0 + z.other_length / 2
+            s_stop = s_lead0 + z.other_length / 2 + dx0f + z.other_length / 2
+
+            def cut_out(t: float) -> tuple[float, float, float, float]:
+                d = 0.0 if t < 0 else min(w, vy * t)
+                vd = vy if 0 <= t < w / vy else 0.0
+                return s_lead0 + ve0 * t, d, ve0, vd
+
+            sc.scripted = [
+                ScriptedVehicle("lead", right, cut_out, z.other_length),
+                ScriptedVehicle("other", right, _const_speed(s_stop, 0.0), z.other_length),
+            ]
+        elif cs.type == "decel":
+            a = p["gx_max_g"] * G
+            s_lead0 = s_front0 + k.follow_thw * ve0 + z.other_length / 2
+
+            def decel(t: float) -> tuple[float, float, float, float]:
+                if t < 0:
+                    return s_lead0 + ve0 * t, 0.0, ve0, 0.0
+                tt = min(t, ve0 / a)
+                return s_lead0 + ve0 * tt - a * tt * tt / 2, 0.0, ve0 - a * tt, 0.0
+
+            sc.scripted = [ScriptedVehicle("other", right, decel, z.other_length)]
+        else:  # stationary
+            s_c = s_front0 + p["gap_m"] + z.other_length / 2
+            sc.scripted = [ScriptedVehicle("other", right, _const_speed(s_c, 0.0), z.other_length)]
+        return sc
+
+    if cs.type == "dart-out":
+        net = build_intersection(
+            workdir / "street.net.xml", IntersectionParams(lane_width=k.lane_width)
+        )
+        n = sumolib.net.readNet(str(net))
+        lane = next(ln for ln in n.getEdge("w_in").getLanes() if ln.allows("passenger"))
+        frame = RoadFrame.from_lane(str(net), lane.getID())
+        vp = p["ped_speed_kmh"] / 3.6
+        s_path = frame.length - 30.0  # the child's path crosses 30 m before the junction
+        d_start = -(k.lane_width / 2 + k.ped_start_beyond_lane)
+        d_impact = -z.ego_width / 2 + p["impact_fraction"] * z.ego_width
+        # without braking, the ego front reaches the path when the child reaches d_impact
+        t_hit = (s_path - z.child_depth / 2 - s_front0) / ve0
+        t_go = t_hit - (d_impact - d_start) / vp
+
+        def child(t: float) -> tuple[float, float, float, float]:
+            if t < t_go:
+                return s_path, d_start, 0.0, 0.0
+            return s_path, d_start + vp * (t - t_go), 0.0, vp
+
+        s_parked = s_path - k.parked_gap_to_path - z.other_length / 2
+        d_parked = -(k.lane_width / 2 + k.kerb_offset)
+        sc = Scenario(
+            net=net,
+            ego_route=["w_in", "e_out"],
+            ego_lane=lane.getIndex(),
+            ego_start_s=k.ego_start_s,
+            target_id="child",
+            **base,
+        )
+        sc.scripted = [ScriptedPerson("child", frame, child)]
+        if p.get("parked_car", 1.0) >= 0.5:
+            sc.scripted.insert(
+                0,
+                ScriptedVehicle(
+                    "parked", frame, _const_speed(s_parked, 0.0, d_parked), z.other_length
+                ),
+            )
+
+        sc.conflict_point = frame.to_xy(s_path, d_impact)[:2]
+        return sc
+
+    if cs.type == "city":
+        net = build_city_grid(workdir / "city.net.xml", CityGridParams())
+        routes = write_demand(
+            net,
+            workdir / "demand.rou.xml",
+            DemandConfig(
+                vehicles_per_hour=p["vehicles_per_hour"],
+                persons_per_hour=p["persons_per_hour"],
+                end=p["warmup_s"] + cs.duration + 60.0,
+                seed=cs.seed,
+                vehicle_mix={"car": 0.85, "truck": 0.05, "bus": 0.05, "motorcycle": 0.05},
+            ),
+        )
+        ego_route = _long_route(net)
+        first = sumolib.net.readNet(str(net)).getEdge(ego_route[0])
+        lane = next(ln for ln in first.getLanes() if ln.allows("passenger"))
+        sc = Scenario(
+            net=net,
+            routes=[routes],
+            ego_route=ego_route,
+            ego_lane=lane.getIndex(),
+            warmup=p["warmup_s"],
+            ego_start_s=5.0,
+            ego_speed=ve0,
+            ego_speed_mode=k.city_speed_mode,
+            lead_in=0.0,
+            sizes=z,
+        )
+        sc.settle_after_stop = math.inf
+        return sc
+    raise HiyariError(f"no scenario script for type {cs.type!r}")
+
+
+def _long_route(net: Path) -> list[str]:
+    """A long car route across the network: between the most distant boundary edges."""
+    n = sumolib.net.readNet(str(net))
+    cars = [e for e in n.getEdges() if e.allows("passenger") and not e.isSpecial()]
+    starts = [e for e in cars if not e.getIncoming()]
+    ends = [e for e in cars if not e.getOutgoing()]
+    pairs = sorted(
+        ((a, b) for a in starts for b in ends if a.getFromNode() is not b.getToNode()),
+        key=lambda ab: -math.dist(ab[0].getFromNode().getCoord(), ab[1].getToNode().getCoord()),
+    )
+    for a, b in pairs:
+        path, _ = n.getShortestPath(a, b, vClass="passenger")
+        if path:
+            return [e.getID() for e in path]
+    raise HiyariError(f"{net}: no route across the network for the ego")

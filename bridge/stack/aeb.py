@@ -1,0 +1,215 @@
+"""Staged AEB over an ACC / lane-keep baseline (DIVP C1, MODELS.md §4).
+
+Threat assessment per fused track in the ego frame: the time to collision is the first time at
+which the object's footprint overlaps the ego's both longitudinally and laterally, each side
+moving at its current relative velocity (so a pedestrian crossing into the ego's path counts,
+one walking beside it does not). Stages by TTC: warning, partial braking, full braking; the
+brake is applied after an actuation delay (a command buffer).
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass, replace
+from enum import IntEnum
+
+import numpy as np
+
+from hiyari.bridge.stack.ego_pose import EgoPose
+from hiyari.sensors.outputs import ObjectList
+
+G = 9.81
+
+
+class AEBStage(IntEnum):
+    """AEB state, in order of severity."""
+
+    OFF = 0
+    WARNING = 1
+    PARTIAL = 2
+    FULL = 3
+
+
+@dataclass(frozen=True)
+class AEBConfig:
+    """Stage thresholds (TTC, s), decelerations (g) and the actuation delay (s)."""
+
+    warning_ttc: float = 2.6
+    partial_ttc: float = 1.6
+    partial_decel_g: float = 0.4
+    full_ttc: float = 1.0
+    full_decel_g: float = 0.8
+    actuation_delay: float = 0.2  # 0.8 s reproduces the DIVP evaluation car
+    lateral_margin: float = 0.2  # m added to each side of the ego's width
+    horizon: float = 10.0  # s, TTCs beyond this count as no threat
+    require_classified: bool = True  # act on camera / LiDAR-classified tracks, not radar-only
+    hold_after_stop: bool = True  # keep full brake once stopped with a threat ahead
+    latch_until_stop: bool = True  # once braking, brake to standstill (as production AEBs do)
+
+
+@dataclass(frozen=True)
+class ACCConfig:
+    """Speed keeping and following (time headway THW, s; accelerations m/s^2)."""
+
+    set_speed: float = 16.67  # m/s
+    thw: float = 2.0
+    standstill_gap: float = 3.0  # m
+    k_gap: float = 0.25  # 1/s^2
+    k_speed: float = 0.6  # 1/s
+    max_accel: float = 1.5
+    max_decel: float = 3.0
+    stopped_speed: float = 0.5  # m/s: a lead slower than this is treated as stopped
+
+
+def time_to_collision(tracks: ObjectList, ego: EgoPose, cfg: AEBConfig) -> np.ndarray:
+    """(N,) s until each track's footprint first overlaps the ego's; inf when never.
+
+    Axis-aligned in the ego frame: intervals of longitudinal and lateral overlap intersected.
+    """
+    n = len(tracks)
+    if n == 0:
+        return np.zeros(0)
+    x, y = tracks.position[:, 0], tracks.position[:, 1]
+    vx = np.nan_to_num(tracks.velocity[:, 0])
+    vy = np.nan_to_num(tracks.velocity[:, 1])
+    ext_x, ext_y = footprint_extent(tracks, ego)
+    half_x = ext_x + ego.length / 2
+    half_y = ext_y + ego.width / 2 + cfg.lateral_margin
+    tx0, tx1 = _interval(x, vx, half_x)
+    ty0, ty1 = _interval(y, vy, half_y)
+    t0 = np.maximum(np.maximum(tx0, ty0), 0.0)
+    t1 = np.minimum(tx1, ty1)
+    ttc = np.where((t0 <= t1) & (t1 >= 0), t0, np.inf)
+    return np.where(ttc <= cfg.horizon, ttc, np.inf)
+
+
+def select(ol: ObjectList, mask: np.ndarray) -> ObjectList:
+    """The objects of ``ol`` where ``mask`` is true."""
+    return replace(
+        ol,
+        object_id=ol.object_id[mask],
+        cls=ol.cls[mask],
+        position=ol.position[mask],
+        velocity=ol.velocity[mask],
+        size=ol.size[mask],
+        confidence=ol.confidence[mask],
+        truth=ol.truth[mask],
+        box_2d=None if ol.box_2d is None else ol.box_2d[mask],
+    )
+
+
+def footprint_extent(tracks: ObjectList, ego: EgoPose, min_speed: float = 0.5):
+    """Half extents (m) along the ego's x and y of each object's footprint.
+
+    Objects are taken to head along their velocity over ground (Annex G's other vehicles do),
+    so a car changing lane reaches further sideways than its half width; objects slower than
+    ``min_speed`` are taken as aligned with the ego.
+    """
+    vx_abs = np.nan_to_num(tracks.velocity[:, 0]) + ego.speed
+    vy_abs = np.nan_to_num(tracks.velocity[:, 1])
+    moving = np.hypot(vx_abs, vy_abs) > min_speed
+    psi = np.where(moving, np.arctan2(vy_abs, np.where(moving, vx_abs, 1.0)), 0.0)
+    c, s = np.abs(np.cos(psi)), np.abs(np.sin(psi))
+    lo, wo = tracks.size[:, 0], tracks.size[:, 1]
+    return (lo * c + wo * s) / 2, (lo * s + wo * c) / 2
+
+
+def _interval(p: np.ndarray, v: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Times when |p + v t| <= half (p relative position, v relative velocity)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = (-half - p) / v
+        b = (half - p) / v
+    still = np.abs(v) < 1e-9
+    inside = np.abs(p) <= half
+    t0 = np.where(still, np.where(inside, -np.inf, np.inf), np.minimum(a, b))
+    t1 = np.where(still, np.where(inside, np.inf, -np.inf), np.maximum(a, b))
+    return t0, t1
+
+
+@dataclass(frozen=True)
+class EgoCommand:
+    """What the planner decided at one step."""
+
+    time: float
+    accel: float  # m/s^2 applied this step (after the actuation delay)
+    acc_accel: float  # m/s^2 the ACC alone wanted
+    aeb_stage: AEBStage  # stage decided this step (before the delay)
+    aeb_decel: float  # m/s^2 (positive) the AEB brake applies this step
+    ttc: float  # s, smallest TTC over tracks (inf when none)
+    threat: str  # truth id of the most urgent track ('' when none)
+
+
+class AEBPlanner:
+    """ACC speed keeping and following, overridden by a staged AEB with actuation delay."""
+
+    def __init__(self, acc: ACCConfig | None = None, aeb: AEBConfig | None = None) -> None:
+        self.acc = acc or ACCConfig()
+        self.aeb = aeb or AEBConfig()
+        self._pending: deque[tuple[float, float]] = deque()  # (apply_at, decel)
+        self._applied = 0.0
+        self._latched = 0.0  # m/s^2 held until standstill
+
+    def plan(self, tracks: ObjectList, ego: EgoPose, time: float) -> EgoCommand:
+        """Acceleration command for this step from the fused tracks (ego frame)."""
+        if self.aeb.require_classified and len(tracks):
+            # radar alone cannot tell a parked car beside the lane from one in it (azimuth
+            # resolution): like production AEBs, act on objects another sensor classified
+            tracks = select(tracks, tracks.cls >= 0)
+        ttc = time_to_collision(tracks, ego, self.aeb)
+        k = int(np.argmin(ttc)) if len(ttc) else -1
+        ttc_min = float(ttc[k]) if k >= 0 else float("inf")
+        stage = self._stage(ttc_min, ego)
+        decel = {AEBStage.PARTIAL: self.aeb.partial_decel_g, AEBStage.FULL: self.aeb.full_decel_g}
+        demand = decel.get(stage, 0.0) * G
+        if self.aeb.latch_until_stop:
+            if ego.speed < 0.05 and stage < AEBStage.FULL:
+                self._latched = 0.0
+            self._latched = max(self._latched, demand)
+            demand = self._latched
+        self._pending.append((time + self.aeb.actuation_delay, demand))
+        while self._pending and self._pending[0][0] <= time + 1e-9:
+            self._applied = self._pending.popleft()[1]
+        acc = self._acc(tracks, ego)
+        accel = min(acc, -self._applied) if self._applied > 0 else acc
+        return EgoCommand(
+            time=time,
+            accel=accel,
+            acc_accel=acc,
+            aeb_stage=stage,
+            aeb_decel=self._applied,
+            ttc=ttc_min,
+            threat=str(tracks.truth[k]) if k >= 0 and ttc_min < np.inf else "",
+        )
+
+    def _stage(self, ttc: float, ego: EgoPose) -> AEBStage:
+        c = self.aeb
+        if ttc < c.full_ttc or (c.hold_after_stop and ego.speed < 0.1 and ttc < c.warning_ttc):
+            return AEBStage.FULL
+        if ttc < c.partial_ttc:
+            return AEBStage.PARTIAL
+        if ttc < c.warning_ttc:
+            return AEBStage.WARNING
+        return AEBStage.OFF
+
+    def _acc(self, tracks: ObjectList, ego: EgoPose) -> float:
+        c = self.acc
+        accel = c.k_speed * (c.set_speed - ego.speed)
+        if len(tracks):
+            ext_x, ext_y = footprint_extent(tracks, ego)
+            ahead = (tracks.position[:, 0] > 0) & (
+                np.abs(tracks.position[:, 1]) < ext_y + ego.width / 2
+            )
+            if ahead.any():
+                i = np.flatnonzero(ahead)[np.argmin(tracks.position[ahead, 0])]
+                gap = tracks.position[i, 0] - ext_x[i] - ego.length / 2
+                v_lead = ego.speed + float(np.nan_to_num(tracks.velocity[i, 0]))
+                desired = max(c.standstill_gap, c.thw * ego.speed)
+                follow = c.k_gap * (gap - desired) + c.k_speed * (v_lead - ego.speed)
+                if v_lead < c.stopped_speed:
+                    # a proportional law only creeps up to a stopped car: brake to a standstill
+                    room = gap - c.standstill_gap
+                    follow = -(ego.speed**2) / (2 * room) if room > 0.1 else -c.max_decel
+                accel = min(accel, follow)
+        if accel < 0 and ego.speed < 1e-3:
+            return 0.0
+        return float(np.clip(accel, -c.max_decel, c.max_accel))

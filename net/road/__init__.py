@@ -1,0 +1,1 @@
+"""Road geometry read once from a SUMO net: lanes, sidewalks, crossings, markings, heights."""

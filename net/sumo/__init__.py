@@ -1,0 +1,1 @@
+"""SUMO networks: generators (plain XML + netconvert), OpenDRIVE import, input checks."""

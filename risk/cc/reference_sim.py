@@ -1,0 +1,192 @@
+"""A straightforward time-stepping simulation of the C&C driver, one scenario at a time.
+
+This is the baseline the closed-form evaluator (:mod:`hiyari.risk.cc.evaluator`) is checked
+and benchmarked against: plain Python floats, a fixed step (default 0.01 s), the driver's
+judgements taken online from the simulated state, and contact tested on the two rectangles
+at every step. It is deliberately written independently of the closed form, so agreement
+between the two is evidence for both. Results carry the step's quantisation (event times to
+``dt``, positions to about the closing speed x ``dt``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from hiyari.risk.cc.model import CCParams
+
+
+@dataclass(frozen=True)
+class SteppedResult:
+    """Outcome of one stepped run: contact, smallest gap while overlapping laterally (m),
+    first contact time (s, nan if none), closing speed at contact (m/s, nan if none)."""
+
+    collision: bool
+    min_gap_m: float
+    t_collision_s: float
+    impact_speed_mps: float
+
+
+class _Ego:
+    """Ego longitudinal state with the driver's (and optionally the AEB's) braking."""
+
+    def __init__(self, v0: float, v_end: float, p: CCParams) -> None:
+        self.v = v0
+        self.x_front = 0.0
+        self.v_end = v_end
+        self.p = p
+        self.brake_at = math.inf
+        self.aeb_at = math.inf
+        self.done = v0 <= v_end
+
+    def decel(self, t: float) -> float:
+        p = self.p
+        d = 0.0
+        if t >= self.brake_at:
+            d = min(p.max_decel_mps2, p.max_decel_mps2 * (t - self.brake_at) / p.ramp_time_s)
+        if t >= self.aeb_at:
+            ramp = p.aeb_decel_mps2 * (t - self.aeb_at) / max(p.aeb_ramp_time_s, 1e-12)
+            d = max(d, min(p.aeb_decel_mps2, ramp))
+        return d
+
+    def step(self, t: float, dt: float) -> None:
+        if self.done:
+            self.x_front += self.v * dt
+            return
+        # average deceleration over the step (the ramp is linear, so this is exact for it)
+        d = 0.5 * (self.decel(t) + self.decel(t + dt))
+        v_new = self.v - d * dt
+        if v_new <= self.v_end:
+            # stop braking part-way through the step at v_end
+            frac = (self.v - self.v_end) / (d * dt) if d > 0 else 1.0
+            self.x_front += 0.5 * (self.v + self.v_end) * dt * frac + self.v_end * dt * (1 - frac)
+            self.v = self.v_end
+            self.done = True
+        else:
+            self.x_front += 0.5 * (self.v + v_new) * dt
+            self.v = v_new
+
+
+def _overlap_1d(a_lo: float, a_hi: float, b_lo: float, b_hi: float) -> float:
+    return min(a_hi, b_hi) - max(a_lo, b_lo)
+
+
+def simulate_cut_in(
+    ve0: float,
+    vo0: float,
+    dx0: float,
+    vy: float,
+    p: CCParams,
+    dt: float = 0.01,
+    t_max: float = 60.0,
+) -> SteppedResult:
+    """Cut-in (SI units, as :func:`~hiyari.risk.cc.evaluator.evaluate_cut_in`) by stepping."""
+    ego = _Ego(ve0, vo0, p)
+    half_w = 0.5 * p.ego_width_m
+    y_other = p.lane_width_m
+    t = 0.0
+    judged_at = math.inf
+    danger = False
+    reacting = False
+    min_gap = math.inf
+    while t < t_max:
+        x_rear = dx0 + vo0 * t
+        gap = x_rear - ego.x_front
+        shift = p.lane_width_m - y_other
+        if p.judgement == "time":
+            if shift >= p.wander_m and judged_at == math.inf:
+                judged_at = t
+            danger = t >= judged_at + p.perception_time_s - 1e-12
+        else:
+            danger = shift >= p.wander_m + p.danger_lateral_m - 1e-12
+        closing = ego.v - vo0
+        if danger and not reacting and closing > 0 and gap < p.ttc_brake_s * closing + 1e-12:
+            reacting = True
+            ego.brake_at = t + p.reaction_delay_s
+        lateral = _overlap_1d(
+            -half_w, half_w, y_other - 0.5 * p.other_width_m, y_other + 0.5 * p.other_width_m
+        )
+        passed = gap <= -(p.ego_length_m + p.other_length_m)
+        if lateral > 0 and not passed:
+            min_gap = min(min_gap, gap)
+            if p.aeb and ego.aeb_at == math.inf and gap < p.aeb_ttc_s * closing:
+                ego.aeb_at = t + p.aeb_delay_s
+            if gap < -p.contact_tol_m:
+                return SteppedResult(True, gap, t, closing)
+        if lateral > 0 and passed:
+            return SteppedResult(False, min(min_gap, gap), math.nan, math.nan)
+        if ego.done and y_other <= 0 and lateral > 0:
+            break
+        ego.step(t, dt)
+        y_other = max(0.0, y_other - vy * dt)
+        t += dt
+    return SteppedResult(False, min_gap, math.nan, math.nan)
+
+
+def simulate_cut_out(
+    ve0: float, vy: float, dx0_f: float, p: CCParams, dt: float = 0.01, t_max: float = 60.0
+) -> SteppedResult:
+    """Cut-out (as :func:`~hiyari.risk.cc.evaluator.evaluate_cut_out`) by stepping."""
+    ego = _Ego(ve0, 0.0, p)
+    distance = p.thw_s * ve0 + p.other_length_m + dx0_f
+    half_w = 0.5 * (p.ego_width_m + p.other_width_m)
+    shift = 0.0
+    t = 0.0
+    judged_at = math.inf
+    min_gap = math.inf
+    while t < t_max:
+        gap = distance - ego.x_front
+        min_gap = min(min_gap, gap)
+        if gap < -p.contact_tol_m:
+            return SteppedResult(True, gap, t, ego.v)
+        if ego.done:
+            break
+        if p.judgement == "time":
+            if shift >= p.wander_m and judged_at == math.inf:
+                judged_at = t
+            danger = t >= judged_at + p.perception_time_s - 1e-12
+        else:
+            danger = shift >= p.wander_m + p.danger_lateral_m - 1e-12
+        if danger and ego.brake_at == math.inf:
+            ego.brake_at = t + p.reaction_delay_s
+        revealed = shift >= half_w - 1e-12
+        if p.aeb and revealed and ego.aeb_at == math.inf and gap < p.aeb_ttc_s * ego.v:
+            ego.aeb_at = t + p.aeb_delay_s
+        ego.step(t, dt)
+        shift = min(p.lane_width_m, shift + vy * dt)
+        t += dt
+    return SteppedResult(False, min_gap, math.nan, math.nan)
+
+
+def simulate_decel(
+    ve0: float,
+    gx: float,
+    p: CCParams,
+    dx0: float | None = None,
+    dt: float = 0.01,
+    t_max: float = 60.0,
+) -> SteppedResult:
+    """Deceleration (as :func:`~hiyari.risk.cc.evaluator.evaluate_decel`) by stepping."""
+    ego = _Ego(ve0, 0.0, p)
+    ego.brake_at = p.perception_time_s + p.reaction_delay_s
+    x_lead = p.thw_s * ve0 if dx0 is None else dx0
+    v_lead = ve0
+    a_lead = gx * p.g_mps2
+    t = 0.0
+    min_gap = math.inf
+    while t < t_max:
+        gap = x_lead - ego.x_front
+        min_gap = min(min_gap, gap)
+        closing = ego.v - v_lead
+        if gap < -p.contact_tol_m:
+            return SteppedResult(True, gap, t, closing)
+        if ego.done and v_lead == 0:
+            break
+        if p.aeb and ego.aeb_at == math.inf and gap < p.aeb_ttc_s * closing:
+            ego.aeb_at = t + p.aeb_delay_s
+        ego.step(t, dt)
+        v_new = max(0.0, v_lead - a_lead * dt)
+        x_lead += 0.5 * (v_lead + v_new) * dt if v_new > 0 else v_lead**2 / (2 * a_lead)
+        v_lead = v_new
+        t += dt
+    return SteppedResult(False, min_gap, math.nan, math.nan)

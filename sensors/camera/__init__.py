@@ -1,0 +1,1 @@
+"""Camera: geometry and presets, analytic recognition, optional rendered image."""

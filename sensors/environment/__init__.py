@@ -1,0 +1,1 @@
+"""The environment the sensors share: weather, light, soiling, and the disturbance presets."""

@@ -1,0 +1,230 @@
+"""LiDAR: ray-cast scan with intensity, threshold, extinction, noise, rain ghosts and skew.
+
+Received intensity of a return (1 = white Lambertian target at 1 m, normal incidence):
+    I = [rho_d cos(theta) + rho_s / (2 s^2) exp(-2 theta^2 / s^2)] x T_atm^2 x T_soil^2 / r^2
+with rho_d the diffuse reflectance, rho_s = rho_d x share / (1 - share) the specular part
+(``specular`` share of DEFAULT_OPTICS) in a Gaussian lobe of width s about the mirror direction
+(backscatter at incidence theta is 2 theta off the mirror direction), T_atm = exp(-a r) the
+one-way extinction by rain and fog and T_soil the window transmission. Returns below the
+threshold (LidarConfig.range_10pct_m) are dropped. Each column fires at its own time in the
+scan, so moving targets and the moving sensor smear the cloud (scan-time skew).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from hiyari.net.mesh.materials import DEFAULT_OPTICS, Material
+from hiyari.sensors.environment.conditions import Environment, Soiling
+from hiyari.sensors.environment.soiling import soiling_mask
+from hiyari.sensors.frames import Mount, PoseLike, ego_velocity, sensor_to_world
+from hiyari.sensors.lidar.config import LidarConfig
+from hiyari.sensors.lidar.recognition import LidarRecognitionConfig, recognise_lidar
+from hiyari.sensors.outputs import HIT_NONE, ObjectList, PointCloud
+from hiyari.sensors.scene.ray_scene import DirectionIndex, RayScene, SensorRays
+from hiyari.traffic.world_state import WorldState
+
+
+def _material_tables(lobe_rad: float) -> tuple[np.ndarray, np.ndarray]:
+    """Diffuse reflectance and specular peak gain per material id (256 entries)."""
+    diffuse = np.zeros(256, np.float32)
+    peak = np.zeros(256, np.float32)
+    for m in Material:
+        o = DEFAULT_OPTICS[m]
+        diffuse[m] = o.lidar
+        if o.specular > 0:
+            peak[m] = o.lidar * o.specular / (1.0 - o.specular) / (2.0 * lobe_rad**2)
+    return diffuse, peak
+
+
+class Lidar:
+    """A LiDAR mounted on the ego. ``scan`` returns one PointCloud with ground truth."""
+
+    def __init__(
+        self,
+        config: LidarConfig,
+        mount: Mount | None = None,
+        name: str = "lidar",
+        recognition: LidarRecognitionConfig | None = None,
+    ) -> None:
+        self.config = config.validate()
+        self.mount = mount or Mount(x=0.0, z=1.9)
+        self.name = name
+        self.recognition = recognition or LidarRecognitionConfig()
+        c = config
+        el = np.radians(np.asarray(c.elevations_deg, dtype=np.float64))
+        fov = math.radians(c.horizontal_fov_deg)
+        step = fov / c.columns
+        first = math.pi if c.horizontal_fov_deg >= 360 else fov / 2 - step / 2
+        az = first - step * np.arange(c.columns)  # clockwise sweep seen from above
+        ce = np.cos(el)[:, None]
+        dirs = np.stack(
+            [
+                ce * np.cos(az)[None],
+                ce * np.sin(az)[None],
+                np.broadcast_to(np.sin(el)[:, None], (len(el), c.columns)),
+            ],
+            -1,
+        ).reshape(-1, 3)
+        self.index = DirectionIndex.build(dirs)
+        self.directions = self.index.directions
+        # the ego only yaws, so rays are turned into the ego frame once and yawed per scan
+        in_ego = dirs @ self.mount.sensor_to_ego()[:3, :3].T
+        self._ego_x, self._ego_y, self._ego_z = (
+            np.ascontiguousarray(in_ego[:, k], dtype=np.float32) for k in range(3)
+        )
+        self.fire_time = np.tile(np.arange(c.columns) / (c.columns * c.rate_hz), len(el)).astype(
+            np.float32
+        )
+        self._diffuse, self._peak = _material_tables(math.radians(c.specular_lobe_deg))
+        self._soil_key: Soiling | None = None
+        self._soil_t2 = np.ones(len(dirs), np.float32)
+        self._spot_rays = np.zeros(0, np.int64)
+        self._soiled = False
+
+    @property
+    def rate_hz(self) -> float:
+        """Scans per second."""
+        return self.config.rate_hz
+
+    def sensor_to_world(self, ego: PoseLike) -> np.ndarray:
+        """(4, 4) sensor-to-network transform for the ego pose."""
+        return sensor_to_world(self.mount, ego)
+
+    def sense(
+        self,
+        scene: RayScene,
+        ego: PoseLike,
+        world: WorldState,
+        env: Environment,
+        rng: np.random.Generator,
+    ) -> tuple[PointCloud, ObjectList]:
+        """Scan and recognise: the point cloud and its object list."""
+        cloud = self.scan(scene, ego, world, env, rng)
+        return cloud, recognise_lidar(cloud, self.recognition)
+
+    def _soiling(self, soiling: Soiling) -> None:
+        if soiling != self._soil_key:
+            t, spot = soiling_mask(self.directions, soiling)
+            self._soil_t2 = (t * t).astype(np.float32)
+            self._spot_rays = np.flatnonzero(spot)
+            self._soiled = bool(np.any(t < 1.0))
+            self._soil_key = soiling
+
+    def scan(
+        self,
+        scene: RayScene,
+        ego: PoseLike,
+        world: WorldState,
+        env: Environment,
+        rng: np.random.Generator,
+    ) -> PointCloud:
+        """One scan starting at ``world.time`` from the sensor on ``ego`` (points in the sensor frame)."""
+        c = self.config
+        scene.ensure(world)
+        self._soiling(env.soiling)
+        s2w = self.sensor_to_world(ego)
+        rot, origin = s2w[:3, :3], s2w[:3, 3]
+        rot32 = rot.astype(np.float32)
+        cy, sy = np.float32(math.cos(ego.heading)), np.float32(math.sin(ego.heading))
+        dirs_w = np.empty((c.rays, 3), np.float32)
+        dirs_w[:, 0] = self._ego_x * cy - self._ego_y * sy
+        dirs_w[:, 1] = self._ego_x * sy + self._ego_y * cy
+        dirs_w[:, 2] = self._ego_z
+        v_ego = ego_velocity(ego)
+        if np.any(v_ego):
+            origins = np.empty((c.rays, 3), np.float32)
+            for k in range(3):
+                origins[:, k] = np.float32(origin[k]) + self.fire_time * np.float32(v_ego[k])
+        else:
+            origins = np.empty((c.rays, 3), np.float32)
+            origins[:] = origin.astype(np.float32)
+        cast_dirs = dirs_w
+        if len(self._spot_rays) and env.soiling.spot_deflection_deg > 0:
+            cast_dirs = dirs_w.copy()
+            j = self._spot_rays
+            bend = rng.normal(0.0, math.radians(env.soiling.spot_deflection_deg), (len(j), 3))
+            d = dirs_w[j] + bend.astype(np.float32)
+            cast_dirs[j] = d / np.linalg.norm(d, axis=1, keepdims=True)
+        scan_time = 1.0 / c.rate_hz
+        pad = scan_time * (float(np.linalg.norm(v_ego)) + float(np.max(world.speed, initial=0.0)))
+        hits = scene.cast(
+            origins, cast_dirs, c.max_range_m, SensorRays(self.index, origin, rot, pad)
+        )
+
+        ray = np.flatnonzero(hits.hit != HIT_NONE)
+        r = hits.distance[ray]
+        mat = hits.material[ray]
+        cos = hits.cos_incidence[ray]
+        inten = np.take(self._diffuse, mat) * cos
+        glossy = np.flatnonzero(self._peak[mat] > 0)
+        if len(glossy):
+            cg = np.maximum(cos[glossy], 1e-3)
+            tan2 = (1.0 - cg * cg) / (cg * cg)
+            lobe = np.exp(-2.0 * tan2 / math.radians(c.specular_lobe_deg) ** 2)
+            inten[glossy] += self._peak[mat[glossy]] * lobe
+        alpha = c.atmosphere.lidar_extinction(env)
+        inten /= r * r
+        if self._soiled:
+            inten *= np.take(self._soil_t2, ray)
+        if alpha > 0:
+            inten *= np.exp(-2.0 * alpha * r)
+        keep = (inten >= c.min_intensity) & (r >= c.min_range_m)
+        ray, r, inten = ray[keep], r[keep], inten[keep].astype(np.float32)
+        hit = hits.hit[ray]
+
+        if env.rain_mm_h > 0:
+            ray, r, inten, hit = self._rain_ghosts(env, rng, ray, r, inten, hit)
+
+        xyz = np.take(self.directions, ray, axis=0)
+        xyz *= r[:, None]
+        moving = np.flatnonzero(hit >= 0)
+        if len(moving):
+            v = scene.actor_velocity(hit[moving]).astype(np.float32)
+            if np.any(v):
+                xyz[moving] += (v @ rot32) * self.fire_time[ray[moving], None]
+                r = r.copy()
+                r[moving] = np.linalg.norm(xyz[moving], axis=1)
+        if c.range_noise_m > 0 and len(r):
+            noisy = r + np.float32(c.range_noise_m) * rng.standard_normal(len(r), dtype=np.float32)
+            noisy = np.maximum(noisy, np.float32(c.min_range_m))
+            xyz *= (noisy / r)[:, None]
+            r = noisy
+        return PointCloud(
+            time=world.time,
+            sensor=self.name,
+            sensor_to_world=s2w,
+            xyz=xyz.astype(np.float32, copy=False),
+            intensity=inten,
+            range=r.astype(np.float32, copy=False),
+            hit=hit.astype(np.int32, copy=False),
+            actor_ids=world.ids,
+        )
+
+    def _rain_ghosts(self, env, rng, ray, r, inten, hit):
+        """Drop returns at 7-15 m replace (first return) or add to the real ones."""
+        c = self.config
+        p = min(c.rain_ghost_max_probability, c.rain_ghost_per_mm_h * env.rain_mm_h)
+        n = c.rays
+        ghosts = np.flatnonzero(rng.random(n, dtype=np.float32) < p)
+        if not len(ghosts):
+            return ray, r, inten, hit
+        g_r = rng.uniform(c.rain_ghost_min_m, c.rain_ghost_max_m, len(ghosts)).astype(np.float32)
+        g_i = c.min_intensity * c.rain_ghost_intensity_span ** rng.random(
+            len(ghosts), dtype=np.float32
+        )
+        full_r = np.full(n, np.inf, np.float32)
+        full_r[ray] = r
+        wins = g_r < full_r[ghosts]
+        ghosts, g_r, g_i = ghosts[wins], g_r[wins], g_i[wins].astype(np.float32)
+        lost = np.zeros(n, bool)
+        lost[ghosts] = True
+        real = ~lost[ray]
+        ray = np.concatenate([ray[real], ghosts])
+        order = np.argsort(ray, kind="stable")
+        r = np.concatenate([r[real], g_r])[order]
+        inten = np.concatenate([inten[real], g_i])[order]
+        hit = np.concatenate([hit[real], np.full(len(ghosts), HIT_NONE, np.int32)])[order]
+        return ray[order], r, inten, hit

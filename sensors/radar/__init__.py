@@ -1,0 +1,1 @@
+"""Radar: ray grids and presets, the radar equation, recognition into object lists."""

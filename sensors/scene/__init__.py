@@ -1,0 +1,1 @@
+"""The Embree scene: the static road mesh plus one shape per actor, updated every step."""

@@ -1,0 +1,286 @@
+"""The ray-cast scene: the static road mesh (built into Embree once) plus the actors of a step.
+
+Updating the actors never rebuilds the static part: the static triangles live in one Embree
+scene committed at construction, the actors in a small second scene rebuilt by ``update``.
+``cast`` shoots every ray into the static scene, then only the rays whose azimuth can reach an
+actor's bounding sphere into the actor scene, limited to the static hit distance, and keeps
+the nearer hit. Frames: network coordinates (metres); directions unit vectors.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from embreex import rtcore_scene
+from embreex.mesh_construction import TriangleMesh
+from embreex.rtcore import EmbreeDevice
+
+from hiyari.errors import HiyariError
+from hiyari.net.mesh.scene_mesh import SceneMesh
+from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
+from hiyari.sensors.scene.actor_shapes import ActorAppearance, ActorMesh, build_actor_mesh
+from hiyari.traffic.world_state import WorldState
+
+NO_MATERIAL = 255
+
+
+AZIMUTH_BINS = 1440
+"""Azimuth bins (0.25 deg) used to find which rays may reach an actor."""
+
+
+@dataclass(frozen=True, eq=False)
+class DirectionIndex:
+    """A sensor's fixed ray directions (sensor frame) with their azimuth bin (built once)."""
+
+    directions: np.ndarray  # (N, 3) float32, sensor frame, unit
+    bin: np.ndarray  # (N,) int32 azimuth bin of each ray
+    elevation: np.ndarray  # (N,) float32 elevation of each ray, rad
+
+    @staticmethod
+    def build(directions: np.ndarray) -> DirectionIndex:
+        """Index unit ``directions`` (N, 3) given in the sensor frame."""
+        d = np.ascontiguousarray(directions, dtype=np.float32)
+        az = np.arctan2(d[:, 1], d[:, 0]).astype(np.float64)
+        b = np.floor((az + np.pi) / (2 * np.pi) * AZIMUTH_BINS).astype(np.int32) % AZIMUTH_BINS
+        el = np.arcsin(np.clip(d[:, 2], -1.0, 1.0)).astype(np.float32)
+        return DirectionIndex(d, b, el)
+
+    def __len__(self) -> int:
+        return len(self.directions)
+
+
+@dataclass(frozen=True, eq=False)
+class SensorRays:
+    """Where a bundle of rays comes from: lets ``cast`` skip rays that cannot reach an actor."""
+
+    index: DirectionIndex
+    origin: np.ndarray  # (3,) sensor position, network frame
+    rotation: np.ndarray  # (3, 3) sensor-to-network rotation
+    pad: float = 0.0  # m added to actor bounding spheres (motion during a scan)
+
+
+@dataclass(frozen=True, eq=False)
+class Hits:
+    """Nearest surface per ray. Arrays have one row per ray."""
+
+    distance: np.ndarray  # (N,) float32, m along the ray; inf where nothing was hit
+    hit: np.ndarray  # (N,) int32: actor row, HIT_STATIC or HIT_NONE
+    material: np.ndarray  # (N,) uint8 Material, NO_MATERIAL where nothing was hit
+    cos_incidence: np.ndarray  # (N,) float32 |cos| between ray and shading normal, 0 on a miss
+    normal: np.ndarray | None  # (N, 3) float32 unit shading normal facing the ray, or None
+
+
+class RayScene:
+    """Static mesh plus per-step actor shapes, ray-cast with Embree.
+
+    Build once per network: ``scene = RayScene(mesh)``; then per step
+    ``scene.update(world, ego_id)`` (the ego is left out so that sensors do not see their own
+    vehicle), and sensors call ``scene.cast``.
+    """
+
+    def __init__(
+        self,
+        static: SceneMesh,
+        appearance: ActorAppearance | None = None,
+        actor_radius_m: float = 250.0,
+    ) -> None:
+        self.appearance = appearance or ActorAppearance()
+        self.actor_radius_m = actor_radius_m
+        self._device = EmbreeDevice()
+        self.static_mesh = static
+        self._static_material_ext = np.append(
+            static.material.astype(np.uint8), np.uint8(NO_MATERIAL)
+        )
+        self._static_normal_ext = np.zeros((len(static.faces) + 1, 3), np.float32)
+        if len(static.faces):
+            tri = static.triangles
+            n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+            n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
+            self._static_normal_ext[:-1] = n
+        self._static = None
+        if len(static.faces):
+            self._static = self._commit(
+                static.vertices.astype(np.float32), static.faces.astype(np.int32)
+            )
+        self.world: WorldState = WorldState.empty()
+        self.ego_id: str | None = None
+        self.actors: ActorMesh = build_actor_mesh(self.world, self.appearance)
+        self._dynamic = None
+        self._centres = np.zeros((0, 3))
+        self._radius = np.zeros(0)
+        self._velocity = np.zeros((0, 3))
+
+    def _commit(self, vertices: np.ndarray, faces: np.ndarray):
+        scene = rtcore_scene.EmbreeScene(self._device)
+        TriangleMesh(scene, vertices, faces)
+        # the first query commits the BVH; do it now so that casts pay only for traversal
+        scene.run(np.zeros((1, 3), np.float32), np.array([[0, 0, 1]], np.float32), dists=1e-3)
+        return scene
+
+    def set_appearance(self, appearance: ActorAppearance) -> None:
+        """Change actor materials (takes effect at the next update)."""
+        self.appearance = appearance
+
+    def update(self, world: WorldState, ego_id: str | None = None) -> None:
+        """Replace the actors by those of ``world``; static part untouched.
+
+        The ego (``ego_id``) is left out, and so are actors farther than ``actor_radius_m``
+        from it, which no sensor reaches.
+        """
+        exclude = None
+        if ego_id is not None:
+            is_ego = world.ids == ego_id
+            if not is_ego.any():
+                raise HiyariError(f"ego {ego_id!r} is not in the WorldState at t={world.time} s")
+            far = (
+                np.linalg.norm(world.xyz[:, :2] - world.xyz[is_ego][0, :2], axis=1)
+                > self.actor_radius_m
+            )
+            exclude = is_ego | far
+        self.world, self.ego_id = world, ego_id
+        self.actors = build_actor_mesh(world, self.appearance, exclude)
+        self._dynamic = (
+            self._commit(self.actors.vertices, self.actors.faces) if len(self.actors) else None
+        )
+        keep = np.ones(len(world), bool) if exclude is None else ~exclude
+        rows = np.flatnonzero(keep)
+        centre = world.xyz[rows].copy()
+        centre[:, 2] += world.height[rows] / 2
+        self._rows = rows
+        self._centres = centre
+        self._radius = 0.5 * np.sqrt(
+            world.length[rows] ** 2 + world.width[rows] ** 2 + world.height[rows] ** 2
+        )
+        vel = np.zeros((len(world), 3))
+        vel[:, :2] = world.velocity
+        self._velocity = vel
+
+    def ensure(self, world: WorldState) -> None:
+        """Update to ``world`` (keeping the ego id) unless it is already the current one."""
+        if world is not self.world:
+            ego = self.ego_id if np.any(world.ids == self.ego_id) else None
+            self.update(world, ego)
+
+    def actor_velocity(self, rows: np.ndarray) -> np.ndarray:
+        """(n, 3) network-frame velocity of actors at WorldState ``rows``, m/s."""
+        return self._velocity[rows]
+
+    def actor_bins(self, rays: SensorRays, max_range: float) -> tuple[np.ndarray, ...]:
+        """Per sensor-frame azimuth bin (AZIMUTH_BINS,): the distance to the nearest actor
+        bounding sphere (inf where none), and the lowest and highest elevation (rad) at which
+        any of those spheres is seen."""
+        near = np.full(AZIMUTH_BINS, np.inf, np.float32)
+        low = np.full(AZIMUTH_BINS, np.inf, np.float32)
+        high = np.full(AZIMUTH_BINS, -np.inf, np.float32)
+        if self._dynamic is None:
+            return near, low, high
+        rel = (self._centres - rays.origin) @ rays.rotation
+        rad = self._radius + rays.pad
+        dist = np.linalg.norm(rel, axis=1)
+        keep = dist - rad < max_range
+        rel, rad, dist = rel[keep], rad[keep], dist[keep]
+        if not len(dist):
+            return near, low, high
+        dh = np.hypot(rel[:, 0], rel[:, 1])
+        inside = dist <= rad
+        half = np.where(dh > rad, np.arcsin(np.minimum(rad / np.maximum(dh, 1e-9), 1.0)), np.pi)
+        az = np.arctan2(rel[:, 1], rel[:, 0])
+        el = np.arctan2(rel[:, 2], dh)
+        spread = np.where(inside, np.pi, np.arcsin(np.minimum(rad / np.maximum(dist, 1e-9), 1.0)))
+        w = 2 * np.pi / AZIMUTH_BINS
+        b0 = np.floor((az - half + np.pi) / w).astype(np.int64)
+        count = np.minimum(
+            np.floor((az + half + np.pi) / w).astype(np.int64) - b0 + 1, AZIMUTH_BINS
+        )
+        start = np.repeat(np.cumsum(count) - count, count)
+        bins = (np.repeat(b0, count) + np.arange(count.sum()) - start) % AZIMUTH_BINS
+        np.minimum.at(near, bins, np.repeat(np.maximum(dist - rad, 0.0), count).astype(np.float32))
+        np.minimum.at(low, bins, np.repeat(el - spread, count).astype(np.float32))
+        np.maximum.at(high, bins, np.repeat(el + spread, count).astype(np.float32))
+        return near, low, high
+
+    def _ellipsoid_normal(self, prim: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """Normals at ``points`` of the ellipsoids inscribed in the part boxes of faces ``prim``."""
+        a = self.actors
+        d = points - a.centre[prim]
+        c, s = np.cos(a.heading[prim]), np.sin(a.heading[prim])
+        half2 = a.half[prim] ** 2
+        fwd = (d[:, 0] * c + d[:, 1] * s) / half2[:, 0]
+        left = (-d[:, 0] * s + d[:, 1] * c) / half2[:, 1]
+        up = d[:, 2] / half2[:, 2]
+        return np.stack([fwd * c - left * s, fwd * s + left * c, up], 1).astype(np.float32)
+
+    def cast(
+        self,
+        origins: np.ndarray,
+        directions: np.ndarray,
+        max_range: float,
+        rays: SensorRays | None = None,
+        normals: bool = False,
+        actors: bool = True,
+    ) -> Hits:
+        """Nearest hit per ray within ``max_range`` m.
+
+        ``origins`` and ``directions`` are (N, 3) float32 in network coordinates (directions
+        unit). With ``rays`` (the sensor's index and pose) only rays that pass an actor's
+        azimuth and reach beyond its nearest distance before hitting the static scene are cast
+        into the actor scene; without it every ray is. ``actors=False`` casts against the
+        static scene only. ``normals`` also returns unit shading normals.
+        """
+        n = len(directions)
+        if self._static is not None:
+            rs = self._static.run(origins, directions, dists=np.float32(max_range), output=1)
+            prim = rs["primID"]
+            found = prim >= 0
+            dist = np.where(found, rs["tfar"], np.float32(np.inf))
+            hit = np.where(found, np.int32(HIT_STATIC), np.int32(HIT_NONE))
+            # index -1 (a miss) picks the sentinel last row of each table
+            material = np.take(self._static_material_ext, prim)
+            normal = np.take(self._static_normal_ext, prim, axis=0)
+        else:
+            dist = np.full(n, np.inf, np.float32)
+            hit = np.full(n, HIT_NONE, np.int32)
+            material = np.full(n, NO_MATERIAL, np.uint8)
+            normal = np.zeros((n, 3), np.float32)
+        if actors and self._dynamic is not None:
+            if rays is None:
+                idx = np.arange(n)
+            else:
+                near, low, high = self.actor_bins(rays, max_range)
+                b, el = rays.index.bin, rays.index.elevation
+                idx = np.flatnonzero(
+                    (dist > np.take(near, b)) & (el >= np.take(low, b)) & (el <= np.take(high, b))
+                )
+            if len(idx):
+                limit = np.minimum(dist[idx], np.float32(max_range))
+                rd = self._dynamic.run(
+                    np.ascontiguousarray(origins[idx]),
+                    np.ascontiguousarray(directions[idx]),
+                    dists=limit,
+                    output=1,
+                )
+                dh = rd["primID"] >= 0
+                j = idx[dh]
+                prim = rd["primID"][dh]
+                dist[j] = rd["tfar"][dh]
+                hit[j] = self.actors.actor_row[prim]
+                material[j] = self.actors.material[prim]
+                ng = rd["Ng"][dh]
+                rnd = self.actors.rounded[prim]
+                if rnd.any():
+                    ng[rnd] = self._ellipsoid_normal(
+                        prim[rnd], origins[j[rnd]] + directions[j[rnd]] * dist[j[rnd], None]
+                    )
+                length = np.linalg.norm(ng, axis=1, keepdims=True)
+                normal[j] = ng / np.maximum(length, np.float32(1e-9))
+        dot = (
+            normal[:, 0] * directions[:, 0]
+            + normal[:, 1] * directions[:, 1]
+            + normal[:, 2] * directions[:, 2]
+        )
+        cos_inc = np.abs(dot)
+        unit = None
+        if normals:
+            unit = normal * np.where(dot > 0, np.float32(-1.0), np.float32(1.0))[:, None]
+        return Hits(dist, hit, material, cos_inc, unit)
