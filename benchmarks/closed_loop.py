@@ -18,6 +18,7 @@ from pathlib import Path
 from hiyari.bridge.scenario.presets import build_scenario
 from hiyari.bridge.scenario.run import RunOptions, run_concrete
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.traffic.commands import SPEED_MODE_DEFAULT
 from hiyari.traffic.simulation import SimConfig, Simulation
 
 PARAMS = {
@@ -35,7 +36,7 @@ def bare(cs: ConcreteScenario, work: Path) -> tuple[float, int, int]:
     with Simulation(SimConfig(net=sc.net, routes=sc.routes, step_length=STEP, seed=cs.seed)) as sim:
         sim.fast_forward(sc.warmup)
         sc.insert(sim)
-        sim.sumo.vehicle.setSpeedMode(sc.ego_id, 31)
+        sim.set_speed_mode(sc.ego_id, SPEED_MODE_DEFAULT)
         n = int(round(cs.duration / STEP))
         t0 = time.perf_counter()
         for _ in range(n):

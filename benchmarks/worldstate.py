@@ -14,29 +14,21 @@ import tempfile
 import time
 from pathlib import Path
 
-import libsumo
-
 from hiyari.net.sumo.build import CityGridParams, build_city_grid
-from hiyari.sumo_tools import sumo_binary
 from hiyari.traffic import DemandConfig, SimConfig, Simulation, write_demand
 
 
 def bare(config: SimConfig, warm: float, measure: float) -> tuple[float, int, int]:
-    """Bare libsumo.simulationStep loop; returns (steps/s, vehicles, persons) at the end."""
-    with tempfile.TemporaryDirectory() as tmp:
-        libsumo.start([str(sumo_binary("sumo")), *config.sumo_args(Path(tmp) / "e.log")])
-        try:
-            while libsumo.simulation.getTime() < warm - 1e-9:
-                libsumo.simulationStep()
-            n = int(round(measure / config.step_length))
-            t0 = time.perf_counter()
-            for _ in range(n):
-                libsumo.simulationStep()
-            dt = time.perf_counter() - t0
-            counts = libsumo.vehicle.getIDCount(), libsumo.person.getIDCount()
-        finally:
-            libsumo.close()
-    return n / dt, *counts
+    """Bare stepping (one libsumo.simulationStep per step, nothing read); returns
+    (steps/s, vehicles, persons) at the end."""
+    with Simulation(config, detect_collisions=False) as sim:
+        sim.run_bare(warm)
+        n = int(round(measure / config.step_length))
+        t0 = time.perf_counter()
+        sim.run_bare(warm + measure)
+        dt = time.perf_counter() - t0
+        state = sim.state
+        return n / dt, int(state.is_vehicle.sum()), int(state.is_pedestrian.sum())
 
 
 def hiyari_run(config: SimConfig, warm: float, measure: float, collisions: bool) -> float:

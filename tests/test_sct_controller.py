@@ -97,7 +97,7 @@ def approach_speeds(net, routes, sct: bool) -> tuple[np.ndarray, np.ndarray, flo
         for _ in range(400):
             st = sim.step()
             if "ped0" in st.ids and st.time > 0.5:
-                sim.sumo.person.moveToXY("ped0", "n_in", ped_x, ped_y, angle=90.0, keepRoute=2)
+                sim.move_person("ped0", ped_x, ped_y, 0.0, edge="n_in")  # facing east
             if "car0" not in st.ids:
                 continue
             r = st.index("car0")
@@ -107,8 +107,8 @@ def approach_speeds(net, routes, sct: bool) -> tuple[np.ndarray, np.ndarray, flo
                 break
             if sct and st.time > 1.0:
                 if not model.has_route("car0"):
-                    model.set_route("car0", tuple(sim.sumo.vehicle.getRoute("car0")))
-                ctrl.step(sim.sumo, model.prepare(st))
+                    model.set_route("car0", sim.route_of("car0"))
+                ctrl.step(sim, model.prepare(st))
     return np.array(ys), np.array(vs), ped_y
 
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 import sumolib
@@ -35,20 +37,21 @@ def test_rectangle_overlap_by_hand():
 def _start(net):
     sim = Simulation(SimConfig(net=net, step_length=0.1, seed=1))
     sim.start()
-    s = sim.sumo
-    s.route.add("r", ["w_in", "e_out"])
-    return sim, s
+    return sim
+
+
+ROUTE = ("w_in", "e_out")
 
 
 def test_rear_end_reported_with_ids(intersection_net):
-    sim, s = _start(intersection_net)
+    sim = _start(intersection_net)
     try:
-        s.vehicle.add("lead", "r", departPos="100", departSpeed="0", departLane="best")
-        s.vehicle.add("follow", "r", departPos="20", departSpeed="15", departLane="best")
+        sim.add_vehicle("lead", ROUTE, "DEFAULT_VEHTYPE", "best", 100.0, 0.0, scripted=False)
+        sim.add_vehicle("follow", ROUTE, "DEFAULT_VEHTYPE", "best", 20.0, 15.0, scripted=False)
         sim.step()
-        s.vehicle.setSpeed("lead", 0.0)
-        s.vehicle.setSpeedMode("follow", 0)  # ignore safe speeds: drive into the leader
-        s.vehicle.setSpeed("follow", 15.0)
+        sim.set_speed("lead", 0.0)
+        sim.set_speed_mode("follow", 0)  # ignore safe speeds: drive into the leader
+        sim.set_speed("follow", 15.0)
         hits = []
         for _ in sim.run(until=15.0):
             hits += sim.collisions
@@ -68,17 +71,16 @@ def test_pedestrian_in_lane_is_hit(intersection_net):
     net = sumolib.net.readNet(str(intersection_net))
     lane = net.getLane("w_in_1")  # lane 0 is the sidewalk
     x, y = sumolib.geomhelper.positionAtShapeOffset(lane.getShape(), 90.0)
-    sim, s = _start(intersection_net)
+    sim = _start(intersection_net)
     try:
-        s.person.add("ped", "w_in", pos=85.0)
-        s.person.appendWaitingStage("ped", 100.0)
-        s.vehicle.add("car", "r", departPos="10", departSpeed="12", departLane="best")
+        sim.add_person("ped", "w_in", 85.0, "DEFAULT_PEDTYPE", wait=100.0)
+        sim.add_vehicle("car", ROUTE, "DEFAULT_VEHTYPE", "best", 10.0, 12.0, scripted=False)
         sim.step()
-        s.vehicle.setSpeedMode("car", 0)
-        s.vehicle.setSpeed("car", 12.0)
+        sim.set_speed_mode("car", 0)
+        sim.set_speed("car", 12.0)
         hits, gaps = [], []
         for state in sim.run(until=12.0):
-            s.person.moveToXY("ped", "w_in", x, y, angle=0.0, keepRoute=2)
+            sim.move_person("ped", x, y, math.pi / 2, edge="w_in")  # facing north
             if "ped" in state.ids and "car" in state.ids:
                 gaps.append(
                     np.linalg.norm(

@@ -21,29 +21,29 @@ def test_worldstate_matches_sumo_getters(intersection_net, intersection_demand):
         for state in sim.run(until=120.0):
             if state.time % 10.0 > 1e-6 or len(state) == 0:
                 continue
-            s = sim.sumo
             for k, aid in enumerate(state.ids):
-                dom = s.person if state.cls[k] == ActorClass.PEDESTRIAN else s.vehicle
-                fx, fy, fz = dom.getPosition3D(aid)
+                is_person = state.cls[k] == ActorClass.PEDESTRIAN
+                sumo = sim.sumo_reading(aid, is_person)  # SUMO's own per-object getters
+                fx, fy, fz = sumo.front
                 # SUMO compass angle (deg, clockwise from north) -> radians CCW from east
-                h = math.radians(90.0 - dom.getAngle(aid))
+                h = math.radians(90.0 - sumo.angle)
                 assert math.isclose(math.cos(state.heading[k]), math.cos(h), abs_tol=1e-9)
                 assert math.isclose(math.sin(state.heading[k]), math.sin(h), abs_tol=1e-9)
-                length = dom.getLength(aid)
+                length = sumo.length
                 # xyz is the rectangle centre: half a length behind SUMO's front position
                 assert state.xyz[k, 0] == pytest.approx(fx - 0.5 * length * math.cos(h), abs=1e-9)
                 assert state.xyz[k, 1] == pytest.approx(fy - 0.5 * length * math.sin(h), abs=1e-9)
                 assert state.xyz[k, 2] == fz
-                assert state.speed[k] == dom.getSpeed(aid)
+                assert state.speed[k] == sumo.speed
                 assert state.length[k] == length
-                assert state.width[k] == dom.getWidth(aid)
-                assert state.height[k] == dom.getHeight(aid)
-                assert state.lane[k] == dom.getLaneID(aid)
+                assert state.width[k] == sumo.width
+                assert state.height[k] == sumo.height
+                assert state.lane[k] == sumo.lane
                 if state.cls[k] == ActorClass.PEDESTRIAN:
                     checked_ped += 1
                 else:
-                    assert state.accel[k] == s.vehicle.getAcceleration(aid)
-                    assert state.edge[k] == s.vehicle.getRoadID(aid)
+                    assert state.accel[k] == sumo.accel
+                    assert state.edge[k] == sumo.edge
                     checked_veh += 1
     assert checked_veh > 50 and checked_ped > 50
 
@@ -89,13 +89,11 @@ def test_second_simulation_in_process_is_refused(intersection_net, intersection_
 
 
 def test_context_manager_closes_on_error(intersection_net, intersection_demand):
-    import libsumo
-
     with pytest.raises(RuntimeError):
         with Simulation(_config(intersection_net, intersection_demand)) as sim:
             sim.step()
             raise RuntimeError("user code failed")
-    assert not libsumo.simulation.isLoaded()
+    assert not Simulation.loaded_in_process()
 
 
 def test_corners_and_velocity_frames():

@@ -12,6 +12,7 @@ from hiyari.errors import HiyariError
 from hiyari.net.sumo.files import check_net, check_routes, check_xml
 from hiyari.sumo_tools import sumo_binary, sumo_home
 from hiyari.traffic.collision import Collision, CollisionDetector
+from hiyari.traffic.commands import Commands
 from hiyari.traffic.sumo_reader import ReadMode, WorldStateReader
 from hiyari.traffic.world_state import WorldState
 
@@ -93,8 +94,11 @@ class SimConfig:
         return args + list(self.extra_args)
 
 
-class Simulation:
+class Simulation(Commands):
     """One libsumo simulation; a context manager that always closes SUMO.
+
+    Typed commands (add / move / remove actors, set speeds, change lanes) and reads (routes,
+    signals) come from :class:`~hiyari.traffic.commands.Commands`.
 
     libsumo runs one simulation per process: starting a second while one is open raises
     HiyariError. Use separate processes for parallel runs.
@@ -157,9 +161,7 @@ class Simulation:
         return ", ".join(str(f) for f in files if f is not None)
 
     # ------------------------------------------------------------------ stepping
-    @property
-    def sumo(self):
-        """The libsumo module, for commands (setSpeed, moveToXY ...) between steps."""
+    def _api(self):
         self._require_open()
         return self._sumo
 
@@ -167,7 +169,8 @@ class Simulation:
     def state(self) -> WorldState:
         """The WorldState after the latest step (or at load time)."""
         self._require_open()
-        assert self._state is not None
+        if self._state is None:  # after skip_ahead
+            self._state = self._reader.read()
         return self._state
 
     @property
@@ -201,6 +204,37 @@ class Simulation:
         self._state = self._reader.read()
         self._collisions = []
         return self._state
+
+    def skip_ahead(self, until: float) -> None:
+        """Advance SUMO to ``until`` (s) in one call, reading nothing: for stretches where no
+        consumer needs the state (the next ``state`` access reads it)."""
+        self._require_open()
+        self._sumo.simulationStep(until)
+        self._state = None
+        self._collisions = []
+
+    def run_bare(self, until: float) -> None:
+        """Step SUMO one step at a time to ``until`` with nothing read: the bare-SUMO baseline
+        the benchmarks compare against."""
+        self._require_open()
+        step, now = self._sumo.simulationStep, self._sumo.simulation.getTime
+        end = until - 1e-9
+        while now() < end:
+            step()
+        self._state = None
+        self._collisions = []
+
+    @staticmethod
+    def loaded_in_process() -> bool:
+        """Whether a libsumo simulation is open in this process."""
+        import libsumo
+
+        return bool(libsumo.simulation.isLoaded())
+
+    def sumo_contacts(self) -> list[tuple[str, str]]:
+        """(collider, victim) pairs SUMO itself reported at the latest step."""
+        self._require_open()
+        return self._sumo_collisions()
 
     def run(self, until: float | None = None) -> Iterator[WorldState]:
         """Step until ``until`` (or the configured end, or until SUMO has no more demand)."""

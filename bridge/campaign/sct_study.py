@@ -223,23 +223,21 @@ def _schedules(task: ArmTask, geometry: NetGeometry, net) -> tuple[_Schedule, _S
     )
 
 
-def _crossing_links(sumo, geometry: NetGeometry) -> list[tuple[str, list[int]]]:
+def _crossing_links(sim: Simulation, geometry: NetGeometry) -> list[tuple[str, list[int]]]:
     """Per crossing: the traffic light and link indices that control it (empty: none)."""
     out: list[tuple[str, list[int]]] = [("", []) for _ in geometry.crossing_ids]
     lane_to_k = {f"{c}_0": k for k, c in enumerate(geometry.crossing_ids)}
-    for tls in sumo.trafficlight.getIDList():
-        for idx, links in enumerate(sumo.trafficlight.getControlledLinks(tls)):
-            for frm, to, _via in links:
-                k = lane_to_k.get(to, lane_to_k.get(frm))
-                if k is not None:
-                    out[k] = (tls, [*out[k][1], idx])
+    for link in sim.signal_links():
+        k = lane_to_k.get(link.to_lane, lane_to_k.get(link.from_lane))
+        if k is not None:
+            out[k] = (link.tls, [*out[k][1], link.index])
     return out
 
 
-def _open_crossings(sumo, links: list[tuple[str, list[int]]]) -> np.ndarray | None:
+def _open_crossings(sim: Simulation, links: list[tuple[str, list[int]]]) -> np.ndarray | None:
     if not any(idx for _, idx in links):
         return None
-    states = {tls: sumo.trafficlight.getRedYellowGreenState(tls) for tls, idx in links if idx}
+    states = sim.signal_states(sorted({tls for tls, idx in links if idx}))
     return np.array([not idx or any(states[t][i] in "Gg" for i in idx) for t, idx in links])
 
 
@@ -283,8 +281,7 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
         )
         t0 = time.perf_counter()
         with Simulation(sim_cfg, detect_collisions=False) as sim:
-            sumo = sim.sumo
-            links = _crossing_links(sumo, geometry)
+            links = _crossing_links(sim, geometry)
             while sim.time < end - eps:
                 st = sim.step()
                 now = st.time
@@ -325,10 +322,10 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
                     t_pairs = float(tau_acc.min()) - horizon
                 # nobody to evaluate: skip to when a vehicle and a pedestrian could be close
                 if controller is not None and controller.controlled:
-                    controller.release_all(sumo, set(st.ids[~is_ped].tolist()))
+                    controller.release_all(sim, set(st.ids[~is_ped].tolist()))
                 pet.reset()
                 d = np.sqrt(d2)
-                pending = bool(sumo.simulation.getPendingVehicles())
+                pending = sim.pending_vehicles() > 0
                 t_v = _time_to_zone(
                     d[~is_ped & (d2 > rv2)],
                     cfg.vehicle_zone,
@@ -351,8 +348,8 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
                     wake = max(0.0 if len(vin) else t_v, 0.0 if len(pin) else t_p)
                 skip = int(min(wake, end - now) / dt + eps) - 1
                 if skip >= 1:
-                    sumo.simulationStep(round(now + skip * dt, 6))
-                    model.forget_absent(set(sumo.vehicle.getIDList()))
+                    sim.skip_ahead(round(now + skip * dt, 6))
+                    model.forget_absent(set(sim.vehicle_ids()))
         wall = time.perf_counter() - t0
         trips = _read_tripinfo(trip_file)
     if progress is not None:
@@ -406,7 +403,6 @@ def _evaluate(
     """Metrics, incidents and (SCT arm) control on one step: vehicle rows ``vin`` and
     pedestrian rows ``pin`` of ``st`` in scope, pairs (``vi``, ``pj``) near enough to log;
     SCT is logged only when ``log_sct``."""
-    sumo = sim.sumo
     scope = np.concatenate([vin, pin])
     s = st.select(scope)
     remap = np.full(len(st), -1)
@@ -415,8 +411,8 @@ def _evaluate(
     for r in range(len(vin)):
         vid = s.ids[r]
         if not model.has_route(vid):
-            model.set_route(vid, tuple(sumo.vehicle.getRoute(vid)))
-    view = model.prepare(s, _open_crossings(sumo, links), log_sct or controller is not None)
+            model.set_route(vid, sim.route_of(vid))
+    view = model.prepare(s, _open_crossings(sim, links), log_sct or controller is not None)
     icfg = detector.config
     ttc, sct, gap = model.pair_metrics(view, vi, pj, icfg.contact, log_sct)
     ttc[ttc > icfg.ttc_horizon] = np.inf
@@ -428,13 +424,13 @@ def _evaluate(
     # SUMO's own contact reports, except its corner walking-area overlaps (geometry)
     lane = dict(zip(ids.tolist(), s.lane.tolist(), strict=True))
     collisions = [
-        (c.collider, c.victim)
-        for c in sumo.simulation.getCollisions()
-        if lane.get(c.victim) not in walkingareas and lane.get(c.collider) not in walkingareas
+        (collider, victim)
+        for collider, victim in sim.sumo_contacts()
+        if lane.get(victim) not in walkingareas and lane.get(collider) not in walkingareas
     ]
     detector.update(s, vi, pj, ttc, gap < -icfg.collision_depth, sct, events, collisions)
     if controller is not None:
-        controller.step(sumo, view, set(st.ids[st.is_vehicle].tolist()))
+        controller.step(sim, view, set(st.ids[st.is_vehicle].tolist()))
 
 
 def _read_tripinfo(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -518,9 +514,7 @@ def run_bare(task: ArmTask, read_state: bool = False) -> float:
             while sim.time < end:
                 sim.step()
         else:
-            step, now = sim.sumo.simulationStep, sim.sumo.simulation.getTime
-            while now() < end:
-                step()
+            sim.run_bare(cfg.run_seconds)
         return time.perf_counter() - t0
 
 

@@ -167,7 +167,7 @@ def run_closed_loop(
                 res.relative_impact_speed = float(np.linalg.norm(rel))
                 break
             v_next = max(0.0, ego.speed + step.command.accel * dt)
-            sim.sumo.vehicle.setSpeed(ego_id, v_next)
+            sim.set_speed(ego_id, v_next)
             res.sim_seconds = world.time
             if hooks.done(world, ego, hooks.script_time(world.time)):
                 break

@@ -21,6 +21,7 @@ from hiyari.bridge.scenario.closed_loop import ScenarioHooks
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
 from hiyari.bridge.stack.ego_pose import EgoPose
 from hiyari.errors import HiyariError
+from hiyari.net.road.lane_frame import RoadFrame
 from hiyari.net.sumo.build import (
     CityGridParams,
     IntersectionParams,
@@ -29,8 +30,9 @@ from hiyari.net.sumo.build import (
     build_intersection,
     build_r157_road,
 )
+from hiyari.traffic.commands import VehicleType
 from hiyari.traffic.demand import DemandConfig, write_demand
-from hiyari.traffic.manoeuvres import RoadFrame, ScriptedPerson, ScriptedVehicle, add_vehicle
+from hiyari.traffic.manoeuvres import ScriptedPerson, ScriptedVehicle
 from hiyari.traffic.simulation import Simulation
 from hiyari.traffic.world_state import WorldState
 
@@ -92,26 +94,19 @@ class Scenario(ScenarioHooks):
 
     def insert(self, sim: Simulation) -> None:
         """Create vehicle types, the ego and the scripted actors (at sim.time)."""
-        s = sim.sumo
         z = self.sizes
-        s.vehicletype.copy("DEFAULT_VEHTYPE", "ego")
-        for attr, v in (("Length", z.ego_length), ("Width", z.ego_width), ("Height", z.ego_height)):
-            getattr(s.vehicletype, f"set{attr}")("ego", v)
-        s.vehicletype.setMaxSpeed("ego", 70.0)
-        s.vehicletype.copy("DEFAULT_VEHTYPE", "other")
-        for attr, v in (
-            ("Length", z.other_length),
-            ("Width", z.other_width),
-            ("Height", z.other_height),
-        ):
-            getattr(s.vehicletype, f"set{attr}")("other", v)
-        s.vehicletype.setMaxSpeed("other", 70.0)
-        s.vehicletype.copy("DEFAULT_PEDTYPE", "child")
-        s.vehicletype.setLength("child", z.child_depth)
-        s.vehicletype.setWidth("child", z.child_width)
-        s.vehicletype.setHeight("child", z.child_height)
-        add_vehicle(
-            s,
+        sim.define_vehicle_type(
+            VehicleType("ego", z.ego_length, z.ego_width, z.ego_height, max_speed=70.0)
+        )
+        sim.define_vehicle_type(
+            VehicleType("other", z.other_length, z.other_width, z.other_height, max_speed=70.0)
+        )
+        sim.define_vehicle_type(
+            VehicleType(
+                "child", z.child_depth, z.child_width, z.child_height, base="DEFAULT_PEDTYPE"
+            )
+        )
+        sim.add_vehicle(
             self.ego_id,
             self.ego_route,
             "ego",
@@ -120,11 +115,10 @@ class Scenario(ScenarioHooks):
             self.ego_speed,
             scripted=True,
         )
-        s.vehicle.setSpeedMode(self.ego_id, self.ego_speed_mode)
+        sim.set_speed_mode(self.ego_id, self.ego_speed_mode)
         for actor in self.scripted:
             if isinstance(actor, ScriptedVehicle):
-                add_vehicle(
-                    s,
+                sim.add_vehicle(
                     actor.vid,
                     [actor.frame.edge],
                     "other",
@@ -134,8 +128,7 @@ class Scenario(ScenarioHooks):
                     scripted=True,
                 )
             else:
-                s.person.add(actor.pid, actor.frame.edge, pos=1.0, typeID="child")
-                s.person.appendWaitingStage(actor.pid, 3600.0)
+                sim.add_person(actor.pid, actor.frame.edge, 1.0, "child", wait=3600.0)
         self.start_time = sim.time
 
     def script_time(self, sim_time: float) -> float:
@@ -143,7 +136,7 @@ class Scenario(ScenarioHooks):
 
     def before_step(self, sim: Simulation, script_time: float) -> None:
         for actor in self.scripted:
-            actor.place(sim.sumo, script_time)
+            actor.place(sim, script_time)
 
     def done(self, world: WorldState, ego: EgoPose, script_time: float) -> bool:
         """Ends ``settle_after_stop`` seconds after the ego first comes to a standstill."""

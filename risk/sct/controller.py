@@ -26,6 +26,7 @@ from hiyari.errors import HiyariError
 from hiyari.risk.metrics.contact import contact_gap, first_contact_time, pedestrian_tracks
 from hiyari.risk.sct.model import SCTModel, StepView
 from hiyari.traffic.collision import rectangle_overlap
+from hiyari.traffic.commands import Commands
 from hiyari.traffic.world_state import WorldState
 
 G = 9.81  # m/s^2
@@ -223,7 +224,7 @@ class SCTController:
         depth = rectangle_overlap(np.repeat(rect, a, 0), np.tile(areas.corners, (n, 1, 1)))
         return stopped & (depth.reshape(n, a) > 0).any(axis=1)
 
-    def step(self, sumo, view: StepView, present: set[str] | None = None) -> None:
+    def step(self, sim: Commands, view: StepView, present: set[str] | None = None) -> None:
         """Plan and command every in-scope vehicle of ``view``; vehicles controlled before but
         not now are handed back to their own driver. ``present``: ids of all vehicles in the
         simulation (default: those in the view)."""
@@ -235,22 +236,22 @@ class SCTController:
                 vid = state.ids[r]
                 if not (reach[k] or vid in self.controlled) or not self.in_scope(vid):
                     continue
-                if state.speed[r] < cfg.stop_speed and _held_by_signal(sumo, vid):
+                if state.speed[r] < cfg.stop_speed and _held_by_signal(sim, vid):
                     continue  # SUMO keeps it standing at a red light anyway
-                v_max = sumo.vehicle.getAllowedSpeed(vid)
+                v_max = sim.allowed_speed(vid)
                 a_free = self._accel.get(vid)
                 if a_free is None:
-                    a_free = self._accel[vid] = sumo.vehicle.getAccel(vid)
+                    a_free = self._accel[vid] = sim.max_accel(vid)
                 cmd = self.decide(view, r, v_max, a_free, vid in self.controlled)
                 if cmd is not None:
-                    sumo.vehicle.setSpeed(vid, cmd)
+                    sim.set_speed(vid, cmd)
                     decided.add(vid)
                     self.interventions += 1
         if present is None:
             present = set(state.ids[view.veh_rows].tolist())
         for vid in self.controlled - decided:
             if vid in present:
-                sumo.vehicle.setSpeed(vid, -1.0)  # back to its own driver
+                sim.release_speed(vid)  # back to its own driver
         self.controlled = decided
 
     def _within_reach(self, view: StepView) -> np.ndarray:
@@ -270,15 +271,15 @@ class SCTController:
         travel = (state.speed[v, None] + ped_speed[None]) * t + 0.5 * cfg.max_accel * t * t
         return (gap <= travel).any(axis=1)
 
-    def release_all(self, sumo, present: set[str]) -> None:
+    def release_all(self, sim: Commands, present: set[str]) -> None:
         """Hand every controlled vehicle still in the simulation back to its own driver."""
         for vid in self.controlled & present:
-            sumo.vehicle.setSpeed(vid, -1.0)
+            sim.release_speed(vid)
         self.controlled = set()
 
 
-def _held_by_signal(sumo, vehicle: str, distance: float = 15.0) -> bool:
+def _held_by_signal(sim: Commands, vehicle: str, distance: float = 15.0) -> bool:
     """True when the next traffic light of ``vehicle``, within ``distance`` m, shows red or
     yellow to it."""
-    nxt = sumo.vehicle.getNextTLS(vehicle)
-    return bool(nxt) and nxt[0][2] <= distance and nxt[0][3] in "rRyYu"
+    nxt = sim.next_signal(vehicle)
+    return nxt is not None and nxt.distance <= distance and nxt.state in "rRyYu"
