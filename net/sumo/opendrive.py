@@ -87,6 +87,10 @@ def import_opendrive(
         "3",
         "--opendrive.curve-resolution",
         repr(opts.curve_resolution),
+        # every lane keeps its OpenDRIVE identity ("<road id>_<lane id>" in param origId) and
+        # lane type, so road / lane / s positions map onto SUMO lanes without guessing
+        "--output.original-names",
+        "true",
     ]
     if opts.internal_shapes:
         args += ["--opendrive.internal-shapes", "true"]
