@@ -67,8 +67,47 @@ class _Ego:
             self.v = v_new
 
 
-def _overlap_1d(a_lo: float, a_hi: float, b_lo: float, b_hi: float) -> float:
-    return min(a_hi, b_hi) - max(a_lo, b_lo)
+def _corners(cx: float, cy: float, heading: float, length: float, width: float) -> list:
+    """Rectangle corners (x, y) in order around it."""
+    c, s = math.cos(heading), math.sin(heading)
+    fx, fy, lx, ly = c * length / 2, s * length / 2, -s * width / 2, c * width / 2
+    return [
+        (cx + fx + lx, cy + fy + ly),
+        (cx - fx + lx, cy - fy + ly),
+        (cx - fx - lx, cy - fy - ly),
+        (cx + fx - lx, cy + fy - ly),
+    ]
+
+
+def _sat_depth(a: list, b: list) -> float:
+    """Smallest overlap of two convex quadrilaterals over their edge normals (m); <= 0: apart."""
+    depth = math.inf
+    for poly in (a, b):
+        for k in range(2):
+            ex, ey = poly[k + 1][0] - poly[k][0], poly[k + 1][1] - poly[k][1]
+            norm = math.hypot(ex, ey)
+            ax, ay = -ey / norm, ex / norm
+            pa = [x * ax + y * ay for x, y in a]
+            pb = [x * ax + y * ay for x, y in b]
+            depth = min(depth, min(max(pa), max(pb)) - max(min(pa), min(pb)))
+    return depth
+
+
+def _x_extent_in_band(poly: list, half_width: float) -> tuple[float, float]:
+    """Smallest and largest x of the polygon's part inside |y| <= half_width ((inf, -inf) if
+    none), by clipping each edge to the band."""
+    lo_x, hi_x = math.inf, -math.inf
+    for (xa, ya), (xb, yb) in zip(poly, poly[1:] + poly[:1], strict=True):
+        if ya == yb:
+            if abs(ya) <= half_width:
+                lo_x, hi_x = min(lo_x, xa, xb), max(hi_x, xa, xb)
+            continue
+        u1, u2 = (-half_width - ya) / (yb - ya), (half_width - ya) / (yb - ya)
+        lo, hi = max(0.0, min(u1, u2)), min(1.0, max(u1, u2))
+        if lo <= hi:
+            xl, xh = xa + lo * (xb - xa), xa + hi * (xb - xa)
+            lo_x, hi_x = min(lo_x, xl, xh), max(hi_x, xl, xh)
+    return lo_x, hi_x
 
 
 def simulate_cut_in(
@@ -80,43 +119,81 @@ def simulate_cut_in(
     dt: float = 0.01,
     t_max: float = 60.0,
 ) -> SteppedResult:
-    """Cut-in (SI units, as :func:`~hiyari.risk.cc.evaluator.evaluate_cut_in`) by stepping."""
+    """Cut-in (SI units, as :func:`~hiyari.risk.cc.evaluator.evaluate_cut_in`) by stepping.
+
+    The other vehicle's rectangle is turned along its velocity while it moves laterally
+    (``contact="heading"``) or kept along the lane; contact is the two rectangles overlapping
+    (separating axes) by more than ``contact_tol_m``. ``min_gap_m``: the smallest distance
+    from the ego's front to the other's nearest point inside the ego's width while they
+    overlap laterally (the lane-aligned gap when the scenario ends before they do).
+    """
     ego = _Ego(ve0, vo0, p)
     half_w = 0.5 * p.ego_width_m
     y_other = p.lane_width_m
+    yaw = -math.atan2(vy, vo0) if p.contact == "heading" else 0.0
+    reach = 0.5 * math.hypot(p.other_length_m, p.other_width_m)
     t = 0.0
     judged_at = math.inf
-    danger = False
-    reacting = False
+    overlap_at = math.inf
+    decided = watching = False
     min_gap = math.inf
     while t < t_max:
         x_rear = dx0 + vo0 * t
         gap = x_rear - ego.x_front
+        moving = y_other > 0
+        nearest = farthest = math.nan
+        other: list = []
+        if not moving:  # centred in the ego lane along it: all of it is in the band
+            nearest, farthest = x_rear, x_rear + p.other_length_m
+            other = _corners(
+                x_rear + 0.5 * p.other_length_m, 0.0, 0.0, p.other_length_m, p.other_width_m
+            )
+        elif y_other - reach < half_w:  # else too far to the side to reach the ego's band
+            other = _corners(
+                x_rear + 0.5 * p.other_length_m,
+                y_other,
+                yaw,
+                p.other_length_m,
+                p.other_width_m,
+            )
+            nearest, farthest = _x_extent_in_band(other, half_w)
+        inside = math.isfinite(nearest)
+        if inside and overlap_at == math.inf:
+            overlap_at = t
         shift = p.lane_width_m - y_other
+        if shift >= p.wander_m and judged_at == math.inf:
+            judged_at = t
         if p.judgement == "time":
-            if shift >= p.wander_m and judged_at == math.inf:
-                judged_at = t
             danger = t >= judged_at + p.perception_time_s - 1e-12
-        else:
+        elif p.judgement == "position":
             danger = shift >= p.wander_m + p.danger_lateral_m - 1e-12
+        else:
+            danger = t >= overlap_at
         closing = ego.v - vo0
-        if danger and not reacting and closing > 0 and gap < p.ttc_brake_s * closing + 1e-12:
-            reacting = True
+        if danger and not decided:
+            decided = True
+            # at danger judgement: beside the ego (gap <= 0) it does not brake for it at all
+            watching = gap > 0
+            above = closing <= 0 or gap >= p.ttc_brake_s * closing
+            if watching and above and p.above_ttc == "end":
+                return SteppedResult(False, min(min_gap, gap), math.nan, math.nan)
+        if watching and closing > 0 and gap < p.ttc_brake_s * closing + 1e-12:
+            watching = False
             ego.brake_at = t + p.reaction_delay_s
-        lateral = _overlap_1d(
-            -half_w, half_w, y_other - 0.5 * p.other_width_m, y_other + 0.5 * p.other_width_m
-        )
-        passed = gap <= -(p.ego_length_m + p.other_length_m)
-        if lateral > 0 and not passed:
-            min_gap = min(min_gap, gap)
-            if p.aeb and ego.aeb_at == math.inf and gap < p.aeb_ttc_s * closing:
+        if inside:
+            min_gap = min(min_gap, nearest - ego.x_front)
+            if p.aeb and ego.aeb_at == math.inf and 0 <= gap < p.aeb_ttc_s * closing:
                 ego.aeb_at = t + p.aeb_delay_s
-            if gap < -p.contact_tol_m:
-                return SteppedResult(True, gap, t, closing)
-        if lateral > 0 and passed:
-            return SteppedResult(False, min(min_gap, gap), math.nan, math.nan)
-        if ego.done and y_other <= 0 and lateral > 0:
-            break
+            if nearest < ego.x_front and farthest > ego.x_front - p.ego_length_m:
+                mine = _corners(
+                    ego.x_front - 0.5 * p.ego_length_m, 0.0, 0.0, p.ego_length_m, p.ego_width_m
+                )
+                if _sat_depth(mine, other) > p.contact_tol_m:
+                    return SteppedResult(True, min_gap, t, closing)
+        settled = not moving and inside
+        past = ego.x_front - p.ego_length_m >= x_rear + p.other_length_m
+        if settled and (ego.done or past):
+            break  # nothing changes any more: at Vo0 behind it, or past it and not slower
         ego.step(t, dt)
         y_other = max(0.0, y_other - vy * dt)
         t += dt
@@ -141,12 +218,14 @@ def simulate_cut_out(
             return SteppedResult(True, gap, t, ego.v)
         if ego.done:
             break
-        if p.judgement == "time":
-            if shift >= p.wander_m and judged_at == math.inf:
-                judged_at = t
-            danger = t >= judged_at + p.perception_time_s - 1e-12
-        else:
+        if shift >= p.wander_m and judged_at == math.inf:
+            judged_at = t
+        if not p.cut_out_perception:
+            danger = t >= judged_at
+        elif p.judgement == "position":
             danger = shift >= p.wander_m + p.danger_lateral_m - 1e-12
+        else:
+            danger = t >= judged_at + p.perception_time_s - 1e-12
         if danger and ego.brake_at == math.inf:
             ego.brake_at = t + p.reaction_delay_s
         revealed = shift >= half_w - 1e-12
@@ -168,10 +247,15 @@ def simulate_decel(
 ) -> SteppedResult:
     """Deceleration (as :func:`~hiyari.risk.cc.evaluator.evaluate_decel`) by stepping."""
     ego = _Ego(ve0, 0.0, p)
-    ego.brake_at = p.perception_time_s + p.reaction_delay_s
+    a_lead = gx * p.g_mps2
+    perceive = {
+        "always": True,
+        "never": False,
+        "hard-braking": a_lead > p.hard_braking_mps2,
+    }[p.decel_perception]
+    ego.brake_at = (p.perception_time_s if perceive else 0.0) + p.reaction_delay_s
     x_lead = p.thw_s * ve0 if dx0 is None else dx0
     v_lead = ve0
-    a_lead = gx * p.g_mps2
     t = 0.0
     min_gap = math.inf
     while t < t_max:
