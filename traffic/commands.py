@@ -280,3 +280,25 @@ class Commands:
     def vehicle_ids(self) -> tuple[str, ...]:
         """Ids of the vehicles in the simulation now (cheaper than a WorldState read)."""
         return tuple(self._api().vehicle.getIDList())
+
+    # ------------------------------------------------------------------ road coordinates
+    def road_position(self, x: float, y: float) -> tuple[str, float, int]:
+        """SUMO's own map matching of a network point: (edge id, position along the lane m,
+        lane index), ignoring vehicle-class permissions."""
+        edge, pos, lane = self._api().simulation.convertRoad(x, y, False, "ignoring")
+        return str(edge), float(pos), int(lane)
+
+    def lane_point(self, edge: str, pos: float, lane_index: int) -> tuple[float, float]:
+        """SUMO's network x, y of position ``pos`` m along lane ``lane_index`` of ``edge``."""
+        x, y = self._api().simulation.convert2D(edge, pos, lane_index)
+        return float(x), float(y)
+
+    def lane_position(self, vehicle_id: str) -> tuple[str, float, float]:
+        """Where SUMO has a vehicle: (lane id, front position along it m, lateral offset of its
+        centre from the lane's centre line m, left positive)."""
+        v = self._api().vehicle
+        return (
+            v.getLaneID(vehicle_id),
+            float(v.getLanePosition(vehicle_id)),
+            float(v.getLateralLanePosition(vehicle_id)),
+        )
