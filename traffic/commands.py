@@ -32,7 +32,9 @@ class VehicleType:
     """A SUMO vehicle type made at run time from a base type. Metres, m/s, m/s^2.
 
     ``vclass`` None keeps the base type's class (SUMO's ``passenger`` for DEFAULT_VEHTYPE,
-    ``pedestrian`` for DEFAULT_PEDTYPE).
+    ``pedestrian`` for DEFAULT_PEDTYPE). ``shape`` sets SUMO's guiShape; a type of vClass
+    ``ignoring`` (allowed on every lane: scripted actors such as a pedestrian on a motorway)
+    is classified in the WorldState by its shape ("pedestrian", "bicycle", "truck", ...).
     """
 
     type_id: str
@@ -44,6 +46,7 @@ class VehicleType:
     vclass: str | None = None
     accel: float | None = None
     decel: float | None = None
+    shape: str | None = None
 
 
 @dataclass(frozen=True)
@@ -105,6 +108,8 @@ class Commands:
             t.setAccel(vt.type_id, vt.accel)
         if vt.decel is not None:
             t.setDecel(vt.type_id, vt.decel)
+        if vt.shape is not None:
+            t.setShapeClass(vt.type_id, vt.shape)
 
     def add_vehicle(
         self,

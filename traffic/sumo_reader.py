@@ -91,7 +91,9 @@ class WorldStateReader:
 
     def _vehicle_static(self, vid: str) -> tuple[float, float, float, float]:
         v = self._sumo.vehicle
-        cls = actor_class_from_vclass(v.getVehicleClass(vid))
+        vclass = v.getVehicleClass(vid)
+        # permission-free scripted actors (vClass "ignoring") say what they are by their shape
+        cls = actor_class_from_vclass(v.getShapeClass(vid) if vclass == "ignoring" else vclass)
         return float(cls), v.getLength(vid), v.getWidth(vid), v.getHeight(vid)
 
     def _person_static(self, pid: str) -> tuple[float, float, float, float]:

@@ -389,7 +389,7 @@ class RoadLanes:
     def __init__(self, odr: OpenDriveMap, net: str | Path) -> None:
         self.odr = odr
         self.net = Path(net)
-        self._lanes = _sumo_lanes(self.net)
+        self._lanes, self._next = _sumo_lanes(self.net)
         self._by_id = {ln.id: key for key, ln in self._lanes.items()}
 
     @staticmethod
@@ -403,6 +403,25 @@ class RoadLanes:
         road = self.odr.road(road_id)
         k = int(road.section_index(np.array([s]))[0])
         return self._lanes.get((road.id, int(lane_id), k))
+
+    def lanes(self) -> list[SumoLane]:
+        """Every SUMO lane that carries an OpenDRIVE lane."""
+        return list(self._lanes.values())
+
+    def route_from(self, edge: str, max_edges: int = 64) -> list[str]:
+        """Edges a vehicle can follow from ``edge``: the next lane section of the same road
+        where there is one, else the first connected edge (SUMO's connection order)."""
+        route = [edge]
+        while len(route) < max_edges:
+            nxt = self._next.get(route[-1], [])
+            if not nxt:
+                break
+            base = route[-1].split("#")[0]
+            pick = next((e for e in nxt if e.split("#")[0] == base), nxt[0])
+            if pick in route:
+                break
+            route.append(pick)
+        return route
 
     def origin_of(self, sumo_lane_id: str) -> tuple[str, int, int] | None:
         """(road id, lane id, lane section index) of a SUMO lane, None for lanes without one."""
@@ -467,9 +486,16 @@ def _on_polyline(lane: SumoLane, x: float, y: float) -> tuple[float, float]:
     return along * lane.length / lane.cum[-1], lateral
 
 
-def _sumo_lanes(net: Path) -> dict[tuple[str, int, int], SumoLane]:
+def _sumo_lanes(net: Path) -> tuple[dict[tuple[str, int, int], SumoLane], dict[str, list[str]]]:
+    """The net's OpenDRIVE-named lanes, and each normal edge's successor edges."""
     root = check_net(net)
     out: dict[tuple[str, int, int], SumoLane] = {}
+    normal = {e.get("id") for e in root.iter("edge") if not e.get("function")}
+    succ: dict[str, list[str]] = {}
+    for c in root.iter("connection"):
+        a, b = c.get("from"), c.get("to")
+        if a in normal and b in normal and b not in succ.setdefault(a, []):
+            succ[a].append(b)
     for e in root.iter("edge"):
         if e.get("function"):
             continue
@@ -505,7 +531,7 @@ def _sumo_lanes(net: Path) -> dict[tuple[str, int, int], SumoLane]:
         raise HiyariError(
             f"{net}: no lane carries an OpenDRIVE origId (import the map with 'hiyari net import')"
         )
-    return out
+    return out, succ
 
 
 # ---------------------------------------------------------------------------- reading .xodr
