@@ -58,11 +58,12 @@ def _piecewise(records: tuple[Poly3, ...], s: np.ndarray) -> np.ndarray:
         return np.zeros_like(s)
     starts = np.array([r.s0 for r in records])
     k = np.clip(np.searchsorted(starts, s, side="right") - 1, 0, len(records) - 1)
+    if len(records) == 1:
+        return records[0](s)
     out = np.empty_like(s)
-    for i, rec in enumerate(records):
+    for i in np.unique(k):
         m = k == i
-        if m.any():
-            out[m] = rec(s[m])
+        out[m] = records[i](s[m])
     return out
 
 
@@ -175,10 +176,9 @@ class Road:
         starts = np.array([g.s0 for g in self.geometries])
         k = np.clip(np.searchsorted(starts, s, side="right") - 1, 0, len(starts) - 1)
         x, y, h = np.empty_like(s), np.empty_like(s), np.empty_like(s)
-        for i, g in enumerate(self.geometries):
-            m = k == i
-            if m.any():
-                x[m], y[m], h[m] = g.pose(s[m] - g.s0)
+        for i in np.unique(k):
+            g, m = self.geometries[i], k == i
+            x[m], y[m], h[m] = g.pose(s[m] - g.s0)
         return x, y, h
 
     def section_index(self, s: np.ndarray) -> np.ndarray:
@@ -284,7 +284,7 @@ class OpenDriveMap:
 
     path: Path
     roads: dict[str, Road]
-    _seeds: tuple[cKDTree, np.ndarray, np.ndarray] = field(repr=False)
+    _seeds: tuple = field(repr=False)  # KD-trees of 1 m reference-line samples
 
     @staticmethod
     def from_file(path: str | Path) -> OpenDriveMap:
@@ -301,7 +301,13 @@ class OpenDriveMap:
             pts.append(np.column_stack([x, y]))
             owner.append(np.full(len(s), k))
             s_of.append(s)
-        seeds = (cKDTree(np.concatenate(pts)), np.concatenate(owner), np.concatenate(s_of))
+        per_road = {rid: (cKDTree(p), so) for rid, p, so in zip(roads, pts, s_of, strict=True)}
+        seeds = (
+            cKDTree(np.concatenate(pts)),
+            np.concatenate(owner),
+            np.concatenate(s_of),
+            per_road,
+        )
         return OpenDriveMap(Path(path), roads, seeds)
 
     def road(self, road_id: str) -> Road:
@@ -338,17 +344,16 @@ class OpenDriveMap:
         """
         x = np.atleast_1d(np.asarray(x, dtype=float))
         y = np.atleast_1d(np.asarray(y, dtype=float))
-        tree, owner, s_seed = self._seeds
+        tree, owner, s_seed, per_road = self._seeds
         names = list(self.roads)
         if road_id is None:
             _, k = tree.query(np.column_stack([x, y]))
             road_ix, s = owner[k], s_seed[k].copy()
         else:
             road = self.road(road_id)
-            mine = owner == names.index(road.id)
-            sub = cKDTree(tree.data[mine])
+            sub, sub_s = per_road[road.id]
             _, k = sub.query(np.column_stack([x, y]))
-            road_ix, s = np.full(len(x), names.index(road.id)), s_seed[mine][k].copy()
+            road_ix, s = np.full(len(x), names.index(road.id)), sub_s[k].copy()
         out: list[RoadCoord | None] = [None] * len(x)
         for r in np.unique(road_ix):
             road = self.roads[names[r]]

@@ -153,8 +153,9 @@ class ScenarioEngine:
 
     # ------------------------------------------------------------------ start
     def start(self, sim: Simulation) -> StepReport:
-        """Apply the Init actions and insert every entity into SUMO (at ``sim.time``)."""
-        self.t0 = sim.time
+        """Apply the Init actions and insert every entity into SUMO. The state after SUMO's
+        next step is scenario time 0 (the Init state)."""
+        self.t0 = sim.time + self.dt
         group = self.tree.elements[self.tree.init].children[0]
         maneuver = self.tree.elements[group].children[0]
         for i in (self.tree.init, group, maneuver, self.tree.init_event):
