@@ -8,8 +8,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hiyari.traffic.world_state import WorldState
 from openscenario_files import ALKS, run_scenario, scenario_xml, story, teleport_speed, write
+
+from hiyari.traffic.world_state import WorldState
 
 DT = 0.05
 LANE_W = 3.5
