@@ -8,7 +8,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from openscenario_files import ALKS, STRAIGHT, scenario_xml, story, teleport_speed, time_condition, write
+from openscenario_files import (
+    ALKS,
+    STRAIGHT,
+    scenario_xml,
+    story,
+    teleport_speed,
+    time_condition,
+    write,
+)
 
 from hiyari.bridge.scenario.model import (
     AbsoluteSpeed,
@@ -85,7 +93,10 @@ def test_expressions_follow_the_standard() -> None:
     assert evaluate("$a / 3.6", p) == pytest.approx(16.666666666666668)
     assert evaluate("2 * sqrt($b * $b) / (5 / 3.6)", p) == pytest.approx(7.2)
     assert evaluate("-$b + 7 % 3 * 2", p) == 7.0
-    assert evaluate("pow(2, 10) - round(2.5) + round(-2.5) + floor(-1.5) + ceil(1.2)", p) == 1024 - 3 - 3 - 2 + 2
+    assert (
+        evaluate("pow(2, 10) - round(2.5) + round(-2.5) + floor(-1.5) + ceil(1.2)", p)
+        == 1024 - 3 - 3 - 2 + 2
+    )
     assert evaluate("-(1 + 2) * -2", p) == 6.0
     assert evaluate("1 < 2 and not false or $t == 0", p) is True
     for bad in ("1 +", "$zz", "abs(1)", "1 / 0", "$s * 2", "(1", "sqrt(-1)", "pow(1)"):
@@ -114,7 +125,9 @@ def test_distribution_deterministic_product(tmp_path: Path) -> None:
     assert len(d.runs) == 4 * 2 * 2
     speeds = sorted({float(r["Ego_InitSpeed_Ve0_kph"]) for r in d.runs})
     assert speeds == [30.0, 40.0, 50.0, 60.0]
-    assert {(r["CutInVehicle_Model"], r["CutInVehicle_InitPosition_RelativeLaneId"]) for r in d.runs} == {
+    assert {
+        (r["CutInVehicle_Model"], r["CutInVehicle_InitPosition_RelativeLaneId"]) for r in d.runs
+    } == {
         ("car", "-1"),
         ("truck", "1"),
     }
@@ -127,7 +140,9 @@ def test_distribution_deterministic_product(tmp_path: Path) -> None:
     for run in d.runs:  # every run is a readable scenario (constraints hold)
         sc = read_scenario(d.scenario, run)
         assert sc.parameters["CutInVehicle_Model"] == run["CutInVehicle_Model"]
-        assert sc.entity("CutInVehicle").length == (18.75 if run["CutInVehicle_Model"] == "truck" else 5.0)
+        assert sc.entity("CutInVehicle").length == (
+            18.75 if run["CutInVehicle_Model"] == "truck" else 5.0
+        )
 
 
 def test_distribution_stochastic_is_seeded_and_in_range(tmp_path: Path) -> None:
@@ -188,7 +203,9 @@ def test_unknown_parameter_missing_catalog_and_road(tmp_path: Path) -> None:
     msg = _one_line(exc)
     assert "catalog 'vehicle_catalog' not found" in msg and "no_such_dir" in msg
 
-    xml = scenario_xml({"Ego": ""}, teleport_speed("Ego", -4, 5.0, 10.0), road=tmp_path / "gone.xodr")
+    xml = scenario_xml(
+        {"Ego": ""}, teleport_speed("Ego", -4, 5.0, 10.0), road=tmp_path / "gone.xodr"
+    )
     with pytest.raises(HiyariError) as exc:
         read_scenario(write(tmp_path / "r.xosc", xml))
     assert "road network file" in _one_line(exc) and "gone.xodr not found" in str(exc.value)

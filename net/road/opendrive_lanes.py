@@ -18,6 +18,7 @@ right-hand-traffic roads and -s for left lanes (LHT: the reverse).
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -50,6 +51,16 @@ class Poly3:
     def __call__(self, s: np.ndarray) -> np.ndarray:
         ds = s - self.s0
         return self.a + ds * (self.b + ds * (self.c + ds * self.d))
+
+
+def _piecewise_at(records: tuple[Poly3, ...], s: float) -> float:
+    """``_piecewise`` for one s (pure Python: cheaper than numpy for a scalar)."""
+    if not records:
+        return 0.0
+    k = max(0, bisect_right([r.s0 for r in records], s) - 1) if len(records) > 1 else 0
+    r = records[k]
+    ds = s - r.s0
+    return r.a + ds * (r.b + ds * (r.c + ds * r.d))
 
 
 def _piecewise(records: tuple[Poly3, ...], s: np.ndarray) -> np.ndarray:
@@ -181,6 +192,25 @@ class Road:
             x[m], y[m], h[m] = g.pose(s[m] - g.s0)
         return x, y, h
 
+    def section_at(self, s: float) -> int:
+        """Index of the lane section that holds road ``s`` (scalar)."""
+        if len(self.sections) == 1:
+            return 0
+        return max(0, bisect_right([sec.s0 for sec in self.sections], s) - 1)
+
+    def lane_t(self, lane_id: int, s: float) -> float:
+        """t of lane ``lane_id``'s centre line at road ``s`` (scalar ``lane_centre_t``)."""
+        sec = self.sections[self.section_at(s)]
+        if lane_id not in sec.lanes:
+            raise HiyariError(
+                f"road {self.id} has no lane {lane_id} in its lane section at s = {sec.s0:g} m"
+            )
+        side = 1 if lane_id > 0 else -1
+        ds = s - sec.s0
+        inner = sum(_piecewise_at(sec.lanes[side * j].widths, ds) for j in range(1, abs(lane_id)))
+        w = _piecewise_at(sec.lanes[lane_id].widths, ds)
+        return _piecewise_at(self.lane_offset, s) + side * (inner + 0.5 * w)
+
     def section_index(self, s: np.ndarray) -> np.ndarray:
         """Index of the lane section that holds road ``s``."""
         starts = np.array([sec.s0 for sec in self.sections])
@@ -210,13 +240,15 @@ class Road:
     def boundaries(self, s: float) -> tuple[np.ndarray, np.ndarray]:
         """Lane ids (outermost right ... outermost left, no 0) and their (n, 2) [right, left]
         t bounds at road ``s``."""
-        sec = self.sections[int(self.section_index(np.array([s]))[0])]
-        base = float(_piecewise(self.lane_offset, np.array([s]))[0])
+        sec = self.sections[self.section_at(s)]
+        base = _piecewise_at(self.lane_offset, s)
+        ds = s - sec.s0
         ids, bounds = [], []
         for side in (-1, 1):
             edge = base
             for j in range(1, 1 + max((abs(i) for i in sec.lanes if i * side > 0), default=0)):
-                w = float(sec.width(side * j, np.array([s]))[0])
+                spec = sec.lanes.get(side * j)
+                w = _piecewise_at(spec.widths, ds) if spec is not None else 0.0
                 lo, hi = (edge - w, edge) if side < 0 else (edge, edge + w)
                 ids.append(side * j)
                 bounds.append((lo, hi))
@@ -370,11 +402,10 @@ def _project(road: Road, x: np.ndarray, y: np.ndarray, s: np.ndarray):
         rx, ry, h = road.reference(s)
         c, sn = np.cos(h), np.sin(h)
         ds = (x - rx) * c + (y - ry) * sn
-        s = np.clip(s + ds, 0.0, road.length)
+        t = -(x - rx) * sn + (y - ry) * c
         if np.all(np.abs(ds) < 1e-9):
             break
-    rx, ry, h = road.reference(s)
-    t = -(x - rx) * np.sin(h) + (y - ry) * np.cos(h)
+        s = np.clip(s + ds, 0.0, road.length)
     return s, t
 
 
@@ -405,9 +436,8 @@ class RoadLanes:
     def sumo_lane(self, road_id: str, lane_id: int, s: float) -> SumoLane | None:
         """The SUMO lane that carries OpenDRIVE lane ``lane_id`` of ``road_id`` at road ``s``
         (None when that lane was not imported)."""
-        road = self.odr.road(road_id)
-        k = int(road.section_index(np.array([s]))[0])
-        return self._lanes.get((road.id, int(lane_id), k))
+        road = self.odr.roads.get(road_id) or self.odr.road(road_id)
+        return self._lanes.get((road.id, lane_id, road.section_at(s)))
 
     def lanes(self) -> list[SumoLane]:
         """Every SUMO lane that carries an OpenDRIVE lane."""

@@ -239,7 +239,7 @@ class ActionStarter:
         offset = body.target_offset
 
         def target(s: float) -> float:
-            return float(road.lane_centre_t(lane, np.array([s]))[0][0]) + offset
+            return road.lane_t(lane, s) + offset
 
         dyn = body.dynamics
         return self._lateral(
@@ -254,16 +254,13 @@ class ActionStarter:
             if isinstance(tgt, AbsoluteOffset):
                 return tgt.value
             ref = self.e.pose_of(tgt.entity)
-            centre = float(
-                self.e.roads.odr.road(ref.road).lane_centre_t(ref.lane, np.array([ref.s]))[0][0]
-            )
-            return ref.t - centre + tgt.value
+            return ref.t - self.e.roads.odr.road(ref.road).lane_t(ref.lane, ref.s) + tgt.value
 
         fixed = offset()
 
         def target(s: float) -> float:
             off = offset() if body.continuous else fixed
-            return float(road.lane_centre_t(a.lane, np.array([s]))[0][0]) + off
+            return road.lane_t(a.lane, s) + off
 
         duration = lateral_duration(body.shape, body.max_lateral_acc, target(a.s) - a.t)
         return self._lateral(

@@ -49,20 +49,19 @@ _EDGES = {Edge.NONE: 0, Edge.RISING: 1, Edge.FALLING: 2, Edge.RISING_OR_FALLING:
 STANDSTILL_SPEED = 0.01
 
 
+_OPS = (np.greater, np.less, np.equal, np.greater_equal, np.less_equal, np.not_equal)
+
+
 def compare(measured: np.ndarray, value: np.ndarray, rule: np.ndarray) -> np.ndarray:
     """Apply rule codes (indices into Rule) elementwise; NaN measures are False."""
-    out = np.select(
-        [rule == 0, rule == 1, rule == 2, rule == 3, rule == 4, rule == 5],
-        [
-            measured > value,
-            measured < value,
-            measured == value,
-            measured >= value,
-            measured <= value,
-            measured != value,
-        ],
-        False,
-    )
+    first = int(rule[0]) if len(rule) else 0
+    if len(rule) and (rule == first).all():
+        out = _OPS[first](measured, value)
+    else:
+        out = np.zeros(len(rule), dtype=bool)
+        for code in np.unique(rule).tolist():
+            m = rule == code
+            out[m] = _OPS[code](measured[m], value[m])
     return out & ~np.isnan(measured)
 
 
@@ -174,6 +173,7 @@ class ConditionBank:
             [_STATE_CODES[self.conditions[i].body.state] for i in state_ix], dtype=np.int8
         )
         self.arrays = {k: _as_arrays(r) for k, r in self.rows.items()}
+        self.needs_road = any(bool(a["road"].any()) for a in self.arrays.values())
         self.since = {k: np.full(len(r.owner), np.nan) for k, r in self.rows.items()}
         self.rule_any = np.array(
             [
@@ -227,6 +227,12 @@ class ConditionBank:
                 is_state, states[self.state_el] == st, transitions[self.state_el] == st
             )
         for kind, arr in self.arrays.items():
+            # only conditions of triggers being evaluated now (durations are always tracked)
+            on = active[self.cond_trigger_arr[arr["owner"]]]
+            if kind not in ("standstill", "endofroad") and not on.all():
+                if not on.any():
+                    continue
+                arr = {k: v[on] for k, v in arr.items()}
             res = _KINDS[kind](self, kind, arr, snap)
             hits = np.bincount(arr["owner"], weights=res, minlength=len(raw))
             count = np.bincount(arr["owner"], minlength=len(raw))
@@ -345,26 +351,37 @@ _DTYPE = {DistanceType.EUCLIDEAN: 0, DistanceType.LONGITUDINAL: 1, DistanceType.
 def _pair_measure(
     snap: Snapshot, arr: dict, a: np.ndarray, b: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """(distance, signed longitudinal position of B ahead of A) per row, by distance type,
-    freespace and coordinate system."""
+    """(distance, position of B ahead of A along A's axis or the road) per row, by distance
+    type, freespace and coordinate system. Only the measures some row needs are computed."""
     fs, dtype, road = arr["freespace"], arr["dtype"], arr["road"]
-    ca, cb = snap.centre[a], snap.centre[b]
-    ha, la, wa = snap.heading[a], snap.length[a], snap.width[a]
-    corners_b = box_corners(cb, snap.heading[b], snap.length[b], snap.width[b])
-    gx, gy, xmin, xmax = axis_gaps(ca, ha, la, wa, corners_b)
-    ref_local = _local(snap.ref[b] - snap.ref[a], ha)
-    ahead = 0.5 * (xmin + xmax)
-    eu_free = box_distance(box_corners(ca, ha, la, wa), corners_b)
-    ent = np.select(
-        [dtype == 1, dtype == 2],
-        [np.where(fs, gx, np.abs(ref_local[:, 0])), np.where(fs, gy, np.abs(ref_local[:, 1]))],
-        np.where(fs, eu_free, np.hypot(ref_local[:, 0], ref_local[:, 1])),
-    )
+    ent = np.full(len(a), np.nan)
+    ahead = np.full(len(a), np.nan)
+    ent_rows = ~road
+    if ent_rows.any():
+        ca, cb = snap.centre[a], snap.centre[b]
+        ha, la, wa = snap.heading[a], snap.length[a], snap.width[a]
+        corners_b = box_corners(cb, snap.heading[b], snap.length[b], snap.width[b])
+        gx, gy, xmin, xmax = axis_gaps(ca, ha, la, wa, corners_b)
+        ref_local = _local(snap.ref[b] - snap.ref[a], ha)
+        ahead = 0.5 * (xmin + xmax)
+        eu = np.hypot(ref_local[:, 0], ref_local[:, 1])
+        need_box = ent_rows & fs & (dtype == 0)
+        if need_box.any():
+            eu = eu.copy()
+            eu[need_box] = box_distance(box_corners(ca, ha, la, wa)[need_box], corners_b[need_box])
+        ent = np.select(
+            [dtype == 1, dtype == 2],
+            [np.where(fs, gx, np.abs(ref_local[:, 0])), np.where(fs, gy, np.abs(ref_local[:, 1]))],
+            eu,
+        )
     if road.any():
+        la = snap.length[a]
         ds = (snap.road_s[b] - snap.road_s[a]) * snap.road_dir[a]
         dt_ = snap.road_t[b] - snap.road_t[a]
         lon = np.where(fs, np.maximum(0.0, np.abs(ds) - 0.5 * (la + snap.length[b])), np.abs(ds))
-        lat = np.where(fs, np.maximum(0.0, np.abs(dt_) - 0.5 * (wa + snap.width[b])), np.abs(dt_))
+        lat = np.where(
+            fs, np.maximum(0.0, np.abs(dt_) - 0.5 * (snap.width[a] + snap.width[b])), np.abs(dt_)
+        )
         rd = np.select([dtype == 1, dtype == 2], [lon, lat], np.hypot(lon, lat))
         ent = np.where(road, rd, ent)
         ahead = np.where(road, ds, ahead)

@@ -65,6 +65,10 @@ class ElementTree:
                             for action in ev.actions:
                                 self._add("action", action.name, action, ei)
         n = len(self.elements)
+        self._by_kind: dict[str, list[Element]] = {}
+        for e in self.elements:
+            self._by_kind.setdefault(e.kind, []).append(e)
+        self.parent = np.array([e.parent for e in self.elements], dtype=np.intp)
         self.state = np.zeros(n, dtype=np.int8)
         self.transition = np.full(n, NO_TRANSITION, dtype=np.int8)
         self.log: list[tuple[float, str, str, str]] = []
@@ -91,7 +95,12 @@ class ElementTree:
 
     def of_kind(self, kind: str) -> list[Element]:
         """Elements of one kind, in storyboard order."""
-        return [e for e in self.elements if e.kind == kind]
+        return self._by_kind.get(kind, [])
+
+    def open_children(self) -> np.ndarray:
+        """(n,) number of children of each element that are not complete."""
+        child = np.flatnonzero((self.parent >= 0) & (self.state != COMPLETE))
+        return np.bincount(self.parent[child], minlength=len(self.elements))
 
     # ------------------------------------------------------------------ transitions
     def start(self, i: int, now: float) -> None:

@@ -105,6 +105,21 @@ class ScenarioEngine:
         self._started: list[str] = []
         self._ended: list[str] = []
         self._ego_requests: list[str] = []
+        self._length = np.array([e.length for e in scenario.entities])
+        self._width = np.array([e.width for e in scenario.entities])
+        acts, events = self.tree.of_kind("act"), self.tree.of_kind("event")
+        self._act_ix = np.array([a.index for a in acts], dtype=np.intp)
+        self._act_start = np.array([a.start_trigger for a in acts], dtype=np.intp)
+        self._act_stop = np.array([a.stop_trigger for a in acts], dtype=np.intp)
+        real = [e for e in events if e.model is not None]
+        self._ev_ix = np.array([e.index for e in real], dtype=np.intp)
+        self._ev_parent = np.array([e.parent for e in real], dtype=np.intp)
+        self._ev_trig = np.array([e.start_trigger for e in real], dtype=np.intp)
+        self._has_children = np.array([bool(e.children) for e in self.tree.elements])
+        self._kind_order = {
+            k: np.array([e.index for e in self.tree.of_kind(k)], dtype=np.intp)
+            for k in ("event", "maneuver", "maneuverGroup", "act", "story")
+        }
         self._cx = np.array([e.centre[0] for e in scenario.entities])
         self._cy = np.array([e.centre[1] for e in scenario.entities])
 
@@ -255,18 +270,16 @@ class ScenarioEngine:
         )
 
     def _active(self) -> np.ndarray:
-        active = np.zeros(len(self.tree.triggers), dtype=bool)
+        active = np.zeros(len(self.tree.triggers) + 1, dtype=bool)  # last slot: "no trigger"
         active[0] = True
         st = self.tree.state
-        for e in self.tree.elements:
-            if e.kind == "act":
-                if e.start_trigger >= 0 and st[e.index] == STANDBY:
-                    active[e.start_trigger] = True
-                if e.stop_trigger >= 0 and st[e.index] == RUNNING:
-                    active[e.stop_trigger] = True
-            elif e.kind == "event" and e.start_trigger >= 0:
-                active[e.start_trigger] = st[e.index] == STANDBY and st[e.parent] == RUNNING
-        return active
+        if len(self._act_ix):
+            active[self._act_start[st[self._act_ix] == STANDBY]] = True
+            active[self._act_stop[st[self._act_ix] == RUNNING]] = True
+        if len(self._ev_ix):
+            waiting = (st[self._ev_ix] == STANDBY) & (st[self._ev_parent] == RUNNING)
+            active[self._ev_trig[waiting]] = True
+        return active[:-1]
 
     def _acts(self, fired: np.ndarray) -> None:
         tree, st = self.tree, self.tree.state
@@ -285,11 +298,13 @@ class ScenarioEngine:
 
     def _events(self, fired: np.ndarray) -> None:
         tree, st = self.tree, self.tree.state
-        for ev in tree.of_kind("event"):
-            i = ev.index
-            if st[i] != STANDBY or st[ev.parent] != RUNNING or ev.model is None:
-                continue
-            if ev.start_trigger >= 0 and not fired[ev.start_trigger]:
+        if not len(self._ev_ix):
+            return
+        go = np.append(fired, True)[self._ev_trig]  # trigger -1: none, starts at once
+        due = (st[self._ev_ix] == STANDBY) & (st[self._ev_parent] == RUNNING) & go
+        for i in self._ev_ix[due].tolist():
+            ev = tree.elements[i]
+            if st[i] != STANDBY:
                 continue
             running = [c for c in tree.elements[ev.parent].children if c != i and st[c] == RUNNING]
             if running and ev.model.priority == "skip":
@@ -346,10 +361,13 @@ class ScenarioEngine:
                 tree.end(ai, now)
                 self._ended.append(tree.elements[ai].name)
                 del self.instances[ai]
-        for kind in ("event", "maneuver", "maneuverGroup", "act", "story"):
-            for e in tree.of_kind(kind):
-                if st[e.index] == RUNNING and e.children and tree.all_children(e.index, COMPLETE):
-                    tree.end(e.index, now)
+        for ix in self._kind_order.values():  # bottom-up: events first, stories last
+            if not len(ix):
+                continue
+            open_children = tree.open_children()
+            done = ix[(st[ix] == RUNNING) & self._has_children[ix] & (open_children[ix] == 0)]
+            for i in done.tolist():
+                tree.end(i, now)
 
     def _command(self, sim: Simulation) -> None:
         for name, a in self.actors.items():
@@ -379,13 +397,18 @@ class ScenarioEngine:
         road_s = np.full(len(rows), np.nan)
         road_t = np.full(len(rows), np.nan)
         road_dir = np.ones(len(rows))
-        if any(bool(arr["road"].any()) for arr in self.bank.arrays.values()):
+        if self.bank.needs_road:
             for k, name in enumerate(self.names):
-                if present[k]:
-                    p = self.pose_of(name)
-                    direction = forward(self.roads.odr, p.road, p.lane) if p.road else 1.0
-                    road_s[k] = p.s + direction * self._cx[k]
-                    road_t[k], road_dir[k] = p.t, direction
+                if not present[k]:
+                    continue
+                a = self.actors[name]
+                p = a if self.storyboard_drives(name) else self.pose_of(name)
+                if p.road:
+                    road_dir[k] = (
+                        1.0 if self.roads.odr.roads[p.road].drives_forward(p.lane) else -1.0
+                    )
+                    road_s[k] = p.s + road_dir[k] * self._cx[k]
+                    road_t[k] = p.t
         contacts: set[frozenset[int]] = set()
         contact_any = np.zeros(len(rows), dtype=bool)
         for col in sim.collisions:
@@ -395,8 +418,7 @@ class ScenarioEngine:
                     contact_any[x] = True
             if ia >= 0 and ib >= 0:
                 contacts.add(frozenset((ia, ib)))
-        length = np.array([e.length for e in self.scenario.entities])
-        width = np.array([e.width for e in self.scenario.entities])
+        length, width = self._length, self._width
         return Snapshot(
             time=self.now,
             present=present,

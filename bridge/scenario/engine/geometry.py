@@ -53,20 +53,19 @@ def box_distance(corners_a: np.ndarray, corners_b: np.ndarray) -> np.ndarray:
 
 
 def _corner_to_edges(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    a = q
-    b = np.roll(q, -1, axis=1)
-    ab = b - a  # (N, 4, 2)
-    ap = p[:, :, None, :] - a[:, None, :, :]  # (N, 4p, 4e, 2)
-    denom = np.maximum(np.einsum("nek,nek->ne", ab, ab), 1e-12)[:, None, :]
-    u = np.clip(np.einsum("npek,nek->npe", ap, ab) / denom, 0.0, 1.0)
-    foot = a[:, None, :, :] + u[..., None] * ab[:, None, :, :]
-    return np.linalg.norm(p[:, :, None, :] - foot, axis=-1).min(axis=(1, 2))
+    a = q[:, None, :, :]  # (N, 1, 4e, 2)
+    ab = np.roll(q, -1, axis=1)[:, None, :, :] - a
+    ap = p[:, :, None, :] - a  # (N, 4p, 4e, 2)
+    denom = np.maximum((ab * ab).sum(-1), 1e-12)
+    u = np.clip((ap * ab).sum(-1) / denom, 0.0, 1.0)
+    d = ap - u[..., None] * ab
+    return np.sqrt((d * d).sum(-1).min(axis=(1, 2)))
 
 
 def _overlap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Separating-axis test on the four edge normals of two rectangles."""
     axes = np.concatenate([a[:, 1:3] - a[:, 0:2], b[:, 1:3] - b[:, 0:2]], axis=1)  # (N, 4, 2)
-    pa = np.einsum("nck,nak->nac", a, axes)
-    pb = np.einsum("nck,nak->nac", b, axes)
+    pa = (axes[:, :, None, :] * a[:, None, :, :]).sum(-1)  # (N, 4 axes, 4 corners)
+    pb = (axes[:, :, None, :] * b[:, None, :, :]).sum(-1)
     sep = (pa.max(2) < pb.min(2)) | (pb.max(2) < pa.min(2))
     return ~sep.any(1)

@@ -156,39 +156,44 @@ class Actor:
 
 def forward(odr: OpenDriveMap, road: str, lane: int) -> float:
     """+1 when ``lane`` of ``road`` drives towards increasing s, else -1."""
-    return 1.0 if odr.road(road).drives_forward(lane) else -1.0
+    return 1.0 if odr.roads[road].drives_forward(lane) else -1.0
 
 
 def curvature(odr: OpenDriveMap, road: str, s: np.ndarray) -> np.ndarray:
     """Reference-line curvature at road ``s`` (1/m), from the heading 0.5 m either side."""
     rd = odr.road(road)
+    if all(g.kind == "line" for g in rd.geometries):
+        return np.zeros_like(s)
     lo, hi = np.clip(s - 0.5, 0, rd.length), np.clip(s + 0.5, 0, rd.length)
     h_lo, h_hi = rd.reference(lo)[2], rd.reference(hi)[2]
     return np.where(hi > lo, (h_hi - h_lo) / np.maximum(hi - lo, 1e-9), 0.0)
 
 
 def advance_road_actors(odr: OpenDriveMap, actors: list[Actor], now: float, dt: float) -> None:
-    """Advance actors in road coordinates by one step to scenario time ``now``; batch their
-    world poses per road."""
+    """Advance actors in road coordinates by one step to scenario time ``now``; their world
+    poses are computed in one batch per road."""
     by_road: dict[str, list[Actor]] = {}
     for a in actors:
         by_road.setdefault(a.road, []).append(a)
     for road, group in by_road.items():
-        s = np.array([a.s for a in group])
-        t = np.array([a.t for a in group])
-        kappa = curvature(odr, road, s)
+        n = len(group)
+        s = np.fromiter((a.s for a in group), float, n)
+        t = np.fromiter((a.t for a in group), float, n)
+        v_old = np.fromiter((a.v for a in group), float, n)
+        v_new = v_old.copy()
         for k, a in enumerate(group):
-            v_old = a.v
             if a.long is not None:
-                a.v, done = a.long.speed(now, a.long_travelled + v_old * dt)
+                v_new[k], done = a.long.speed(now, a.long_travelled + v_old[k] * dt)
                 if done:
                     a.long = None
-            a.accel = (a.v - v_old) / dt
-            ds_path = 0.5 * (v_old + a.v) * dt
-            a.long_travelled += ds_path
-            a.lat_travelled += ds_path
-            direction = forward(odr, road, a.lane)
-            a.s += direction * ds_path / max(1e-3, 1.0 - kappa[k] * t[k])
+        direction = np.fromiter((forward(odr, road, a.lane) for a in group), float, n)
+        ds_path = 0.5 * (v_old + v_new) * dt
+        s_new = s + direction * ds_path / np.maximum(1e-3, 1.0 - curvature(odr, road, s) * t)
+        accel = (v_new - v_old) / dt
+        for k, a in enumerate(group):
+            a.s, a.v, a.accel = float(s_new[k]), float(v_new[k]), float(accel[k])
+            a.long_travelled += float(ds_path[k])
+            a.lat_travelled += float(ds_path[k])
             if a.lat is not None:
                 t_new, done = a.lat.lateral(now, a.lat_travelled, a.s)
                 a.v_lat = (t_new - a.t) / dt
@@ -202,12 +207,18 @@ def advance_road_actors(odr: OpenDriveMap, actors: list[Actor], now: float, dt: 
 
 def place_on_road(odr: OpenDriveMap, road: str, group: list[Actor]) -> None:
     """World pose (x, y, z, heading) of actors from their road coordinates."""
-    s = np.array([a.s for a in group])
-    t = np.array([a.t for a in group])
+    n = len(group)
+    s = np.fromiter((a.s for a in group), float, n)
+    t = np.fromiter((a.t for a in group), float, n)
     x, y, z, h_ref = odr.road_pose(road, s, t)
-    for k, a in enumerate(group):
-        direction = forward(odr, road, a.lane)
-        base = h_ref[k] + (0.0 if direction > 0 else math.pi)
-        slip = math.atan2(direction * a.v_lat, a.v) if abs(a.v) > 1e-6 else 0.0
-        a.x, a.y, a.z = float(x[k]), float(y[k]), float(z[k])
-        a.h = math.remainder(base + slip + a.h_rel, 2 * math.pi)
+    direction = np.fromiter((forward(odr, road, a.lane) for a in group), float, n)
+    v = np.fromiter((a.v for a in group), float, n)
+    v_lat = np.fromiter((a.v_lat for a in group), float, n)
+    h_rel = np.fromiter((a.h_rel for a in group), float, n)
+    slip = np.where(np.abs(v) > 1e-6, np.arctan2(direction * v_lat, v), 0.0)
+    h = h_ref + np.where(direction > 0, 0.0, np.pi) + slip + h_rel
+    h = np.remainder(h + np.pi, 2 * np.pi) - np.pi
+    for a, xk, yk, zk, hk in zip(
+        group, x.tolist(), y.tolist(), z.tolist(), h.tolist(), strict=True
+    ):
+        a.x, a.y, a.z, a.h = xk, yk, zk, hk
