@@ -27,7 +27,6 @@ import numpy as np
 from hiyari.bridge.scenario.engine.actions import ActionStarter, Instance
 from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
 from hiyari.bridge.scenario.engine.elements import (
-    COMPLETE,
     NO_TRANSITION,
     RUNNING,
     STANDBY,
