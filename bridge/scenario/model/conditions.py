@@ -204,11 +204,9 @@ class EndOfRoadCondition:
 
 @dataclass(frozen=True)
 class CollisionCondition:
-    """In contact with ``entity`` (or, when None, with any actor of SUMO class ``by_type``,
-    or, when both are None, with anything)."""
+    """In contact with ``entity`` (None: with anything)."""
 
     entity: str | None = None
-    by_type: str | None = None
 
 
 EntityConditionBody = (
