@@ -30,7 +30,7 @@ from hiyari.net.sumo.build import CityGridParams, build_city_grid
 from hiyari.sensors.camera.config import CameraConfig
 from hiyari.sensors.camera.sensor import Camera
 from hiyari.sensors.environment.conditions import Environment
-from hiyari.sensors.frames import Mount, VehiclePose
+from hiyari.sensors.frames import Mount
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.recognition import recognise_lidar
 from hiyari.sensors.lidar.sensor import Lidar
@@ -105,7 +105,7 @@ def main() -> None:
     veh = np.flatnonzero(world.is_vehicle)
     centre = mesh.vertices[:, :2].mean(0)
     ego_id = str(world.ids[veh[np.argmin(np.linalg.norm(world.xyz[veh, :2] - centre, axis=1))]])
-    ego = VehiclePose.from_world(world, ego_id)
+    ego = world.pose_of(ego_id)
     env = Environment()
     lidar = Lidar(LidarConfig.preset("64ch"), Mount(x=0.0, z=1.9))
     scene = RayScene(mesh)

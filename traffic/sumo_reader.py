@@ -15,6 +15,7 @@ from typing import Literal
 
 import numpy as np
 
+from hiyari.kinematics import point_ahead, wrap_angle
 from hiyari.traffic.actor_class import ActorClass, actor_class_from_vclass
 from hiyari.traffic.world_state import WorldState
 
@@ -121,12 +122,10 @@ class WorldStateReader:
         accel[nv:] = np.where(np.isnan(prev), 0.0, (pspeed - prev) / s.simulation.getDeltaT())
         self._per.prev_speed[prow] = pspeed
 
-        heading = np.radians(90.0 - angle)
-        heading = np.arctan2(np.sin(heading), np.cos(heading))
+        heading = wrap_angle(np.radians(90.0 - angle))
         length = st[:, 1]
         # SUMO reports the front-bumper centre; the toolkit uses the rectangle centre
-        pos[:, 0] -= 0.5 * length * np.cos(heading)
-        pos[:, 1] -= 0.5 * length * np.sin(heading)
+        pos[:, :2] = point_ahead(pos[:, :2], heading, -0.5 * length)
         lanes = vcols[4] + pcols[4]
         edge_of = self._edge_of
         edges = [edge_of.get(ln) or self._edge(ln) for ln in lanes]

@@ -16,7 +16,8 @@ from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
 from hiyari.risk.cc.boundary import CutInDatasheet, CutOutDatasheet, DecelDatasheet
-from hiyari.risk.cc.model import KMH_PER_MPS, CCParams
+from hiyari.risk.cc.model import CCParams
+from hiyari.units import KMH_PER_MPS
 
 PREVENTABLE = "#7fc97f"
 UNPREVENTABLE = "#f4a6a6"

@@ -27,9 +27,7 @@ import math
 from dataclasses import asdict, dataclass, fields, replace
 
 from hiyari.errors import HiyariError
-
-KMH_PER_MPS = 3.6
-"""Speeds are m/s in the Python API and km/h in files and on the command line."""
+from hiyari.units import G
 
 
 @dataclass(frozen=True)
@@ -39,7 +37,7 @@ class CCParams:
     Times in s, distances in m, decelerations in g (multiples of ``g_mps2``).
     """
 
-    g_mps2: float = 9.81
+    g_mps2: float = G
     """Standard gravity used to turn g into m/s² (MODELS.md §1)."""
 
     # -- perception and judgement (JAMA 2.3.3.1.1-3) --

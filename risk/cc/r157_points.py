@@ -52,8 +52,9 @@ from hiyari.risk.cc.evaluator import (
     decel_setup,
     run_chunked,
 )
-from hiyari.risk.cc.model import KMH_PER_MPS, CCParams
+from hiyari.risk.cc.model import CCParams
 from hiyari.risk.cc.trajectory import cut_in_tracks, cut_out_tracks, decel_tracks
+from hiyari.units import KMH_PER_MPS
 
 FORMAT = "hiyari-r157-points"
 VERSION = 1

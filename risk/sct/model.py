@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hiyari.kinematics import heading_vector
 from hiyari.risk.metrics.contact import (
     ContactGeometry,
     Path,
@@ -150,7 +151,7 @@ class SCTModel:
         t = self.times
         speed = state.speed[pj, None]
         heading = state.heading[pj]
-        cv = np.stack([np.cos(heading), np.sin(heading)], 1) * speed
+        cv = heading_vector(heading) * speed
         ped_cv = ped_xy[:, None, :] + cv[:, None, :] * t[None, :, None]
         gap = contact_gap(vxy, vh, length[:, None], width[:, None], ped_cv, ttc_contact)
         gap = unprotected(gap, ped_cv, self.carriageway)

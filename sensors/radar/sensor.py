@@ -15,10 +15,11 @@ import math
 
 import numpy as np
 
+from hiyari.kinematics import Pose
 from hiyari.net.mesh.materials import DEFAULT_OPTICS, Material
 from hiyari.sensors.environment.conditions import Environment, Soiling
 from hiyari.sensors.environment.soiling import soiling_mask
-from hiyari.sensors.frames import Mount, PoseLike, ego_velocity, sensor_to_world
+from hiyari.sensors.frames import Mount, sensor_to_world
 from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC, ObjectList, RadarDetections
 from hiyari.sensors.radar.config import RadarConfig
 from hiyari.sensors.radar.recognition import RadarRecognitionConfig, recognise_radar
@@ -73,7 +74,7 @@ class Radar:
         """Cycles per second."""
         return self.config.rate_hz
 
-    def sensor_to_world(self, ego: PoseLike) -> np.ndarray:
+    def sensor_to_world(self, ego: Pose) -> np.ndarray:
         """(4, 4) sensor-to-network transform for the ego pose."""
         return sensor_to_world(self.mount, ego)
 
@@ -95,7 +96,7 @@ class Radar:
     def sense(
         self,
         scene: RayScene,
-        ego: PoseLike,
+        ego: Pose,
         world: WorldState,
         env: Environment,
         rng: np.random.Generator,
@@ -126,7 +127,7 @@ class Radar:
     def scan(
         self,
         scene: RayScene,
-        ego: PoseLike,
+        ego: Pose,
         world: WorldState,
         env: Environment,
         rng: np.random.Generator,
@@ -142,7 +143,7 @@ class Radar:
         origins[:] = origin.astype(np.float32)
         rays = SensorRays(self.index, origin, rot)
         hits = scene.cast(origins, dirs_w, c.max_range_m, rays, normals=c.multipath)
-        v_sensor = ego_velocity(ego)
+        v_sensor = np.append(ego.velocity, 0.0)
 
         ray = np.flatnonzero((hits.hit != HIT_NONE) & (hits.distance > MIN_RANGE_M))
         r = hits.distance[ray].astype(np.float64)
