@@ -78,7 +78,9 @@ def unrotate_xy(
     return x * c + y * s, -x * s + y * c
 
 
-def _with_xy(v: np.ndarray, x: np.ndarray, y: np.ndarray, z_offset=None) -> np.ndarray:
+def _with_xy(
+    v: np.ndarray, x: np.ndarray, y: np.ndarray, z_offset: np.ndarray | None = None
+) -> np.ndarray:
     """(..., 2 | 3) array with new x, y (and z of ``v`` plus ``z_offset`` when 3-D)."""
     if v.shape[-1] == 2:
         return np.stack([x, y], axis=-1)

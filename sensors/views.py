@@ -8,6 +8,7 @@ from pathlib import Path
 
 import cv2
 import numpy as np  # noqa: E402
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
@@ -100,7 +101,7 @@ def write_radar_csv(det: RadarDetections, path: Path) -> Path:
     return path
 
 
-def _boxes(ax, objects: ObjectList) -> None:
+def _boxes(ax: Axes, objects: ObjectList) -> None:
     for p, s, t in zip(objects.position, objects.size, objects.truth, strict=True):
         length, width = np.nan_to_num(s[:2], nan=1.0)
         colour = "tab:gray" if t == "static" else ("tab:red" if t == "" else "tab:green")
@@ -183,7 +184,7 @@ def write_camera(frame: CameraFrame, annotated: np.ndarray, folder: Path) -> lis
     ]
 
 
-def _save(fig, path: Path) -> Path:
+def _save(fig: Figure, path: Path) -> Path:
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")

@@ -85,7 +85,7 @@ def _arrivals(rng: np.random.Generator, rate_per_hour: float, begin: float, end:
     return np.round(t[t < end], 1)
 
 
-def _od_pairs(net, vclass: str, directed: bool) -> list[tuple[str, str]]:
+def _od_pairs(net: sumolib.net.Net, vclass: str, directed: bool) -> list[tuple[str, str]]:
     """Fringe-to-fringe edge pairs connected for ``vclass``.
 
     Vehicles follow connections (directed); persons may walk either way along any edge that

@@ -10,7 +10,9 @@ Static attributes (class, size) are read once per actor and kept in arrays.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from itertools import chain
+from types import ModuleType
 from typing import Literal
 
 import numpy as np
@@ -30,7 +32,9 @@ class _StaticTable:
         self.data = np.zeros((64, 4))  # cls, length, width, height
         self.prev_speed = np.zeros(64)
 
-    def rows(self, ids: list[str], fetch) -> np.ndarray:
+    def rows(
+        self, ids: list[str], fetch: Callable[[str], tuple[float, float, float, float]]
+    ) -> np.ndarray:
         get = self.row.get
         idx = [get(i, -1) for i in ids]
         if -1 in idx:
@@ -53,7 +57,7 @@ class _StaticTable:
 class WorldStateReader:
     """Turns the current libsumo state into a WorldState; one reader per simulation."""
 
-    def __init__(self, sumo, mode: ReadMode = "getters") -> None:
+    def __init__(self, sumo: ModuleType, mode: ReadMode = "getters") -> None:
         if mode not in ("getters", "subscriptions"):
             raise ValueError(f"unknown read mode {mode!r} (getters or subscriptions)")
         self._sumo = sumo
@@ -191,5 +195,7 @@ class WorldStateReader:
         return vids, veh, pids, (pc[0], pc[1], pc[2], None, pc[3])
 
     @staticmethod
-    def _fetch(getters, keys, actor_id: str) -> dict:
+    def _fetch(
+        getters: Sequence[Callable[[str], object]], keys: Sequence[str], actor_id: str
+    ) -> dict:
         return dict(zip(keys, (g(actor_id) for g in getters[1:]), strict=True))

@@ -143,7 +143,7 @@ def _write_csv(path: Path, config: StudyConfig, results: list[ArmResult]) -> Non
                 w.writerow({**row, **asdict(e)})
 
 
-def _save(fig, path: Path) -> None:
+def _save(fig: Figure, path: Path) -> None:
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
 

@@ -86,7 +86,7 @@ def read_table(path: Path) -> dict[int, dict]:
     return rows
 
 
-def _fmt(v) -> str:
+def _fmt(v: object) -> str:
     if isinstance(v, float):
         return repr(v) if math.isfinite(v) else ""
     return "" if v is None else str(v)

@@ -8,6 +8,7 @@ never from the stack's own beliefs.
 from __future__ import annotations
 
 import time as wallclock
+from collections.abc import Callable
 
 import numpy as np
 
@@ -16,8 +17,12 @@ from hiyari.bridge.stack.interfaces import EgoStack, EgoStep
 from hiyari.kinematics import Pose
 from hiyari.risk.metrics.ground_truth import TruthConfig, gap_to, time_to_collision
 from hiyari.sensors.outputs import ObjectList
+from hiyari.traffic.collision import Collision
 from hiyari.traffic.simulation import Simulation
 from hiyari.traffic.world_state import WorldState
+
+#: Called after every stack step with (world, ego step, this step's collisions).
+OnStep = Callable[[WorldState, EgoStep, list[Collision]], None]
 
 
 class ScenarioHooks:
@@ -44,7 +49,7 @@ def run_closed_loop(
     hooks: ScenarioHooks,
     duration: float,
     label: str = "",
-    on_step=None,
+    on_step: OnStep | None = None,
     progress: bool = False,
 ) -> RunResult:
     """Run until ``duration`` (s of simulation time from now), a collision or ``hooks.done``.

@@ -12,7 +12,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from hiyari.atomic import atomic_path
-from hiyari.bridge.scenario.closed_loop import run_closed_loop
+from hiyari.bridge.scenario.closed_loop import OnStep, run_closed_loop
 from hiyari.bridge.scenario.presets import build_scenario
 from hiyari.bridge.scenario.result import RunResult
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
@@ -63,7 +63,7 @@ def build_stack(cs: ConcreteScenario, net: Path | RoadNetwork) -> EgoStack:
 
 
 def run_concrete(
-    cs: ConcreteScenario, options: RunOptions | None = None, on_step=None
+    cs: ConcreteScenario, options: RunOptions | None = None, on_step: OnStep | None = None
 ) -> RunResult:
     """Run one concrete scenario in this process (one libsumo simulation at a time)."""
     options = options or RunOptions()
@@ -107,12 +107,12 @@ def run_concrete(
     return result
 
 
-def _chain(first, second):
+def _chain(first: OnStep, second: OnStep | None) -> OnStep:
     """Call ``first`` and then ``second`` (when given) with the same arguments."""
     if second is None:
         return first
 
-    def both(*args):
+    def both(*args: object) -> None:
         first(*args)
         second(*args)
 

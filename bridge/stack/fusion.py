@@ -21,6 +21,9 @@ from hiyari.kinematics import Pose, rotation_2d
 from hiyari.sensors.outputs import ObjectList
 from hiyari.traffic.actor_class import ActorClass
 
+#: An observation in the network frame: position, covariance, line-of-sight unit vector.
+_World = tuple[np.ndarray, np.ndarray, np.ndarray]
+
 
 @dataclass(frozen=True)
 class SensorNoise:
@@ -205,7 +208,7 @@ class KalmanFusion:
             if j not in used:
                 self._spawn(obs[j], world[j], ego, time)
 
-    def _update(self, tr: _Track, o: _Obs, w, ego: Pose, time: float) -> None:
+    def _update(self, tr: _Track, o: _Obs, w: _World, ego: Pose, time: float) -> None:
         xy, cov, unit = w
         cfg = self.config
         _kalman(tr, np.eye(4)[:2], xy, cov)
@@ -226,7 +229,7 @@ class KalmanFusion:
         if o.truth:
             tr.truth = o.truth
 
-    def _spawn(self, o: _Obs, w, ego: Pose, time: float) -> None:
+    def _spawn(self, o: _Obs, w: _World, ego: Pose, time: float) -> None:
         xy, cov, _ = w
         p = np.zeros((4, 4))
         p[:2, :2] = cov
@@ -279,7 +282,7 @@ def _kalman(tr: _Track, h: np.ndarray, z: np.ndarray, r: np.ndarray) -> None:
     tr.p = (np.eye(4) - k @ h) @ tr.p
 
 
-def _to_world(o: _Obs, ego: Pose) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _to_world(o: _Obs, ego: Pose) -> _World:
     """Position, polar covariance and line-of-sight unit vector in the network frame."""
     r = float(np.hypot(*o.xy))
     b = float(np.arctan2(o.xy[1], o.xy[0]))

@@ -26,6 +26,8 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, fields, replace
 
+import numpy as np
+
 from hiyari.errors import HiyariError
 from hiyari.units import G
 
@@ -172,7 +174,7 @@ class CCParams:
         """Initial lateral clearance dy0 between ego and the adjacent-lane vehicle (m)."""
         return self.lane_width_m - 0.5 * (self.ego_width_m + self.other_width_m)
 
-    def danger_judgement_time(self, vy_mps):
+    def danger_judgement_time(self, vy_mps: float | np.ndarray) -> float | np.ndarray:
         """Time (s) from the start of the lateral motion to danger judgement (array-friendly)."""
         if self.judgement == "time":
             return self.wander_m / vy_mps + self.perception_time_s

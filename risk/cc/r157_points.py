@@ -309,7 +309,9 @@ def generate_points(config: R157Config = R157Config(), params: CCParams = _DEFAU
     return PointSet(points, Counter({k: v for k, v in skipped.items() if v}), params, config)
 
 
-def point_tracks(point: R157Point, t_s, params: CCParams = _DEFAULT, side: int = 1) -> dict:
+def point_tracks(
+    point: R157Point, t_s: np.ndarray, params: CCParams = _DEFAULT, side: int = 1
+) -> dict:
     """Annex G trajectories of a point's other vehicles and the C&C reference ego
     (:mod:`hiyari.risk.cc.trajectory`), sampled at ``t_s`` (s)."""
     if point.scenario == "cut-in":

@@ -125,7 +125,9 @@ def contact_gap(
     return distance - contact.pedestrian_radius
 
 
-def unprotected(gap: np.ndarray, ped_xy: np.ndarray, carriageway=None) -> np.ndarray:
+def unprotected(
+    gap: np.ndarray, ped_xy: np.ndarray, carriageway: shapely.Geometry | None = None
+) -> np.ndarray:
     """``gap`` (...) with +inf where the pedestrian position ``ped_xy`` (..., 2) lies outside
     ``carriageway`` (a shapely geometry, e.g. NetGeometry.carriageway): a pedestrian off the
     carriageway cannot be hit. None: exposed everywhere."""
@@ -270,7 +272,7 @@ def safety_cushion_time(
     ped_xy: np.ndarray,
     ped_velocity: np.ndarray,
     config: SCTConfig = SCTConfig(),
-    carriageway=None,
+    carriageway: shapely.Geometry | None = None,
 ) -> np.ndarray:
     """SCT (s) of vehicle–pedestrian pairs from predicted vehicle poses.
 

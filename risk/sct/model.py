@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 
 from hiyari.kinematics import heading_vector
 from hiyari.risk.metrics.contact import (
@@ -116,7 +117,7 @@ class SCTModel:
         return view.paths[k].at(view.s0[k] + travel)
 
     @property
-    def carriageway(self):
+    def carriageway(self) -> shapely.Geometry | None:
         """Where pedestrians are exposed (NetGeometry.carriageway), or None: everywhere."""
         return self.geometry.carriageway if self.geometry is not None else None
 

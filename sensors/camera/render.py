@@ -24,6 +24,7 @@ from hiyari.sensors.environment.soiling import soiling_mask
 from hiyari.sensors.frames import Mount, sensor_to_world
 from hiyari.sensors.outputs import HIT_NONE, CameraFrame, ObjectList
 from hiyari.sensors.scene.ray_scene import DirectionIndex, RayScene, SensorRays
+from hiyari.traffic.world_state import WorldState
 
 _TINT = {
     Material.ASPHALT: (1.0, 1.0, 1.05),
@@ -99,7 +100,7 @@ class CameraRenderer:
         name: str,
         scene: RayScene,
         ego: Pose,
-        world,
+        world: WorldState,
         env: Environment,
         rng: np.random.Generator,
     ) -> CameraFrame:
@@ -189,7 +190,7 @@ class CameraRenderer:
         return (out * 255 + 0.5).astype(np.uint8)
 
 
-def oncoming_lamps(scene: RayScene, world, cam: np.ndarray) -> np.ndarray:
+def oncoming_lamps(scene: RayScene, world: WorldState, cam: np.ndarray) -> np.ndarray:
     """Front-lamp positions of vehicles facing the camera."""
     rows = np.flatnonzero(world.is_vehicle & (world.ids != scene.ego_id))
     if not len(rows):

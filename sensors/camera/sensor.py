@@ -187,7 +187,17 @@ class Camera:
         seen = hits.hit == np.repeat(rows, len(grid))
         return seen.reshape(n, len(grid)).mean(1)
 
-    def _contrast(self, scene, ego, world, env, rows, cam, centre_w, rot):
+    def _contrast(
+        self,
+        scene: RayScene,
+        ego: Pose,
+        world: WorldState,
+        env: Environment,
+        rows: np.ndarray,
+        cam: np.ndarray,
+        centre_w: np.ndarray,
+        rot: np.ndarray,
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Apparent Weber contrast of each actor against what lies behind it, and threshold."""
         c, light = self.config, self.lighting
         to_cam = cam - centre_w

@@ -202,7 +202,15 @@ class Lidar:
             actor_ids=world.ids,
         )
 
-    def _rain_ghosts(self, env, rng, ray, r, inten, hit):
+    def _rain_ghosts(
+        self,
+        env: Environment,
+        rng: np.random.Generator,
+        ray: np.ndarray,
+        r: np.ndarray,
+        inten: np.ndarray,
+        hit: np.ndarray,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Drop returns at 7-15 m replace (first return) or add to the real ones."""
         c = self.config
         p = min(c.rain_ghost_max_probability, c.rain_ghost_per_mm_h * env.rain_mm_h)

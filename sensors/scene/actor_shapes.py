@@ -10,7 +10,7 @@ glints only in a small spot as a real one does (divp-H section 3.4, the black-le
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from enum import IntEnum
 
@@ -64,7 +64,14 @@ class Template:
     half: np.ndarray  # (F, 3) half-size of the face's box, unit coordinates
 
 
-def _box(lo, hi, part: Part, sides: Part | None = None, rounded: bool = False, bottom=False):
+def _box(
+    lo: Sequence[float],
+    hi: Sequence[float],
+    part: Part,
+    sides: Part | None = None,
+    rounded: bool = False,
+    bottom: bool = False,
+) -> tuple[np.ndarray, ...]:
     """Box between corners ``lo`` and ``hi``; ``sides`` overrides the part of the 4 side walls."""
     v = np.array(
         [
