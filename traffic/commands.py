@@ -14,6 +14,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from hiyari.kinematics import point_ahead
+
 #: SUMO speed mode bits: 0 = no checks at all (scripted actors follow the script exactly);
 #: 31 = every safety check on (SUMO's default).
 SPEED_MODE_SCRIPTED = 0
@@ -209,8 +211,7 @@ class Commands:
         step (SUMO maps it to the nearest lane of ``edge`` when given, else of any edge);
         ``speed`` m/s is what SUMO reports for it (None: implied by the move)."""
         s = self._api()
-        fx = x + 0.5 * length * math.cos(heading)
-        fy = y + 0.5 * length * math.sin(heading)
+        fx, fy = (float(v) for v in point_ahead((x, y), heading, 0.5 * length))
         s.vehicle.moveToXY(
             vehicle_id, edge, lane, fx, fy, angle=heading_to_sumo_angle(heading), keepRoute=2
         )

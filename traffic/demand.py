@@ -12,6 +12,7 @@ from lxml import etree
 
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
+from hiyari.traffic.actor_class import ActorClass
 
 
 @dataclass(frozen=True)
@@ -29,14 +30,21 @@ class VehicleType:
 
 
 #: The built-in types demand can mix; keys are what ``DemandConfig.vehicle_mix`` accepts.
+#: Sizes are the class defaults (hiyari.traffic.actor_class.CLASS_SIZE).
 VEHICLE_TYPES: dict[str, VehicleType] = {
-    "car": VehicleType("passenger", 4.5, 1.8, 1.5, 50.0),
-    "truck": VehicleType("truck", 8.0, 2.5, 3.2, 36.0, 1.3, 4.0, "truck"),
-    "bus": VehicleType("bus", 12.0, 2.5, 3.2, 30.0, 1.2, 4.0, "bus"),
-    "motorcycle": VehicleType("motorcycle", 2.2, 0.9, 1.5, 50.0, 4.0, 7.0, "motorcycle"),
-    "bicycle": VehicleType("bicycle", 1.8, 0.65, 1.7, 6.0, 1.2, 3.0, "bicycle"),
+    "car": VehicleType("passenger", *ActorClass.CAR.size.as_tuple(), 50.0),
+    "truck": VehicleType("truck", *ActorClass.TRUCK.size.as_tuple(), 36.0, 1.3, 4.0, "truck"),
+    "bus": VehicleType("bus", *ActorClass.BUS.size.as_tuple(), 30.0, 1.2, 4.0, "bus"),
+    "motorcycle": VehicleType(
+        "motorcycle", *ActorClass.MOTORCYCLE.size.as_tuple(), 50.0, 4.0, 7.0, "motorcycle"
+    ),
+    "bicycle": VehicleType(
+        "bicycle", *ActorClass.BICYCLE.size.as_tuple(), 6.0, 1.2, 3.0, "bicycle"
+    ),
 }
-PEDESTRIAN_TYPE = VehicleType("pedestrian", 0.3, 0.5, 1.7, 1.5, 1.5, 2.0, "pedestrian")
+PEDESTRIAN_TYPE = VehicleType(
+    "pedestrian", *ActorClass.PEDESTRIAN.size.as_tuple(), 1.5, 1.5, 2.0, "pedestrian"
+)
 
 
 @dataclass(frozen=True)
@@ -77,7 +85,7 @@ def _arrivals(rng: np.random.Generator, rate_per_hour: float, begin: float, end:
     return np.round(t[t < end], 1)
 
 
-def _od_pairs(net, vclass: str, directed: bool) -> list[tuple[str, str]]:
+def _od_pairs(net: sumolib.net.Net, vclass: str, directed: bool) -> list[tuple[str, str]]:
     """Fringe-to-fringe edge pairs connected for ``vclass``.
 
     Vehicles follow connections (directed); persons may walk either way along any edge that

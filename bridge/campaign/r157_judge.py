@@ -18,9 +18,11 @@ import numpy as np
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.campaign.sweep import SweepOptions, execute_runs
+from hiyari.bridge.scenario.result import JUDGE_KEYS
 from hiyari.bridge.scenario.toml_file import SENSOR_NAMES, ConcreteScenario
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.r157_points import R157Point
+from hiyari.units import G
 
 
 @dataclass(frozen=True)
@@ -75,7 +77,7 @@ def duration_for(point: R157Point, options: JudgeOptions) -> float:
     if point.scenario == "cut-out":
         travel = (point.dx0_f_m + 2.0 * point.ve0_mps + 10.0) / max(point.ve0_mps, 1.0)
         return max(w / point.vy_mps, travel) + options.settle_time
-    return point.ve0_mps / (9.81 * point.gx_max_g) + options.settle_time
+    return point.ve0_mps / (G * point.gx_max_g) + options.settle_time
 
 
 def point_scenario(
@@ -159,10 +161,8 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
                 "boundary_m": point.boundary_m,
                 "offset_m": point.offset_m,
                 "expected": point.expected,
+                **{k: r[k] for k in JUDGE_KEYS},
                 "collision": str(bool(r["collision"])) if r["status"] == "ok" else "",
-                "impact_speed_kmh": r["impact_speed_kmh"],
-                "min_ttc_s": r["min_ttc_s"],
-                "min_gap_m": r["min_gap_m"],
                 "verdict": verdict,
                 "error": r["error"],
             }
@@ -202,10 +202,7 @@ _STYLE = {
 
 def plot_judge(rows: list[dict], scenario: str, conditions: list[str], out: Path) -> Path:
     """Points over the datasheet axes, coloured by verdict; one column per condition."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     if scenario == "cut-in":
         xk, yk, xl, yl = "vy_mps", "dx0_m", "lateral velocity Vy (m/s)", "initial gap dx0 (m)"
@@ -230,9 +227,8 @@ def plot_judge(rows: list[dict], scenario: str, conditions: list[str], out: Path
         {group(r) for r in rows}, key=lambda g: float(g.split("=")[1].split()[0]) if "=" in g else 0
     )
     nrow, ncol = len(groups), len(conditions)
-    fig, axes = plt.subplots(
-        nrow, ncol, figsize=(4.2 * ncol + 1, 2.6 * nrow + 1), squeeze=False, sharex=True
-    )
+    fig = Figure(figsize=(4.2 * ncol + 1, 2.6 * nrow + 1))
+    axes = fig.subplots(nrow, ncol, squeeze=False, sharex=True)
     for i, g in enumerate(groups):
         for j, cond in enumerate(conditions):
             ax = axes[i][j]
@@ -261,5 +257,4 @@ def plot_judge(rows: list[dict], scenario: str, conditions: list[str], out: Path
     fig.tight_layout(rect=(0, 0, 1, 0.96))
     with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=100, format="png", bbox_inches="tight")
-    plt.close(fig)
     return out

@@ -42,7 +42,8 @@ from hiyari.risk.cc.evaluator import (
     decel_setup,
     run_chunked,
 )
-from hiyari.risk.cc.model import KMH_PER_MPS, CCParams
+from hiyari.risk.cc.model import CCParams
+from hiyari.units import KMH_PER_MPS
 
 _DEFAULT = CCParams()
 

@@ -10,13 +10,15 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
 from hiyari.risk.cc.boundary import CutInDatasheet, CutOutDatasheet, DecelDatasheet
-from hiyari.risk.cc.model import KMH_PER_MPS, CCParams
+from hiyari.risk.cc.model import CCParams
+from hiyari.units import KMH_PER_MPS
 
 PREVENTABLE = "#7fc97f"
 UNPREVENTABLE = "#f4a6a6"
@@ -140,7 +142,7 @@ def plot_cut_in(
     return _save(fig, Path(path))
 
 
-def _cut_in_summary(sheet: CutInDatasheet, ax, y_top: float) -> None:
+def _cut_in_summary(sheet: CutInDatasheet, ax: Axes, y_top: float) -> None:
     """Boundary against relative speed, one curve per Vy: where the Preventable gap ends."""
     dv = sheet.dv_kmh
     vys = np.unique(sheet.vy_mps)

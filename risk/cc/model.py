@@ -26,10 +26,10 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, fields, replace
 
-from hiyari.errors import HiyariError
+import numpy as np
 
-KMH_PER_MPS = 3.6
-"""Speeds are m/s in the Python API and km/h in files and on the command line."""
+from hiyari.errors import HiyariError
+from hiyari.units import G
 
 
 @dataclass(frozen=True)
@@ -39,7 +39,7 @@ class CCParams:
     Times in s, distances in m, decelerations in g (multiples of ``g_mps2``).
     """
 
-    g_mps2: float = 9.81
+    g_mps2: float = G
     """Standard gravity used to turn g into m/s² (MODELS.md §1)."""
 
     # -- perception and judgement (JAMA 2.3.3.1.1-3) --
@@ -174,7 +174,7 @@ class CCParams:
         """Initial lateral clearance dy0 between ego and the adjacent-lane vehicle (m)."""
         return self.lane_width_m - 0.5 * (self.ego_width_m + self.other_width_m)
 
-    def danger_judgement_time(self, vy_mps):
+    def danger_judgement_time(self, vy_mps: float | np.ndarray) -> float | np.ndarray:
         """Time (s) from the start of the lateral motion to danger judgement (array-friendly)."""
         if self.judgement == "time":
             return self.wander_m / vy_mps + self.perception_time_s
