@@ -1,0 +1,135 @@
+"""Repair valid OpenDRIVE that netconvert refuses, on a copy, naming every change.
+
+Other OpenDRIVE tools (esmini, CARLA, RoadRunner exports) read these constructs; netconvert
+stops on them. The pre-pass rewrites a temporary copy (never the user's file) so that
+netconvert reads what the author meant:
+
+- a junction ``<connection>`` without ``connectingRoad`` (the roads of a direct junction,
+  ``<junction type="direct">``, link through ``linkedRoad``): the linked road becomes the
+  connection's target, an ordinary road-to-road connection at the junction's node; a
+  connection that names no road at all is dropped;
+- ``<junction type="direct">``: netconvert's own junction type (the connections above carry
+  the links);
+- ``<arc curvature="0">``: a ``<line/>`` (the same geometry; netconvert divides by it);
+- ``<signal type="">`` (or no type): dropped (a signal of no type regulates nothing).
+
+Each repair is one line: ``<file>:<line>: <element>: <what was done>``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from lxml import etree
+
+from hiyari.atomic import atomic_path
+from hiyari.errors import HiyariError
+
+
+@dataclass(frozen=True)
+class Repair:
+    """One change made to the copy: the element's source line, a short tag, what was done."""
+
+    line: int
+    element: str
+    action: str
+
+    def message(self, source: str | Path) -> str:
+        """The one-line warning naming the user's file."""
+        return f"{source}:{self.line}: {self.element}: {self.action}"
+
+
+def _tag(el: etree._Element, *attrs: str) -> str:
+    """``<name a="1" b="2">`` with the given attributes, as written in the file."""
+    shown = " ".join(f'{a}="{el.get(a)}"' for a in attrs if el.get(a) is not None)
+    return f"<{etree.QName(el).localname}{' ' + shown if shown else ''}>"
+
+
+def _connections(root: etree._Element) -> list[Repair]:
+    repairs = []
+    for junction in root.iter("junction"):
+        for con in junction.findall("connection"):
+            if con.get("connectingRoad"):
+                continue
+            tag = _tag(con, "id", "incomingRoad", "linkedRoad")
+            linked = con.get("linkedRoad")
+            if linked:
+                con.set("connectingRoad", linked)
+                del con.attrib["linkedRoad"]
+                action = f"no connectingRoad: connected to linked road {linked} directly"
+            else:
+                junction.remove(con)
+                action = "no connectingRoad and no linkedRoad: dropped"
+            repairs.append(
+                Repair(con.sourceline or 0, f"junction {junction.get('id')} {tag}", action)
+            )
+    return repairs
+
+
+def _direct_junctions(root: etree._Element) -> list[Repair]:
+    repairs = []
+    for junction in root.iter("junction"):
+        if junction.get("type") == "direct":
+            tag = _tag(junction, "id", "type")
+            del junction.attrib["type"]
+            repairs.append(
+                Repair(
+                    junction.sourceline or 0,
+                    tag,
+                    "direct junction read as an ordinary junction of its road-to-road links",
+                )
+            )
+    return repairs
+
+
+def _zero_arcs(root: etree._Element) -> list[Repair]:
+    repairs = []
+    for arc in root.iter("arc"):
+        try:
+            curvature = float(arc.get("curvature", "nan"))
+        except ValueError:
+            continue
+        if curvature == 0.0:
+            road = next(arc.iterancestors("road"), None)
+            where = f"road {road.get('id')} " if road is not None else ""
+            arc.tag = "line"
+            del arc.attrib["curvature"]
+            repairs.append(
+                Repair(arc.sourceline or 0, f'{where}<arc curvature="0">', "read as a line")
+            )
+    return repairs
+
+
+def _untyped_signals(root: etree._Element) -> list[Repair]:
+    repairs = []
+    for signal in list(root.iter("signal")):
+        if not (signal.get("type") or "").strip():
+            road = next(signal.iterancestors("road"), None)
+            where = f"road {road.get('id')} " if road is not None else ""
+            repairs.append(
+                Repair(
+                    signal.sourceline or 0, where + _tag(signal, "id", "type"), "no type: dropped"
+                )
+            )
+            signal.getparent().remove(signal)
+    return repairs
+
+
+def repair_opendrive(source: str | Path, copy: str | Path) -> list[Repair]:
+    """Write to ``copy`` the OpenDRIVE file ``source`` with the repairs netconvert needs.
+
+    Returns the repairs in file order (empty: ``copy`` is an unchanged copy). ``source`` is
+    only read. HiyariError (one line) when ``source`` is not well-formed XML.
+    """
+    try:
+        tree = etree.parse(str(source), etree.XMLParser(huge_tree=True, remove_blank_text=False))
+    except (etree.XMLSyntaxError, OSError) as exc:
+        raise HiyariError(f"{source}: not well-formed XML: {exc}") from None
+    root = tree.getroot()
+    repairs = (
+        _connections(root) + _direct_junctions(root) + _zero_arcs(root) + _untyped_signals(root)
+    )
+    with atomic_path(copy) as tmp:
+        tree.write(str(tmp), xml_declaration=True, encoding="UTF-8")
+    return sorted(repairs, key=lambda r: r.line)
