@@ -206,8 +206,10 @@ class Commands:
         s = self._api()
         fx = x + 0.5 * length * math.cos(heading)
         fy = y + 0.5 * length * math.sin(heading)
+        # keepRoute 2 | 4: anywhere, mapped to the nearest lane whatever its permissions, so a
+        # scripted car stands on a shoulder or parking lane closed to ordinary traffic
         s.vehicle.moveToXY(
-            vehicle_id, edge, lane, fx, fy, angle=heading_to_sumo_angle(heading), keepRoute=2
+            vehicle_id, edge, lane, fx, fy, angle=heading_to_sumo_angle(heading), keepRoute=6
         )
         if speed is not None:
             s.vehicle.setSpeed(vehicle_id, speed)

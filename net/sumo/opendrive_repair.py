@@ -10,7 +10,11 @@ netconvert reads what the author meant:
   connection that names no road at all is dropped;
 - ``<junction type="direct">``: netconvert's own junction type (the connections above carry
   the links);
-- ``<arc curvature="0">``: a ``<line/>`` (the same geometry; netconvert divides by it);
+- ``<arc curvature="0">`` (or one too flat to bend the road by ``FLAT`` metres over its
+  length): a ``<line/>`` (the same geometry; netconvert divides by the curvature);
+- a ``<spiral>`` whose start and end curvatures (nearly) agree, so that it departs from an
+  arc by less than ``FLAT`` metres: an ``<arc>`` of the mean curvature (netconvert's spiral
+  code runs out of memory on them);
 - ``<signal type="">`` (or no type): dropped (a signal of no type regulates nothing).
 
 Each repair is one line: ``<file>:<line>: <element>: <what was done>``.
@@ -25,6 +29,10 @@ from lxml import etree
 
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
+
+#: Largest lateral departure, m, below which a curve is read as the simpler one (arc as line,
+#: spiral as arc): far below any lane-width or survey precision.
+FLAT = 1e-4
 
 
 @dataclass(frozen=True)
@@ -83,21 +91,40 @@ def _direct_junctions(root: etree._Element) -> list[Repair]:
     return repairs
 
 
-def _zero_arcs(root: etree._Element) -> list[Repair]:
+def _number(el: etree._Element, attr: str) -> float:
+    try:
+        return float(el.get(attr, "nan"))
+    except ValueError:
+        return float("nan")
+
+
+def _where(el: etree._Element) -> str:
+    road = next(el.iterancestors("road"), None)
+    return f"road {road.get('id')} " if road is not None else ""
+
+
+def _flat_curves(root: etree._Element) -> list[Repair]:
+    """Arcs without curvature as lines, spirals without change of curvature as arcs."""
     repairs = []
-    for arc in root.iter("arc"):
-        try:
-            curvature = float(arc.get("curvature", "nan"))
-        except ValueError:
-            continue
-        if curvature == 0.0:
-            road = next(arc.iterancestors("road"), None)
-            where = f"road {road.get('id')} " if road is not None else ""
-            arc.tag = "line"
-            del arc.attrib["curvature"]
-            repairs.append(
-                Repair(arc.sourceline or 0, f'{where}<arc curvature="0">', "read as a line")
-            )
+    for curve in list(root.iter("arc", "spiral")):
+        length = _number(curve.getparent(), "length")
+        if curve.tag == "arc":
+            k = _number(curve, "curvature")
+            if not (k == 0.0 or abs(k) * length**2 / 8 < FLAT):  # sagitta of the arc
+                continue
+            tag, action = _tag(curve, "curvature"), "read as a line"
+            curve.tag = "line"
+            del curve.attrib["curvature"]
+        else:
+            k0, k1 = _number(curve, "curvStart"), _number(curve, "curvEnd")
+            if not abs(k1 - k0) * length**2 / 24 < FLAT:  # departure from the mean arc
+                continue
+            tag = _tag(curve, "curvStart", "curvEnd")
+            action = f"constant curvature: read as an arc of curvature {(k0 + k1) / 2:.12g}"
+            curve.tag = "arc"
+            curve.attrib.clear()
+            curve.set("curvature", repr((k0 + k1) / 2))
+        repairs.append(Repair(curve.sourceline or 0, _where(curve) + tag, action))
     return repairs
 
 
@@ -128,7 +155,7 @@ def repair_opendrive(source: str | Path, copy: str | Path) -> list[Repair]:
         raise HiyariError(f"{source}: not well-formed XML: {exc}") from None
     root = tree.getroot()
     repairs = (
-        _connections(root) + _direct_junctions(root) + _zero_arcs(root) + _untyped_signals(root)
+        _connections(root) + _direct_junctions(root) + _flat_curves(root) + _untyped_signals(root)
     )
     with atomic_path(copy) as tmp:
         tree.write(str(tmp), xml_declaration=True, encoding="UTF-8")
