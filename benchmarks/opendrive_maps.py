@@ -22,6 +22,8 @@ from __future__ import annotations
 import argparse
 import concurrent.futures as cf
 import multiprocessing
+import resource
+import subprocess
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,7 +33,7 @@ from tqdm import tqdm
 from hiyari.errors import HiyariError
 from hiyari.net.road.geometry import RoadGeometry
 from hiyari.net.sumo.opendrive import import_opendrive
-from hiyari.sumo_tools import run_sumo_tool
+from hiyari.sumo_tools import sumo_binary, sumo_env
 from hiyari.traffic import DemandConfig, SimConfig, Simulation, write_demand
 
 
@@ -51,15 +53,25 @@ class MapResult:
     error: str = ""
 
 
+#: Memory and time granted to the baseline netconvert run (it exhausts memory on some maps).
+BASELINE_MEMORY = 4 << 30
+BASELINE_SECONDS = 120
+
+
+def _limit_memory() -> None:
+    resource.setrlimit(resource.RLIMIT_AS, (BASELINE_MEMORY, BASELINE_MEMORY))
+
+
 def _baseline(xodr: Path, tmp: Path) -> bool:
-    args = ["--opendrive-files", str(xodr), "--offset.disable-normalization", "true",
-            "--no-turnarounds", "true", "--opendrive.internal-shapes", "true",
-            "-o", str(tmp / "baseline.net.xml")]  # fmt: skip
+    args = [str(sumo_binary("netconvert")), "--opendrive-files", str(xodr),
+            "--offset.disable-normalization", "true", "--no-turnarounds", "true",
+            "--opendrive.internal-shapes", "true", "-o", str(tmp / "baseline.net.xml")]  # fmt: skip
     try:
-        run_sumo_tool("netconvert", args, str(xodr))
-    except HiyariError:
+        proc = subprocess.run(args, capture_output=True, env=sumo_env(), preexec_fn=_limit_memory,
+                              timeout=BASELINE_SECONDS)  # fmt: skip
+    except subprocess.TimeoutExpired:
         return False
-    return True
+    return proc.returncode == 0
 
 
 def _traffic(net: Path, tmp: Path, seconds: float, r: MapResult) -> None:
@@ -116,16 +128,21 @@ def _line(r: MapResult) -> str:
 
 def _plot(results: list[MapResult], png: Path) -> None:
     from matplotlib.figure import Figure
+    from matplotlib.patches import Rectangle
 
-    fig = Figure(figsize=(10, 0.28 * len(results) + 1.5))
+    fig = Figure(figsize=(8, 0.28 * len(results) + 1.8))
     ax = fig.add_subplot()
     names = [r.name.removesuffix(".xodr") for r in results]
-    status = [2 if r.traffic else 1 if r.imported else 0 for r in results]
-    colours = ["#c0392b", "#e67e22", "#27ae60"]
-    ax.barh(names, [1] * len(results), color=[colours[s] for s in status])
-    ax.set_xticks([])
-    ax.invert_yaxis()
-    ax.set_title("OpenDRIVE maps: green = 60 s of traffic, orange = imported only, red = failed")
+    columns = ["plain netconvert\nimport (baseline)", "hiyari\nimport", "60 s of\ntraffic"]
+    for k, r in enumerate(results):
+        for c, ok in enumerate((r.baseline_imported, r.imported, r.traffic)):
+            ax.add_patch(Rectangle((c, k), 0.95, 0.9, color="#27ae60" if ok else "#c0392b"))
+    ax.set_xlim(0, 3)
+    ax.set_ylim(len(results), 0)
+    ax.set_xticks([0.475, 1.475, 2.475], columns)
+    ax.xaxis.tick_top()
+    ax.set_yticks([k + 0.45 for k in range(len(results))], names)
+    ax.set_title("Third-party OpenDRIVE maps (green: done, red: failed)", pad=40)
     fig.tight_layout()
     fig.savefig(png, dpi=100)
 

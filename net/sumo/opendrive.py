@@ -131,6 +131,7 @@ def _choose_shapes(xodr: Path, source: Path, types: Path, opts: ImportOptions, w
                    warn: Callable[[str], None]) -> Path:  # fmt: skip
     """Convert with the file's junction shapes, falling back to computed ones (see module)."""
     first = opts.internal_shapes if opts.internal_shapes is not None else True
+    compare = opts.internal_shapes is None  # an explicit choice only falls back on failure
     results: dict[bool, tuple[Path, JunctionReport] | HiyariError] = {}
     for shapes in (first, not first):
         net = work / f"shapes-{shapes}.net.xml"
@@ -139,9 +140,7 @@ def _choose_shapes(xodr: Path, source: Path, types: Path, opts: ImportOptions, w
         except HiyariError as exc:
             results[shapes] = exc
         done = results[shapes]
-        if opts.internal_shapes is not None and not isinstance(done, HiyariError):
-            return done[0]  # the caller chose: no comparison, only a fallback on failure
-        if not isinstance(done, HiyariError) and done[1].clean:
+        if not isinstance(done, HiyariError) and (done[1].clean or not compare):
             break
     chosen = results[first]
     other = results.get(not first)
