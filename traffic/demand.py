@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 from lxml import etree
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
+from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
@@ -159,6 +159,7 @@ class _Graph:
 
     edges: list[str]
     succ: list[list[int]]
+    matrix: coo_matrix  # adjacency, edge index -> edge index
     comp: np.ndarray  # component label per edge
     comp_in: np.ndarray  # per component: edges enter it from other components
     comp_out: np.ndarray
@@ -190,7 +191,7 @@ def _vehicle_graph(net: _Net, vclass: str) -> _Graph:
     succ: list[list[int]] = [[] for _ in range(n)]
     for a, b in pairs:
         succ[a].append(b)
-    return _Graph(edges, succ, comp, comp_in, comp_out, cycle)
+    return _Graph(edges, succ, matrix.tocsr(), comp, comp_in, comp_out, cycle)
 
 
 def _trip_pairs(g: _Graph) -> list[tuple[int, int]]:
@@ -200,14 +201,10 @@ def _trip_pairs(g: _Graph) -> list[tuple[int, int]]:
     exits = {k for k in range(len(g.edges)) if not g.comp_out[g.comp[k]] and not closed[g.comp[k]]}
     pairs = []
     for origin in entry:
-        seen, queue = {origin}, deque([origin])
-        while queue:
-            for nxt in g.succ[queue.popleft()]:
-                if nxt not in seen:
-                    seen.add(nxt)
-                    queue.append(nxt)
+        seen = breadth_first_order(g.matrix, origin, directed=True, return_predecessors=False)
         own = g.comp_out[g.comp[origin]] or g.comp_cycle[g.comp[origin]]
-        pairs += [(origin, d) for d in sorted(seen & exits) if d != origin or not own]
+        pairs += [(origin, d) for d in sorted(exits.intersection(seen.tolist()))
+                  if d != origin or not own]  # fmt: skip
     return pairs
 
 

@@ -26,6 +26,7 @@ no rails unless the mesh builder guesses rails (see ``hiyari.net.mesh.road_mesh.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from enum import StrEnum
 from pathlib import Path
@@ -433,7 +434,7 @@ def _origin(lane: etree._Element) -> tuple[str, int | None]:
     return "", None
 
 
-def _border_points(lanes) -> np.ndarray:
+def _border_points(lanes: Iterable[Lane]) -> np.ndarray:
     """(P, 3) all left and right border points of the given lanes."""
     parts = [np.concatenate([ln.left, ln.right]) for ln in lanes]
     return np.concatenate(parts) if parts else np.zeros((0, 3))

@@ -119,7 +119,6 @@ LANE_TYPES: dict[str, LaneType] = {
         _t("median", LaneUse.VERGE, [], _G, imported=False, priority=0),
         _t("none", LaneUse.VERGE, [], _G, imported=False, priority=0),
         _t("restricted", LaneUse.VERGE, [], _A, imported=False, priority=0),
-        _t("shared", LaneUse.VERGE, [], _A, imported=False, priority=0),  # 1.8, no rule given
         _t("special1", LaneUse.VERGE, [], _A, imported=False, priority=0),
         _t("special2", LaneUse.VERGE, [], _A, imported=False, priority=0),
         _t("special3", LaneUse.VERGE, [], _A, imported=False, priority=0),

@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _add_params(parser: argparse.ArgumentParser, cls) -> None:
+def _add_params(parser: argparse.ArgumentParser, cls: type) -> None:
     docs = param_docs(cls)
     for f in dataclasses.fields(cls):
         flag = "--" + f.name.replace("_", "-")
