@@ -48,8 +48,10 @@ class JunctionReport:
         return ", ".join(parts) or "clean"
 
 
-def _paths(root: etree._Element) -> tuple[dict[str, shapely.LineString], dict[str, str]]:
-    """Per first internal lane of a link: the whole internal path and its target lane."""
+def _paths(
+    root: etree._Element,
+) -> tuple[dict[str, shapely.LineString], dict[str, str], dict[str, str]]:
+    """Per first internal lane of a link: the whole internal path, its target and source lane."""
     shapes = {
         ln.get("id"): [tuple(map(float, p.split(",")[:2])) for p in ln.get("shape", "").split()]
         for e in root.iter("edge")
@@ -58,9 +60,12 @@ def _paths(root: etree._Element) -> tuple[dict[str, shapely.LineString], dict[st
     }
     nxt: dict[str, str] = {}
     target: dict[str, str] = {}
+    source: dict[str, str] = {}
     for c in root.iter("connection"):
         via = c.get("via")
         src = f"{c.get('from')}_{c.get('fromLane')}"
+        if via and src not in shapes:
+            source[via] = src
         if src in shapes:  # internal -> internal (after an internal junction) or -> outgoing
             if via:
                 nxt[src] = via
@@ -78,13 +83,13 @@ def _paths(root: etree._Element) -> tuple[dict[str, shapely.LineString], dict[st
             trimmed = shapely.ops.substring(line, END_TRIM, max(line.length - END_TRIM, END_TRIM))
             paths[first] = trimmed
             targets[first] = target.get(lane, lane)
-    return paths, targets
+    return paths, targets, source
 
 
 def check_junctions(net: str | Path) -> JunctionReport:
     """Compare every junction's link logic with its link paths (see the module docstring)."""
     root = etree.parse(str(net), etree.XMLParser(huge_tree=True)).getroot()
-    paths, targets = _paths(root)
+    paths, targets, sources = _paths(root)
     report = JunctionReport()
     for j in root.iter("junction"):
         if j.get("type") in ("internal", "dead_end"):
@@ -98,7 +103,10 @@ def check_junctions(net: str | Path) -> JunctionReport:
                     continue
                 foe = b < len(foes[a]) and foes[a][b] == "1"
                 crossing = paths[la].intersects(paths[lb])
-                merging = targets.get(la) == targets.get(lb)
+                # vehicles of one lane follow each other; into one lane they merge: no crossing
+                merging = targets.get(la, la) == targets.get(lb, lb) or sources.get(
+                    la, la
+                ) == sources.get(lb, lb)
                 if crossing and not foe and not merging:
                     report.unregulated.append((j.get("id"), la, lb))
                 elif foe and not crossing and not merging:
