@@ -109,6 +109,8 @@ def test_all_lanes_keeps_cars_off_sidewalks_borders_and_medians(tmp_path):
     verge = {ln.id for ln in g.lanes.values() if ln.odr_type in ("border", "median")}
     walks = {ln.id for ln in g.lanes.values() if ln.odr_type == "sidewalk"}
     assert len(verge) == 8 and all(not g.lanes[i].allowed for i in verge)
+    assert {surface_material(g.lanes[i]) for i in verge} == {Material.GRASS}
+    assert {surface_material(g.lanes[i]) for i in walks} == {Material.CONCRETE}
     forbidden = verge | walks | {ln.id for ln in g.lanes.values() if ln.internal
                                  and "passenger" not in ln.allowed}  # fmt: skip
     demand = write_demand(

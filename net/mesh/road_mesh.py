@@ -40,7 +40,7 @@ from hiyari.net.mesh.primitives import (
 from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.net.road.geometry import Edge, Lane, LaneKind, RoadGeometry
 from hiyari.net.road.polylines import Polylines
-from hiyari.net.sumo.lane_types import LANE_TYPES
+from hiyari.net.sumo.lane_types import LANE_TYPES, lane_type
 
 __all__ = ["MeshParams", "build_scene_mesh", "export_mesh"]
 
@@ -111,10 +111,13 @@ def _strip_of(lanes: list[Lane], material: Material) -> SceneMesh:
 
 
 def surface_material(lane: Lane) -> Material:
-    """The material of a lane's surface: its OpenDRIVE lane type's in the lane-type table,
-    asphalt for lanes of other nets (and of types the table does not know)."""
-    entry = LANE_TYPES.get(lane.odr_type or lane.type)
-    return Material[entry.surface.name] if entry is not None else Material.ASPHALT
+    """The material of a lane's surface: its OpenDRIVE lane type's in the lane-type table
+    (grass for types the table does not know), asphalt for lanes of other nets."""
+    if lane.odr_type:
+        entry = lane_type(lane.odr_type)
+    elif (entry := LANE_TYPES.get(lane.type)) is None:
+        return Material.ASPHALT
+    return Material[entry.surface.name]
 
 
 def _surfaces(g: RoadGeometry, p: MeshParams) -> SceneMesh:
