@@ -157,3 +157,25 @@ def test_a_map_netconvert_rejects_with_one_junction_setting_falls_back(tmp_path,
         import_opendrive(src, tmp_path / "l.net.xml", warn=warnings.append)
     assert "j.xodr" in str(err.value) and "\n" not in str(err.value)
     assert not (tmp_path / "l.net.xml").exists()
+
+
+def test_connecting_roads_not_marked_as_junction_roads(tmp_path):
+    """Connecting roads written with junction="-1" become the junction's connecting roads
+    (not ordinary roads crossing inside the junction without right-of-way rules)."""
+    src = _crossless_junction(tmp_path / "j.xodr")
+    root = etree.parse(str(src)).getroot()
+    for r in root.iter("road"):
+        if r.get("junction") == "100":
+            r.set("junction", "-1")
+    write(root, src)
+    warnings: list[str] = []
+    net = import_opendrive(src, tmp_path / "j.net.xml", warn=warnings.append)
+    assert len(warnings) == 2
+    assert all("connecting road of junction 100" in w for w in warnings)
+    assert {w.split(": ")[1] for w in warnings} == {
+        '<road id="101" junction="-1">',
+        '<road id="102" junction="-1">',
+    }
+    g = RoadGeometry.from_net(net)
+    normal = {e.id.lstrip("-").split("#")[0] for e in g.edges.values() if e.function == ""}
+    assert normal == {"1", "2", "3"}  # 101 and 102 are lanes inside junction 100

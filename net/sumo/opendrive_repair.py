@@ -10,6 +10,9 @@ netconvert reads what the author meant:
   connection that names no road at all is dropped;
 - ``<junction type="direct">``: netconvert's own junction type (the connections above carry
   the links);
+- a road named as a junction's ``connectingRoad`` but marked ``junction="-1"``: a connecting
+  road of that junction (read as an ordinary road, it would cross the junction's other
+  connecting roads with no junction logic between them);
 - ``<arc curvature="0">`` (or one too flat to bend the road by ``FLAT`` metres over its
   length): a ``<line/>`` (the same geometry; netconvert divides by the curvature);
 - a ``<spiral>`` whose start and end curvatures (nearly) agree, so that it departs from an
@@ -72,6 +75,24 @@ def _connections(root: etree._Element) -> list[Repair]:
             repairs.append(
                 Repair(con.sourceline or 0, f"junction {junction.get('id')} {tag}", action)
             )
+    return repairs
+
+
+def _unmarked_connecting_roads(root: etree._Element) -> list[Repair]:
+    """Roads a (non-direct) junction connects through that do not say they belong to it."""
+    roads = {r.get("id"): r for r in root.iter("road")}
+    repairs = []
+    for junction in root.iter("junction"):
+        if junction.get("type") == "direct":
+            continue
+        for con in junction.findall("connection"):
+            road = roads.get(con.get("connectingRoad"))
+            if road is None or road.get("junction", "-1") != "-1":
+                continue
+            tag = _tag(road, "id", "junction")
+            road.set("junction", junction.get("id"))
+            repairs.append(Repair(road.sourceline or 0, tag,
+                                  f"connecting road of junction {junction.get('id')}: marked so"))  # fmt: skip
     return repairs
 
 
@@ -155,8 +176,9 @@ def repair_opendrive(source: str | Path, copy: str | Path) -> list[Repair]:
         raise HiyariError(f"{source}: not well-formed XML: {exc}") from None
     root = tree.getroot()
     repairs = (
-        _connections(root) + _direct_junctions(root) + _flat_curves(root) + _untyped_signals(root)
-    )
+        _unmarked_connecting_roads(root) + _connections(root) + _direct_junctions(root)
+        + _flat_curves(root) + _untyped_signals(root)
+    )  # fmt: skip
     with atomic_path(copy) as tmp:
         tree.write(str(tmp), xml_declaration=True, encoding="UTF-8")
     return sorted(repairs, key=lambda r: r.line)
