@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from xodr_authoring import town_map
+from xodr_authoring import opendrive, road, town_map, write
 
 from hiyari.bridge.cli.main import main
 from hiyari.net.mesh.materials import Material
@@ -139,3 +139,19 @@ def test_lane_type_table_is_consistent():
     assert LANE_TYPES["sidewalk"].allow == ("pedestrian",) and LANE_TYPES["sidewalk"].imported
     assert LANE_TYPES["biking"].allow == ("bicycle",)
     assert LANE_TYPES["border"].surface.value == "grass"
+
+
+def test_lane_types_unknown_to_the_table_are_verge(tmp_path):
+    root = opendrive()
+    lanes = {1: ("driving", 3.5), -1: ("driving", 3.5), -2: ("fooLane", 2.0), 2: ("shared", 2.0)}
+    road(root, 1, (0.0, 0.0, 0.0), 100.0, lanes)
+    src = write(root, tmp_path / "unknown.xodr")
+    g = RoadGeometry.from_net(import_opendrive(src, tmp_path / "u.net.xml"))
+    assert sorted(ln.odr_type for ln in g.lanes.values()) == ["driving", "driving"]
+    g = RoadGeometry.from_net(
+        import_opendrive(src, tmp_path / "all.net.xml", ImportOptions(all_lanes=True))
+    )
+    odd = [ln for ln in g.lanes.values() if ln.odr_type in ("fooLane", "shared")]
+    assert len(odd) == 2 and all(not ln.allowed and ln.kind == LaneKind.OTHER for ln in odd)
+    assert {surface_material(ln) for ln in odd} == {Material.GRASS}
+    assert not g.walking_areas  # nobody may walk there either

@@ -17,7 +17,8 @@ Types unknown to the table are imported as verge (no traffic) only with ``all_la
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Iterable
+from dataclasses import dataclass, replace
 from enum import StrEnum
 from pathlib import Path
 
@@ -134,14 +135,17 @@ def lane_type(name: str) -> LaneType:
     return LANE_TYPES.get(name, UNKNOWN)
 
 
-def write_type_map(path: str | Path) -> Path:
+def write_type_map(path: str | Path, others: Iterable[str] = ()) -> Path:
     """Write the table as a netconvert type file (``--type-files``) and return its path.
 
-    Types not imported by default are marked ``discard``; netconvert's
-    ``--opendrive.import-all-lanes`` imports them anyway, closed to every vehicle.
+    ``others`` are lane type names the table does not know (found in a file): they are
+    written as ``UNKNOWN`` (netconvert would otherwise open them to every vehicle). Types not
+    imported by default are marked ``discard``; netconvert's ``--opendrive.import-all-lanes``
+    imports them anyway, closed to every vehicle.
     """
     root = etree.Element("types")
-    for t in LANE_TYPES.values():
+    unknown = [replace(UNKNOWN, name=n) for n in sorted(set(others) - LANE_TYPES.keys())]
+    for t in [*LANE_TYPES.values(), *unknown]:
         attrs = {"id": t.name, "priority": str(t.priority), "speed": f"{t.speed:.2f}"}
         if t.allow:
             attrs["allow"] = " ".join(t.allow)

@@ -180,13 +180,14 @@ def import_opendrive(
     if not opts.curve_resolution > 0:
         raise HiyariError(f"curve resolution must be positive, got {opts.curve_resolution} m")
     xodr = Path(xodr)
-    check_opendrive(xodr)
+    root = check_opendrive(xodr)
+    lane_types = {ln.get("type", "") for ln in root.iter("lane")} - {""}
     with tempfile.TemporaryDirectory(prefix="hiyari-net-") as tmp:
         work = Path(tmp)
         repaired = work / xodr.name
         for repair in repair_opendrive(xodr, repaired):
             warn(repair.message(xodr))
-        types = write_type_map(work / "opendrive.typ.xml")
+        types = write_type_map(work / "opendrive.typ.xml", lane_types)
         net = _choose_shapes(repaired, xodr, types, opts, work, warn)
         with atomic_path(out) as target:
             target.write_bytes(net.read_bytes())
