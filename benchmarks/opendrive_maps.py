@@ -142,7 +142,7 @@ def _plot(results: list[MapResult], png: Path) -> None:
     ax.set_xticks([0.475, 1.475, 2.475], columns)
     ax.xaxis.tick_top()
     ax.set_yticks([k + 0.45 for k in range(len(results))], names)
-    ax.set_title("Third-party OpenDRIVE maps (green: done, red: failed)", pad=40)
+    ax.set_title("Third-party OpenDRIVE maps\n(green: done, red: failed)", pad=40)
     fig.tight_layout()
     fig.savefig(png, dpi=100)
 

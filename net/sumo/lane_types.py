@@ -3,8 +3,8 @@
 Every OpenDRIVE lane type (ASAM OpenDRIVE 1.4 - 1.8, ``<lane type="...">``) maps to
 - SUMO permissions (the vehicle classes allowed on the lane), written into the netconvert
   type map that the import uses, so the converted net carries them;
-- a use (what the lane is for: traffic, shoulder, sidewalk, bike path, parking, verge), from
-  which the road model classifies lanes;
+- a use (what the lane is for: traffic, shoulder, sidewalk, bike path, parking, verge), the
+  role the permissions express (the road model's lane kinds follow from the permissions);
 - a surface (asphalt, concrete, grass), which the 3D scene draws;
 - whether the import keeps the lane by default (verge types only with ``all_lanes``).
 
