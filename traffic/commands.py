@@ -212,8 +212,10 @@ class Commands:
         ``speed`` m/s is what SUMO reports for it (None: implied by the move)."""
         s = self._api()
         fx, fy = (float(v) for v in point_ahead((x, y), heading, 0.5 * length))
+        # keepRoute 2 | 4: anywhere, mapped to the nearest lane whatever its permissions, so a
+        # scripted car stands on a shoulder or parking lane closed to ordinary traffic
         s.vehicle.moveToXY(
-            vehicle_id, edge, lane, fx, fy, angle=heading_to_sumo_angle(heading), keepRoute=2
+            vehicle_id, edge, lane, fx, fy, angle=heading_to_sumo_angle(heading), keepRoute=6
         )
         if speed is not None:
             s.vehicle.setSpeed(vehicle_id, speed)
