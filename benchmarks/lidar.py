@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -30,7 +31,7 @@ from hiyari.net.sumo.build import CityGridParams, build_city_grid
 from hiyari.sensors.camera.config import CameraConfig
 from hiyari.sensors.camera.sensor import Camera
 from hiyari.sensors.environment.conditions import Environment
-from hiyari.sensors.frames import Mount, VehiclePose
+from hiyari.sensors.frames import Mount
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.recognition import recognise_lidar
 from hiyari.sensors.lidar.sensor import Lidar
@@ -40,9 +41,10 @@ from hiyari.sensors.scene.actor_shapes import ActorAppearance, build_actor_mesh
 from hiyari.sensors.scene.ray_scene import RayScene
 from hiyari.traffic.demand import DemandConfig, write_demand
 from hiyari.traffic.simulation import SimConfig, Simulation
+from hiyari.traffic.world_state import WorldState
 
 
-def best_ms(fn, repeats: int) -> float:
+def best_ms(fn: Callable[[], object], repeats: int) -> float:
     """Fastest wall time of ``fn()`` over ``repeats`` calls after one warm-up, ms (the least
     disturbed run: this machine's cores are shared with other work)."""
     fn()
@@ -54,7 +56,9 @@ def best_ms(fn, repeats: int) -> float:
     return 1e3 * float(np.min(times))
 
 
-def paired(raw, full, repeats: int) -> tuple[float, float, float]:
+def paired(
+    raw: Callable[[], object], full: Callable[[], object], repeats: int
+) -> tuple[float, float, float]:
     """Alternate raw and full runs so both see the same machine load; fastest times (ms) and
     the median of the per-pair ratios raw / full."""
     raw()
@@ -71,7 +75,7 @@ def paired(raw, full, repeats: int) -> tuple[float, float, float]:
     return 1e3 * r_t.min(), 1e3 * f_t.min(), float(np.median(r_t / f_t))
 
 
-def city_state(folder: Path, min_actors: int, seed: int):
+def city_state(folder: Path, min_actors: int, seed: int) -> tuple[SceneMesh, WorldState]:
     """City net, its scene mesh, and a WorldState with >= ``min_actors`` actors."""
     net = build_city_grid(
         folder / "city.net.xml", CityGridParams(blocks_x=4, blocks_y=4, block_length=150.0)
@@ -105,7 +109,7 @@ def main() -> None:
     veh = np.flatnonzero(world.is_vehicle)
     centre = mesh.vertices[:, :2].mean(0)
     ego_id = str(world.ids[veh[np.argmin(np.linalg.norm(world.xyz[veh, :2] - centre, axis=1))]])
-    ego = VehiclePose.from_world(world, ego_id)
+    ego = world.pose_of(ego_id)
     env = Environment()
     lidar = Lidar(LidarConfig.preset("64ch"), Mount(x=0.0, z=1.9))
     scene = RayScene(mesh)

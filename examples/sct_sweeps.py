@@ -16,10 +16,7 @@ import csv
 from dataclasses import replace
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.figure import Figure
 from tqdm import tqdm  # noqa: E402
 
 from hiyari.atomic import atomic_path  # noqa: E402
@@ -72,7 +69,8 @@ def main() -> None:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4))
+    fig = Figure(figsize=(11, 4))
+    ax1, ax2 = fig.subplots(1, 2)
     for pph in volumes:
         pts = sorted(
             (r for r in rows if r["persons_per_hour"] == pph), key=lambda r: r["penetration"]
@@ -89,7 +87,6 @@ def main() -> None:
         ax.legend()
     with atomic_path(out / "sweep.png") as tmp:
         fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
-    plt.close(fig)
     print(f"{len(points)} points ({len(volumes)} volumes x {len(shares)} shares)")
     for r in rows:
         print(

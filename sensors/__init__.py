@@ -2,8 +2,7 @@
 
 Closed-loop use (build the scene once per network, update the actors every step)::
 
-    from hiyari.sensors import (Environment, RayScene, SensorRig, VehiclePose,
-                                disturbance_preset)
+    from hiyari.sensors import Environment, RayScene, SensorRig, disturbance_preset
     scene = RayScene(static_mesh)                    # Embree BVH of the road, built once
     rig = SensorRig.default()                         # 64ch LiDAR 10 Hz, radar 20 Hz, camera 30 Hz
     preset = disturbance_preset("rain")               # or Environment(...) directly
@@ -11,7 +10,7 @@ Closed-loop use (build the scene once per network, update the actors every step)
     rng = np.random.default_rng(seed)
     for world in sim.run():
         scene.update(world, ego_id)                   # actor shapes only
-        ego = VehiclePose.from_world(world, ego_id)   # or any object with x, y, z, heading, speed
+        ego = world.pose_of(ego_id)                   # a hiyari.kinematics.Pose
         env = preset.environment_for(ego.heading)
         for sensor in rig.due(world.time, step):
             raw, objects = rig.sense(sensor, scene, ego, world, env, rng)
@@ -42,7 +41,6 @@ _WHERE = {
     "SensorRig": "rig",
     "Soiling": "environment.conditions",
     "SoilingSpot": "environment.conditions",
-    "VehiclePose": "frames",
     "disturbance_preset": "environment.presets",
     "recognise_lidar": "lidar.recognition",
     "recognise_radar": "radar.recognition",

@@ -20,13 +20,13 @@ from hiyari.errors import HiyariError
 from hiyari.sensors.camera.config import CameraConfig
 from hiyari.sensors.camera.sensor import Camera
 from hiyari.sensors.environment.presets import PRESETS, DisturbancePreset
-from hiyari.sensors.frames import Mount, VehiclePose
+from hiyari.sensors.frames import Mount
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.sensor import Lidar
 from hiyari.sensors.radar.config import RadarConfig
 from hiyari.sensors.radar.sensor import Radar
 from hiyari.sensors.scene.ray_scene import RayScene
-from hiyari.sensors.scene.synthetic import DEFAULT_SIZE, StraightRoad, actor_world
+from hiyari.sensors.scene.synthetic import StraightRoad, actor_world
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
@@ -72,8 +72,8 @@ def target_world(target: str, distance: float, occluder: bool) -> WorldState:
         )
     else:
         actors.append(dict(id="target", cls=ActorClass.CAR, x=distance, y=EGO_LANE_Y))
-    truck_length, truck_width = DEFAULT_SIZE[ActorClass.TRUCK][:2]
-    ego_front = DEFAULT_SIZE[ActorClass.CAR][0] / 2
+    truck_length, truck_width = ActorClass.TRUCK.size.length, ActorClass.TRUCK.size.width
+    ego_front = ActorClass.CAR.size.length / 2
     if occluder and distance - OCCLUDER_GAP_M - truck_length / 2 > ego_front + OCCLUDER_CLEARANCE_M:
         # the truck's right edge runs through the target's centre line: half of it is hidden
         actors.append(
@@ -104,7 +104,7 @@ class RangeSweep:
         for i, d in enumerate(self.study.distances_m):
             world = target_world(target, float(d), preset.occluder)
             self.scene.update(world, "ego")
-            ego = VehiclePose.from_world(world, "ego")
+            ego = world.pose_of("ego")
             env = preset.environment_for(ego.heading)
             rng = np.random.default_rng([self.study.seed, i])
             _, lidar_objects = self.lidar.sense(self.scene, ego, world, env, rng)
@@ -184,10 +184,7 @@ def table_markdown(rows: list[dict]) -> str:
 
 def write_table(rows: list[dict], out_dir: str | Path) -> dict[str, Path]:
     """Write perception_table.md, .csv and .png into ``out_dir``; returns the paths."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -206,7 +203,8 @@ def write_table(rows: list[dict], out_dir: str | Path) -> dict[str, Path]:
         w.writerows(rows)
     targets = list(dict.fromkeys(r["target"] for r in rows))
     presets = list(dict.fromkeys(r["preset"] for r in rows))
-    fig, axes = plt.subplots(1, len(targets), figsize=(6 * len(targets), 4.5), sharey=True)
+    fig = Figure(figsize=(6 * len(targets), 4.5))
+    axes = fig.subplots(1, len(targets), sharey=True)
     for ax, t in zip(np.atleast_1d(axes), targets, strict=True):
         x = np.arange(len(presets))
         for k, s in enumerate(SENSORS):
@@ -224,5 +222,4 @@ def write_table(rows: list[dict], out_dir: str | Path) -> dict[str, Path]:
     fig.tight_layout()
     with atomic_path(paths["png"]) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
     return paths

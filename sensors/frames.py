@@ -1,5 +1,7 @@
 """Sensor mounting and frames: where a sensor sits on the ego and how that maps to the world.
 
+The ego's pose is a hiyari.kinematics.Pose (``WorldState.pose_of(ego_id)``).
+
 Ego frame: x forward, y left, z up, origin at the centre of the ego's ground rectangle (the
 WorldState ``xyz``). Sensor frame: x along the boresight, y left, z up. Angles of a mount in
 degrees: yaw positive to the left, pitch positive nose-down, roll positive right side down
@@ -9,50 +11,10 @@ degrees: yaw positive to the left, pitch positive nose-down, roll positive right
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Protocol
 
 import numpy as np
 
-from hiyari.errors import HiyariError
-from hiyari.traffic.world_state import WorldState
-
-
-class PoseLike(Protocol):
-    """Anything with an ego pose: network metres, heading rad CCW from +x, speed m/s."""
-
-    x: float
-    y: float
-    z: float
-    heading: float
-    speed: float
-
-
-@dataclass(frozen=True)
-class VehiclePose:
-    """An actor's pose read from one WorldState row (satisfies PoseLike)."""
-
-    x: float
-    y: float
-    z: float
-    heading: float
-    speed: float
-
-    @staticmethod
-    def from_world(world: WorldState, actor_id: str) -> VehiclePose:
-        """Pose of ``actor_id`` in ``world``; HiyariError when it is not there."""
-        try:
-            row = world.index(actor_id)
-        except KeyError:
-            raise HiyariError(
-                f"ego {actor_id!r} is not in the WorldState at t={world.time} s"
-            ) from None
-        return VehiclePose(
-            float(world.xyz[row, 0]),
-            float(world.xyz[row, 1]),
-            float(world.xyz[row, 2]),
-            float(world.heading[row]),
-            float(world.speed[row]),
-        )
+from hiyari.kinematics import Pose
 
 
 def rotation(yaw: float, pitch: float, roll: float) -> np.ndarray:
@@ -87,20 +49,7 @@ class Mount:
         return m
 
 
-def ego_to_world(ego: PoseLike) -> np.ndarray:
-    """(4, 4) transform from the ego frame to network coordinates (flat: no pitch or roll)."""
-    c, s = np.cos(ego.heading), np.sin(ego.heading)
-    m = np.eye(4)
-    m[:2, :2] = [[c, -s], [s, c]]
-    m[:3, 3] = [ego.x, ego.y, ego.z]
-    return m
-
-
-def sensor_to_world(mount: Mount, ego: PoseLike) -> np.ndarray:
-    """(4, 4) transform from the sensor frame to network coordinates."""
-    return ego_to_world(ego) @ mount.sensor_to_ego()
-
-
-def ego_velocity(ego: PoseLike) -> np.ndarray:
-    """(3,) ego velocity in the network frame, m/s (along the heading)."""
-    return ego.speed * np.array([np.cos(ego.heading), np.sin(ego.heading), 0.0])
+def sensor_to_world(mount: Mount, ego: Pose) -> np.ndarray:
+    """(4, 4) transform from the sensor frame to network coordinates (the ego flat: no pitch
+    or roll)."""
+    return ego.to_world() @ mount.sensor_to_ego()

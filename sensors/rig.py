@@ -17,10 +17,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from hiyari.kinematics import Pose
 from hiyari.sensors.camera.config import CameraConfig
 from hiyari.sensors.camera.sensor import Camera
 from hiyari.sensors.environment.conditions import Environment
-from hiyari.sensors.frames import Mount, PoseLike
+from hiyari.sensors.frames import Mount
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.sensor import Lidar
 from hiyari.sensors.outputs import CameraFrame, ObjectList, PointCloud, RadarDetections
@@ -70,7 +71,7 @@ class SensorRig:
         self,
         sensor: Sensor,
         scene: RayScene,
-        ego: PoseLike,
+        ego: Pose,
         world: WorldState,
         env: Environment,
         rng: np.random.Generator,

@@ -7,11 +7,10 @@ import csv
 from pathlib import Path
 
 import cv2
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.patches import Rectangle
 
 from hiyari.atomic import atomic_path  # noqa: E402
 from hiyari.sensors.outputs import CameraFrame, ObjectList, PointCloud, RadarDetections  # noqa: E402
@@ -102,12 +101,12 @@ def write_radar_csv(det: RadarDetections, path: Path) -> Path:
     return path
 
 
-def _boxes(ax, objects: ObjectList) -> None:
+def _boxes(ax: Axes, objects: ObjectList) -> None:
     for p, s, t in zip(objects.position, objects.size, objects.truth, strict=True):
         length, width = np.nan_to_num(s[:2], nan=1.0)
         colour = "tab:gray" if t == "static" else ("tab:red" if t == "" else "tab:green")
         ax.add_patch(
-            plt.Rectangle(
+            Rectangle(
                 (p[1] - width / 2, p[0] - length / 2), width, length, fill=False, ec=colour, lw=1
             )
         )
@@ -119,7 +118,8 @@ def plot_point_cloud(
     cloud: PointCloud, objects: ObjectList, path: Path, title: str, extent: float = 60.0
 ) -> Path:
     """Bird's-eye view (x forward up, y left to the left), intensity colours, object boxes."""
-    fig, ax = plt.subplots(figsize=(7, 7))
+    fig = Figure(figsize=(7, 7))
+    ax = fig.subplots()
     near = (np.abs(cloud.xyz[:, 0]) < extent) & (np.abs(cloud.xyz[:, 1]) < extent)
     xyz, inten = cloud.xyz[near], cloud.intensity[near]
     sc = ax.scatter(
@@ -144,7 +144,8 @@ def plot_point_cloud(
 
 def plot_radar(det: RadarDetections, objects: ObjectList, path: Path, title: str) -> Path:
     """Bird's-eye view of detections coloured by range rate, sized by SNR, with objects."""
-    fig, ax = plt.subplots(figsize=(7, 7))
+    fig = Figure(figsize=(7, 7))
+    ax = fig.subplots()
     xyz = det.xyz()
     sc = ax.scatter(
         xyz[:, 1],
@@ -183,9 +184,8 @@ def write_camera(frame: CameraFrame, annotated: np.ndarray, folder: Path) -> lis
     ]
 
 
-def _save(fig, path: Path) -> Path:
+def _save(fig: Figure, path: Path) -> Path:
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
     return path

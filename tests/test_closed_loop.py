@@ -37,7 +37,7 @@ def test_dart_out_same_seed_same_result():
 
 def test_stationary_car_approach():
     ok = run_concrete(_cs("stationary", {"ve0_kmh": 50.0, "gap_m": 100.0}, duration=20.0))
-    assert not ok.collision and min(ok.series["ego_speed"]) < 0.05
+    assert not ok.collision and min(ok.series.ego_speed) < 0.05
     assert 0.0 < ok.min_gap < 5.0
     blind = run_concrete(_cs("stationary", {"ve0_kmh": 50.0, "gap_m": 100.0}, "none", 20.0))
     assert blind.collision and blind.collided_with == "other"

@@ -30,9 +30,9 @@ def test_sensor_run_records_and_reads_back(tmp_path):
     path = tmp_path / "run.mcap"
     assert path.exists() and not (tmp_path / "run.mcap.part").exists()
     rec = Recording.open(path)
-    assert len(rec) == seen["steps"] == len(res.series["t"])
+    assert len(rec) == seen["steps"] == len(res.series.t)
     times = [rec.world(k).time for k in range(len(rec))]
-    assert np.allclose(times, res.series["t"])
+    assert np.allclose(times, res.series.t)
     world, ego = rec.world_and_ego(len(rec) - 1)
     assert ego == "ego" and {"child", "parked"} <= set(world.ids.tolist())
     assert world.speed[world.index("ego")] == seen["ego_speed"][-1]

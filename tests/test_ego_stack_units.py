@@ -11,14 +11,14 @@ from hiyari.bridge.stack.aeb import (
     AEBConfig,
     AEBPlanner,
     AEBStage,
-    footprint_extent,
     time_to_collision,
+    track_extent,
 )
-from hiyari.bridge.stack.ego_pose import EgoPose
 from hiyari.bridge.stack.fusion import KalmanFusion
+from hiyari.kinematics import Pose
 from hiyari.sensors.outputs import ObjectList
 
-EGO = EgoPose(0.0, 0.0, 0.0, 0.0, 20.0, 0.0, 4.8, 1.9)
+EGO = Pose(0.0, 0.0, 0.0, 0.0, 20.0, 0.0, 4.8, 1.9)
 
 
 def _objs(pos, vel, size, source="truth", truth=None, frame=None, cls=0):
@@ -64,9 +64,9 @@ def test_ttc_rear_end_and_crossing_by_hand():
 
 def test_footprint_extent_follows_heading():
     # Annex G: a car cutting in at Vy = 1 m/s while doing 10 m/s heads atan(0.1) off the road
-    ego = EgoPose(0.0, 0.0, 0.0, 0.0, 15.0, 0.0, 4.8, 1.9)
+    ego = Pose(0.0, 0.0, 0.0, 0.0, 15.0, 0.0, 4.8, 1.9)
     tracks = _objs([[20.0, 3.5]], [[-5.0, -1.0]], [[5.3, 1.9, 1.5]])
-    ext_x, ext_y = footprint_extent(tracks, ego)
+    ext_x, ext_y = track_extent(tracks, ego)
     psi = math.atan2(1.0, 10.0)
     assert ext_y[0] == pytest.approx((5.3 * math.sin(psi) + 1.9 * math.cos(psi)) / 2)
     assert ext_x[0] == pytest.approx((5.3 * math.cos(psi) + 1.9 * math.sin(psi)) / 2)
@@ -94,7 +94,7 @@ def test_aeb_stages_and_actuation_delay():
 def _track_cv_target(noise: float, seed: int = 0) -> list[np.ndarray]:
     fusion = KalmanFusion()
     rng = np.random.default_rng(seed)
-    ego = EgoPose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 4.8, 1.9)
+    ego = Pose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 4.8, 1.9)
     vel = []
     for k in range(60):
         t = k * 0.1
@@ -129,7 +129,7 @@ def test_kalman_fusion_tracks_constant_velocity_target():
 def test_camera_bearing_fused_with_radar_range():
     """Camera gives class and bearing, radar gives range: the fused object takes both."""
     fusion = KalmanFusion()
-    ego = EgoPose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 4.8, 1.9)
+    ego = Pose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 4.8, 1.9)
     bearing = math.radians(2.0)
     for k in range(3):
         t = k * 0.1

@@ -13,7 +13,7 @@ from hiyari.sensors.camera.config import CameraConfig
 from hiyari.sensors.camera.sensor import Camera
 from hiyari.sensors.environment.conditions import Environment, Illumination
 from hiyari.sensors.environment.presets import PRESETS
-from hiyari.sensors.frames import Mount, VehiclePose
+from hiyari.sensors.frames import Mount
 from hiyari.sensors.scene.actor_shapes import ActorAppearance
 from hiyari.sensors.scene.ray_scene import RayScene
 from hiyari.sensors.scene.synthetic import StraightRoad, actor_world
@@ -43,7 +43,7 @@ def detection_range(scene: RayScene, camera: Camera, env: Environment, clothing:
     for d in np.arange(5.0, 100.0, 2.5):
         world = pedestrian_at(float(d))
         scene.update(world, "ego")
-        view = camera.view(scene, VehiclePose.from_world(world, "ego"), world, env)
+        view = camera.view(scene, world.pose_of("ego"), world, env)
         if np.any(view.probability[world.ids[view.rows] == "ped"] >= 0.5):
             best = float(d)
     return best
@@ -87,7 +87,7 @@ def test_camera_range_error_grows_with_distance(road):
     for d in (15.0, 45.0):
         world = pedestrian_at(d)
         road.update(world, "ego")
-        ego = VehiclePose.from_world(world, "ego")
+        ego = world.pose_of("ego")
         rng = np.random.default_rng(0)
         err = []
         for _ in range(300):
@@ -105,7 +105,7 @@ def test_occluded_pedestrian_is_not_seen(road):
     for occluder, expect_seen in ((False, True), (True, False)):
         world = pedestrian_at(20.0, occluder)
         road.update(world, "ego")
-        view = cam.view(road, VehiclePose.from_world(world, "ego"), world, Environment())
+        view = cam.view(road, world.pose_of("ego"), world, Environment())
         ped = world.ids[view.rows] == "ped"
         assert (view.probability[ped][0] > 0.9) == expect_seen
         assert (view.visible[ped][0] == 0.0) == (not expect_seen)
@@ -119,7 +119,7 @@ def test_presets_change_the_rendered_image(road):
     world = pedestrian_at(20.0)
     road.set_appearance(ActorAppearance())
     road.update(world, "ego")
-    ego = VehiclePose.from_world(world, "ego")
+    ego = world.pose_of("ego")
 
     def frame(name: str):
         return cam.render(

@@ -15,7 +15,7 @@ from hiyari.sensors.detection_range import RangeStudy, RangeSweep
 from hiyari.sensors.environment.atmosphere import AtmosphereModel
 from hiyari.sensors.environment.conditions import Environment
 from hiyari.sensors.environment.presets import PRESETS
-from hiyari.sensors.frames import Mount, VehiclePose
+from hiyari.sensors.frames import Mount
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.sensor import Lidar
 from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
@@ -37,11 +37,11 @@ def one_channel(fov_deg: float = 60.0, columns: int = 61, **kw) -> LidarConfig:
 
 def ego_only(speed: float = 0.0):
     world = actor_world([dict(id="ego", cls=ActorClass.CAR, x=0.0, y=0.0, speed=speed)])
-    return world, VehiclePose.from_world(world, "ego")
+    return world, world.pose_of("ego")
 
 
 def scan(mesh: SceneMesh, config: LidarConfig, env=None, seed=0, world=None):
-    world, ego = (world, VehiclePose.from_world(world, "ego")) if world is not None else ego_only()
+    world, ego = (world, world.pose_of("ego")) if world is not None else ego_only()
     scene = RayScene(mesh)
     scene.update(world, "ego")
     lidar = Lidar(config, Mount(x=0.0, z=SENSOR_Z))

@@ -13,7 +13,7 @@ from hiyari.net.mesh.materials import Material
 from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.sensors.environment.atmosphere import AtmosphereModel
 from hiyari.sensors.environment.conditions import Environment
-from hiyari.sensors.frames import Mount, VehiclePose
+from hiyari.sensors.frames import Mount
 from hiyari.sensors.outputs import HIT_NONE
 from hiyari.sensors.radar.config import RadarConfig
 from hiyari.sensors.radar.recognition import recognise_radar
@@ -38,7 +38,7 @@ def radar_scan(world, config=QUIET, env=None, mesh=None, seed=0):
     scene = RayScene(mesh if mesh is not None else SceneMesh.concatenate([]))
     scene.update(world, "ego")
     radar = Radar(config, Mount(x=2.25, z=0.5))
-    ego = VehiclePose.from_world(world, "ego")
+    ego = world.pose_of("ego")
     return radar.scan(scene, ego, world, env or Environment(), np.random.default_rng(seed))
 
 

@@ -14,7 +14,7 @@ from hiyari.net.mesh.materials import Material
 from hiyari.sensors.detection_range import RangeStudy, perception_table, table_markdown, write_table
 from hiyari.sensors.environment.conditions import Environment, Soiling, SoilingSpot
 from hiyari.sensors.environment.presets import PRESETS, disturbance_preset
-from hiyari.sensors.frames import Mount, VehiclePose, sensor_to_world
+from hiyari.sensors.frames import Mount, sensor_to_world
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.sensor import Lidar
 from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
@@ -49,21 +49,21 @@ def test_cast_keeps_the_nearer_of_static_and_actor_hits():
 
 def test_sensor_pose_from_mount_and_ego():
     world = actor_world([dict(id="ego", cls=ActorClass.CAR, x=10.0, y=5.0, heading=np.pi / 2)])
-    ego = VehiclePose.from_world(world, "ego")
+    ego = world.pose_of("ego")
     m = sensor_to_world(Mount(x=2.0, y=0.5, z=1.0, yaw_deg=90.0), ego)
     np.testing.assert_allclose(m[:3, 3], [10.0 - 0.5, 5.0 + 2.0, 1.0], atol=1e-12)
     np.testing.assert_allclose(m[:3, 0], [-1.0, 0.0, 0.0], atol=1e-12)  # boresight points -x
     pitched = sensor_to_world(Mount(pitch_deg=10.0), ego)
     assert pitched[2, 0] == pytest.approx(-np.sin(np.radians(10.0)))  # positive pitch looks down
     with pytest.raises(HiyariError, match="nobody"):
-        VehiclePose.from_world(world, "nobody")
+        world.pose_of("nobody")
 
 
 def test_lidar_and_radar_recognise_the_street_actors():
     scene = RayScene(StraightRoad().mesh())
     world = street_scenario()
     scene.update(world, "ego")
-    ego = VehiclePose.from_world(world, "ego")
+    ego = world.pose_of("ego")
     rng = np.random.default_rng(0)
     _, lidar_objects = Lidar(LidarConfig.preset("64ch")).sense(
         scene, ego, world, Environment(), rng
@@ -96,7 +96,7 @@ def test_rig_fires_each_sensor_at_its_rate():
     scene = RayScene(StraightRoad().mesh())
     world = street_scenario()
     scene.update(world, "ego")
-    ego = VehiclePose.from_world(world, "ego")
+    ego = world.pose_of("ego")
     rng = np.random.default_rng(0)
     out = {s.name: rig.sense(s, scene, ego, world, Environment(), rng) for s in rig.sensors}
     assert out["camera"][0] is None and len(out["lidar"][0]) > 1000 and len(out["radar"][0]) > 0

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import sumolib
 
+from hiyari.kinematics import overlap_depth
 from hiyari.traffic import SimConfig, Simulation
-from hiyari.traffic.collision import rectangle_overlap
 
 
 def _rect(cx, cy, heading, length, width):
@@ -30,7 +30,7 @@ def test_rectangle_overlap_by_hand():
         (_rect(2 + np.sqrt(2) - 0.3, 0, np.pi / 4, 2, 2), 0.3),
     ]
     for b, expected in cases:
-        d = rectangle_overlap(a[None], b[None])[0]
+        d = overlap_depth(a[None], b[None])[0]
         assert d == pytest.approx(expected, abs=1e-9)
 
 

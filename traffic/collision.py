@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from hiyari.kinematics import overlap_depth
 from hiyari.traffic.world_state import WorldState
 
 
@@ -27,21 +28,6 @@ class Collision:
     kind: str  # "vehicle-vehicle" or "vehicle-pedestrian"
     depth: float
     reported_by_sumo: bool
-
-
-def rectangle_overlap(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:
-    """Penetration depth (m) of rectangle pairs; <= 0 means apart.
-
-    ``ca``, ``cb``: (P, 4, 2) corners in order around each rectangle.
-    """
-    edges_a = ca[:, [1, 2]] - ca[:, [0, 1]]
-    edges_b = cb[:, [1, 2]] - cb[:, [0, 1]]
-    axes = np.concatenate([edges_a, edges_b], axis=1)  # (P, 4, 2)
-    axes = axes / np.maximum(np.linalg.norm(axes, axis=2, keepdims=True), 1e-12)
-    pa = np.einsum("pkc,pac->pak", ca, axes)  # (P, 4 axes, 4 corners)
-    pb = np.einsum("pkc,pac->pak", cb, axes)
-    overlap = np.minimum(pa.max(2), pb.max(2)) - np.maximum(pa.min(2), pb.min(2))
-    return overlap.min(axis=1)
 
 
 class CollisionDetector:
@@ -87,7 +73,7 @@ class CollisionDetector:
                     i, j = i[~on_wa], j[~on_wa]
                 rows, inverse = np.unique(np.concatenate([i, j]), return_inverse=True)
                 corners = state.select(rows).corners()
-                depth = rectangle_overlap(corners[inverse[: len(i)]], corners[inverse[len(i) :]])
+                depth = overlap_depth(corners[inverse[: len(i)]], corners[inverse[len(i) :]])
                 hit = depth > self.tolerance
                 for a, b, d in zip(i[hit], j[hit], depth[hit], strict=True):
                     key = tuple(sorted((state.ids[a], state.ids[b])))

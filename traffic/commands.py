@@ -14,6 +14,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from hiyari.kinematics import point_ahead
+
 #: SUMO speed mode bits: 0 = no checks at all (scripted actors follow the script exactly);
 #: 31 = every safety check on (SUMO's default).
 SPEED_MODE_SCRIPTED = 0
@@ -32,7 +34,9 @@ class VehicleType:
     """A SUMO vehicle type made at run time from a base type. Metres, m/s, m/s^2.
 
     ``vclass`` None keeps the base type's class (SUMO's ``passenger`` for DEFAULT_VEHTYPE,
-    ``pedestrian`` for DEFAULT_PEDTYPE).
+    ``pedestrian`` for DEFAULT_PEDTYPE). ``shape`` sets SUMO's guiShape; a type of vClass
+    ``ignoring`` (allowed on every lane: scripted actors such as a pedestrian on a motorway)
+    is classified in the WorldState by its shape ("pedestrian", "bicycle", "truck", ...).
     """
 
     type_id: str
@@ -44,6 +48,7 @@ class VehicleType:
     vclass: str | None = None
     accel: float | None = None
     decel: float | None = None
+    shape: str | None = None
 
 
 @dataclass(frozen=True)
@@ -105,6 +110,8 @@ class Commands:
             t.setAccel(vt.type_id, vt.accel)
         if vt.decel is not None:
             t.setDecel(vt.type_id, vt.decel)
+        if vt.shape is not None:
+            t.setShapeClass(vt.type_id, vt.shape)
 
     def add_vehicle(
         self,
@@ -204,10 +211,11 @@ class Commands:
         step (SUMO maps it to the nearest lane of ``edge`` when given, else of any edge);
         ``speed`` m/s is what SUMO reports for it (None: implied by the move)."""
         s = self._api()
-        fx = x + 0.5 * length * math.cos(heading)
-        fy = y + 0.5 * length * math.sin(heading)
+        fx, fy = (float(v) for v in point_ahead((x, y), heading, 0.5 * length))
+        # keepRoute 2 | 4: anywhere, mapped to the nearest lane whatever its permissions, so a
+        # scripted car stands on a shoulder or parking lane closed to ordinary traffic
         s.vehicle.moveToXY(
-            vehicle_id, edge, lane, fx, fy, angle=heading_to_sumo_angle(heading), keepRoute=2
+            vehicle_id, edge, lane, fx, fy, angle=heading_to_sumo_angle(heading), keepRoute=6
         )
         if speed is not None:
             s.vehicle.setSpeed(vehicle_id, speed)
@@ -280,3 +288,25 @@ class Commands:
     def vehicle_ids(self) -> tuple[str, ...]:
         """Ids of the vehicles in the simulation now (cheaper than a WorldState read)."""
         return tuple(self._api().vehicle.getIDList())
+
+    # ------------------------------------------------------------------ road coordinates
+    def road_position(self, x: float, y: float) -> tuple[str, float, int]:
+        """SUMO's own map matching of a network point: (edge id, position along the lane m,
+        lane index), ignoring vehicle-class permissions."""
+        edge, pos, lane = self._api().simulation.convertRoad(x, y, False, "ignoring")
+        return str(edge), float(pos), int(lane)
+
+    def lane_point(self, edge: str, pos: float, lane_index: int) -> tuple[float, float]:
+        """SUMO's network x, y of position ``pos`` m along lane ``lane_index`` of ``edge``."""
+        x, y = self._api().simulation.convert2D(edge, pos, lane_index)
+        return float(x), float(y)
+
+    def lane_position(self, vehicle_id: str) -> tuple[str, float, float]:
+        """Where SUMO has a vehicle: (lane id, front position along it m, lateral offset of its
+        centre from the lane's centre line m, left positive)."""
+        v = self._api().vehicle
+        return (
+            v.getLaneID(vehicle_id),
+            float(v.getLanePosition(vehicle_id)),
+            float(v.getLateralLanePosition(vehicle_id)),
+        )

@@ -1,17 +1,42 @@
-"""Seeded demand: vehicles and persons per hour between the fringe edges of a network."""
+"""Seeded demand on any drivable network: vehicles and persons per hour.
+
+Vehicles (per vehicle class) follow the net's lane connections that class may use. The
+network is split into strongly connected components; traffic enters at the components no
+other component leads into and leaves at those that lead nowhere, so every one-way stretch,
+each direction of a dual carriageway and every separate network part gets its share:
+- a trip goes from an entry edge to an exit edge reachable from it (a stretch of road without
+  junctions is its own entry and exit: the vehicle drives it end to end);
+- a closed part that nothing enters and nothing leaves (a loop, a town without dead ends)
+  gets circulating vehicles: each is inserted on the road with a closed route through that
+  part (a seeded random walk, closed by the shortest way back) repeated for the whole run,
+  so it stays on the road.
+Persons walk between the edges pedestrians may use (sidewalks, footpaths, walking areas,
+crossings) that are connected for walking, preferring the network's fringe.
+
+Arrivals are Poisson; the same net, config and seed give the same file byte for byte.
+"""
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import sumolib
 from lxml import etree
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
+from hiyari.net.road.geometry import permissions
+from hiyari.net.sumo.files import check_net
+from hiyari.traffic.actor_class import ActorClass
+
+#: Closed routes of circulating vehicles are walked until at least this long, m; the route
+#: then repeats (SUMO ``repeat``) for the rest of the run.
+LOOP_LENGTH = 3000.0
 
 
 @dataclass(frozen=True)
@@ -29,19 +54,26 @@ class VehicleType:
 
 
 #: The built-in types demand can mix; keys are what ``DemandConfig.vehicle_mix`` accepts.
+#: Sizes are the class defaults (hiyari.traffic.actor_class.CLASS_SIZE).
 VEHICLE_TYPES: dict[str, VehicleType] = {
-    "car": VehicleType("passenger", 4.5, 1.8, 1.5, 50.0),
-    "truck": VehicleType("truck", 8.0, 2.5, 3.2, 36.0, 1.3, 4.0, "truck"),
-    "bus": VehicleType("bus", 12.0, 2.5, 3.2, 30.0, 1.2, 4.0, "bus"),
-    "motorcycle": VehicleType("motorcycle", 2.2, 0.9, 1.5, 50.0, 4.0, 7.0, "motorcycle"),
-    "bicycle": VehicleType("bicycle", 1.8, 0.65, 1.7, 6.0, 1.2, 3.0, "bicycle"),
+    "car": VehicleType("passenger", *ActorClass.CAR.size.as_tuple(), 50.0),
+    "truck": VehicleType("truck", *ActorClass.TRUCK.size.as_tuple(), 36.0, 1.3, 4.0, "truck"),
+    "bus": VehicleType("bus", *ActorClass.BUS.size.as_tuple(), 30.0, 1.2, 4.0, "bus"),
+    "motorcycle": VehicleType(
+        "motorcycle", *ActorClass.MOTORCYCLE.size.as_tuple(), 50.0, 4.0, 7.0, "motorcycle"
+    ),
+    "bicycle": VehicleType(
+        "bicycle", *ActorClass.BICYCLE.size.as_tuple(), 6.0, 1.2, 3.0, "bicycle"
+    ),
 }
-PEDESTRIAN_TYPE = VehicleType("pedestrian", 0.3, 0.5, 1.7, 1.5, 1.5, 2.0, "pedestrian")
+PEDESTRIAN_TYPE = VehicleType(
+    "pedestrian", *ActorClass.PEDESTRIAN.size.as_tuple(), 1.5, 1.5, 2.0, "pedestrian"
+)
 
 
 @dataclass(frozen=True)
 class DemandConfig:
-    """Poisson arrivals between fringe edges. Rates per hour, times in seconds."""
+    """Poisson arrivals of vehicles and persons. Rates per hour, times in seconds."""
 
     vehicles_per_hour: float = 600.0
     persons_per_hour: float = 300.0
@@ -52,6 +84,11 @@ class DemandConfig:
 
     def validate(self) -> None:
         """Raise HiyariError for impossible rates, times or unknown vehicle types."""
+        for name, value in (("vehicles per hour", self.vehicles_per_hour),
+                            ("persons per hour", self.persons_per_hour),
+                            ("begin", self.begin), ("end", self.end)):  # fmt: skip
+            if not math.isfinite(value):
+                raise HiyariError(f"demand {name} must be a finite number, got {value}")
         if self.vehicles_per_hour < 0 or self.persons_per_hour < 0:
             raise HiyariError("demand rates must be >= 0 per hour")
         if self.end <= self.begin:
@@ -60,7 +97,7 @@ class DemandConfig:
             if name not in VEHICLE_TYPES:
                 known = ", ".join(VEHICLE_TYPES)
                 raise HiyariError(f"unknown vehicle type {name!r} in the mix (known: {known})")
-            if share < 0:
+            if not share >= 0:
                 raise HiyariError(f"vehicle mix share for {name!r} must be >= 0")
         if self.vehicles_per_hour > 0 and sum(self.vehicle_mix.values()) <= 0:
             raise HiyariError("vehicle mix shares sum to zero")
@@ -77,108 +114,239 @@ def _arrivals(rng: np.random.Generator, rate_per_hour: float, begin: float, end:
     return np.round(t[t < end], 1)
 
 
-def _od_pairs(net, vclass: str, directed: bool) -> list[tuple[str, str]]:
-    """Fringe-to-fringe edge pairs connected for ``vclass``.
+@dataclass(frozen=True)
+class _Net:
+    """What demand needs of a SUMO net: normal edges, lanes, connections."""
 
-    Vehicles follow connections (directed); persons may walk either way along any edge that
-    allows them and change edges at shared junctions.
-    """
-    edges = [e for e in net.getEdges() if e.getFunction() == "" and e.allows(vclass)]
-    allowed = {e.getID() for e in edges}
-    if directed:
-        adj = {
-            e.getID(): [o.getID() for o in e.getOutgoing() if o.getID() in allowed] for e in edges
+    edges: list[str]  # normal edges in file order
+    function: dict[str, str]  # every edge -> "" / internal / crossing / walkingarea
+    lane_allowed: dict[str, frozenset[str]]  # lane id -> vehicle classes
+    edge_lanes: dict[str, list[str]]  # every edge -> its lane ids
+    nodes: dict[str, tuple[str, str]]  # normal edges -> (from node, to node)
+    edge_length: dict[str, float]  # normal edges, m (first lane)
+    edge_speed: dict[str, float]  # normal edges, fastest lane, m/s
+    connections: list[tuple[str, str, str, str, str]]  # from, fromLane, to, toLane, dir
+
+
+def _read_net(net_file: str | Path) -> _Net:
+    root = check_net(net_file)
+    try:
+        edges, function, allowed, edge_lanes, nodes, length, speed = [], {}, {}, {}, {}, {}, {}
+        for e in root.iter("edge"):
+            eid, fn = e.get("id"), e.get("function", "")
+            function[eid] = fn
+            lanes = e.findall("lane")
+            for ln in lanes:
+                allowed[ln.get("id")] = permissions(ln.get("allow"), ln.get("disallow"))
+            edge_lanes[eid] = [ln.get("id") for ln in lanes]
+            if fn == "" and lanes:
+                edges.append(eid)
+                nodes[eid] = (e.get("from"), e.get("to"))
+                length[eid] = float(lanes[0].get("length"))
+                speed[eid] = max(float(ln.get("speed")) for ln in lanes)
+        connections = [
+            (c.get("from"), c.get("fromLane"), c.get("to"), c.get("toLane"), c.get("dir", ""))
+            for c in root.iter("connection")
+        ]
+    except (TypeError, ValueError) as exc:
+        raise HiyariError(f"{net_file}: network has an unreadable edge or lane ({exc})") from None
+    return _Net(edges, function, allowed, edge_lanes, nodes, length, speed, connections)
+
+
+def _allows(net: _Net, edge: str, lane_index: str | None, vclass: str) -> bool:
+    return vclass in net.lane_allowed.get(f"{edge}_{lane_index}", frozenset())
+
+
+def _open_to(net: _Net, edge: str, vclass: str) -> bool:
+    return any(vclass in net.lane_allowed[ln] for ln in net.edge_lanes[edge])
+
+
+@dataclass(frozen=True)
+class _Graph:
+    """Directed edge graph of one vehicle class, with its strongly connected components."""
+
+    edges: list[str]
+    succ: list[list[int]]
+    matrix: coo_matrix  # adjacency, edge index -> edge index
+    comp: np.ndarray  # component label per edge
+    comp_in: np.ndarray  # per component: edges enter it from other components
+    comp_out: np.ndarray
+    comp_cycle: np.ndarray  # per component: has a cycle (more than one edge or a self-loop)
+
+
+def _vehicle_graph(net: _Net, vclass: str) -> _Graph:
+    edges = [e for e in net.edges if _open_to(net, e, vclass)]
+    index = {e: k for k, e in enumerate(edges)}
+    pairs = sorted(
+        {
+            (index[f], index[t])
+            for f, fl, t, tl, _ in net.connections
+            if f in index and t in index and _allows(net, f, fl, vclass)
+            and _allows(net, t, tl, vclass)
         }
-    else:
-        at_node: dict[str, list[str]] = {}
-        for e in edges:
-            for n in (e.getFromNode(), e.getToNode()):
-                at_node.setdefault(n.getID(), []).append(e.getID())
-        adj = {
-            e.getID(): at_node[e.getFromNode().getID()] + at_node[e.getToNode().getID()]
-            for e in edges
-        }
-    fringe = [e.getID() for e in edges if e.is_fringe()]
-    if len(fringe) < 2:
-        fringe = [e.getID() for e in edges]
-    fringe_set = set(fringe)
+    )  # fmt: skip
+    n = len(edges)
+    src = np.array([p[0] for p in pairs], dtype=np.int64)
+    dst = np.array([p[1] for p in pairs], dtype=np.int64)
+    matrix = coo_matrix((np.ones(len(pairs)), (src, dst)), shape=(n, n))
+    ncomp, comp = connected_components(matrix, directed=True, connection="strong")
+    across = comp[src] != comp[dst]
+    comp_in = np.bincount(comp[dst[across]], minlength=ncomp) > 0
+    comp_out = np.bincount(comp[src[across]], minlength=ncomp) > 0
+    sizes = np.bincount(comp, minlength=ncomp)
+    cycle = sizes > 1
+    cycle[comp[src[src == dst]]] = True
+    succ: list[list[int]] = [[] for _ in range(n)]
+    for a, b in pairs:
+        succ[a].append(b)
+    return _Graph(edges, succ, matrix.tocsr(), comp, comp_in, comp_out, cycle)
+
+
+def _trip_pairs(g: _Graph) -> list[tuple[int, int]]:
+    """(origin, destination) edge indices from entry components to reachable exits."""
+    closed = ~g.comp_in & ~g.comp_out & g.comp_cycle  # circulating parts, no trips
+    entry = [k for k in range(len(g.edges)) if not g.comp_in[g.comp[k]] and not closed[g.comp[k]]]
+    exits = {k for k in range(len(g.edges)) if not g.comp_out[g.comp[k]] and not closed[g.comp[k]]}
     pairs = []
-    for origin in fringe:
-        seen = {origin}
-        queue = deque([origin])
-        while queue:
-            for nxt in adj[queue.popleft()]:
-                if nxt not in seen:
-                    seen.add(nxt)
-                    queue.append(nxt)
-        pairs += [(origin, d) for d in fringe if d != origin and d in seen and d in fringe_set]
+    for origin in entry:
+        seen = breadth_first_order(g.matrix, origin, directed=True, return_predecessors=False)
+        own = g.comp_out[g.comp[origin]] or g.comp_cycle[g.comp[origin]]
+        pairs += [(origin, d) for d in sorted(exits.intersection(seen.tolist()))
+                  if d != origin or not own]  # fmt: skip
     return pairs
 
 
-def write_demand(net_file: str | Path, out_file: str | Path, config: DemandConfig) -> Path:
-    """Write a SUMO route file with vTypes, vehicle trips and walking persons; return its path.
+def _way_back(g: _Graph, start: int, end: int) -> list[int]:
+    """Shortest edge sequence after ``start`` up to and including ``end`` (same component)."""
+    prev = {start: -1}
+    queue = deque([start])
+    while queue:
+        k = queue.popleft()
+        for nxt in g.succ[k]:
+            if nxt not in prev and g.comp[nxt] == g.comp[start]:
+                prev[nxt] = k
+                queue.append(nxt)
+    path, k = [], end
+    while k != start:
+        path.append(k)
+        k = prev[k]
+    return path[::-1]
 
-    Same net, config and seed give the same file byte for byte.
+
+def _loop_route(g: _Graph, net: _Net, start: int, rng: np.random.Generator) -> list[str]:
+    """A closed route from ``start`` within its component: a random walk of at least
+    ``LOOP_LENGTH`` (or until it returns to ``start``), then the shortest way back."""
+    route, length = [start], net.edge_length[g.edges[start]]
+    while length < LOOP_LENGTH:
+        options = [k for k in g.succ[route[-1]] if g.comp[k] == g.comp[start]]
+        k = options[int(rng.integers(len(options)))]
+        if k == start:
+            break
+        route.append(k)
+        length += net.edge_length[g.edges[k]]
+    else:
+        route += [k for k in _way_back(g, route[-1], start) if k != start]
+    return [g.edges[k] for k in route]
+
+
+def _vehicle_entries(net: _Net, net_file: str | Path, config: DemandConfig,
+                     rng: np.random.Generator) -> list[tuple[float, int, etree._Element]]:  # fmt: skip
+    used = [name for name, share in config.vehicle_mix.items() if share > 0]
+    if config.vehicles_per_hour <= 0 or not used:
+        return []
+    shares = np.array([config.vehicle_mix[n] for n in used], dtype=float)
+    times = _arrivals(rng, config.vehicles_per_hour, config.begin, config.end)
+    kinds = rng.choice(len(used), size=len(times), p=shares / shares.sum())
+    graphs = {n: _vehicle_graph(net, VEHICLE_TYPES[n].vclass) for n in used}
+    trips = {n: _trip_pairs(g) for n, g in graphs.items()}
+    loops = {
+        n: [k for k in range(len(g.edges)) if not (g.comp_in | g.comp_out)[g.comp[k]]
+            and g.comp_cycle[g.comp[k]]]
+        for n, g in graphs.items()
+    }  # fmt: skip
+    entries = []
+    for k, (t, kind) in enumerate(zip(times, kinds, strict=True)):
+        name = used[kind]
+        g, pairs, circ = graphs[name], trips[name], loops[name]
+        if not pairs and not circ:
+            raise HiyariError(f"{net_file}: no lane of the network is open to {name!r}")
+        pick = int(rng.integers(len(pairs) + len(circ)))
+        attrib = {"departLane": "best", "departSpeed": "max"}
+        if pick < len(pairs):
+            o, d = pairs[pick]
+            attrib |= {"from": g.edges[o], "to": g.edges[d]}
+            el = etree.Element("trip", id=f"veh{k}", type=name, depart=f"{t:.1f}", attrib=attrib)
+        else:
+            route = _loop_route(g, net, circ[pick - len(pairs)], rng)
+            speed = min(VEHICLE_TYPES[name].max_speed, max(net.edge_speed[e] for e in route))
+            laps = (config.end - t) * speed / sum(net.edge_length[e] for e in route)
+            el = etree.Element("vehicle", id=f"veh{k}", type=name, depart=f"{t:.1f}",
+                               attrib=attrib)  # fmt: skip
+            etree.SubElement(el, "route", edges=" ".join(route), repeat=str(math.ceil(laps)))
+        entries.append((float(t), 0, el))
+    return entries
+
+
+def _walk_pairs(net: _Net) -> list[tuple[str, str]]:
+    """(from, to) normal edges connected for walking; fringe edges where a part has two."""
+    walkable = [e for e in net.function if _open_to(net, e, "pedestrian")]
+    index = {e: k for k, e in enumerate(walkable)}
+    has_areas = any(net.function[e] == "walkingarea" for e in walkable)
+    links = [(f, t) for f, _, t, _, _ in net.connections if f in index and t in index]
+    if not has_areas:  # no walking areas: pedestrians change edges at shared nodes
+        links = _shared_node_links(net, walkable)
+    n = len(walkable)
+    src = np.array([index[f] for f, _ in links], dtype=np.int64)
+    dst = np.array([index[t] for _, t in links], dtype=np.int64)
+    _, comp = connected_components(coo_matrix((np.ones(len(links)), (src, dst)), shape=(n, n)),
+                                   directed=False)  # fmt: skip
+    normal = [e for e in walkable if net.function[e] == ""]
+    turns_in: dict[str, int] = {}
+    turns_out: dict[str, int] = {}
+    for f, _, t, _, d in net.connections:
+        if d != "t" and net.function.get(f) == "" and net.function.get(t) == "":
+            turns_out[f] = turns_out.get(f, 0) + 1
+            turns_in[t] = turns_in.get(t, 0) + 1
+    pairs = []
+    for c in np.unique(comp[[index[e] for e in normal]]) if normal else []:
+        members = [e for e in normal if comp[index[e]] == c]
+        fringe = [e for e in members if not turns_in.get(e) or not turns_out.get(e)]
+        ends = fringe if len(fringe) >= 2 else members
+        pairs += [(o, d) for o in ends for d in ends if d != o or len(ends) == 1]
+    return pairs
+
+
+def _shared_node_links(net: _Net, walkable: list[str]) -> list[tuple[str, str]]:
+    """Walkable normal edges linked where they share a node (nets without walking areas)."""
+    at_node: dict[str, list[str]] = {}
+    for e in walkable:
+        for node in net.nodes.get(e, ()):
+            at_node.setdefault(node, []).append(e)
+    return [(a, b) for group in at_node.values() for a in group for b in group if a != b]
+
+
+def write_demand(net_file: str | Path, out_file: str | Path, config: DemandConfig) -> Path:
+    """Write a SUMO route file with vTypes, vehicles and walking persons; return its path.
+
+    HiyariError (one line naming the file) for an unreadable net, impossible settings, or a
+    net without lanes for the requested vehicle types or persons. Same net, config and seed
+    give the same file byte for byte.
     """
     config.validate()
-    net = sumolib.net.readNet(str(net_file), withPedestrianConnections=True)
+    net = _read_net(net_file)
     rng = np.random.default_rng(config.seed)
     root = etree.Element("routes")
-    used = [name for name, share in config.vehicle_mix.items() if share > 0]
-    for name in used:
-        t = VEHICLE_TYPES[name]
-        etree.SubElement(
-            root,
-            "vType",
-            id=name,
-            vClass=t.vclass,
-            length=str(t.length),
-            width=str(t.width),
-            height=str(t.height),
-            maxSpeed=str(t.max_speed),
-            accel=str(t.accel),
-            decel=str(t.decel),
-            guiShape=t.gui_shape,
-        )
-    p = PEDESTRIAN_TYPE
-    etree.SubElement(
-        root,
-        "vType",
-        id="pedestrian",
-        vClass="pedestrian",
-        length=str(p.length),
-        width=str(p.width),
-        height=str(p.height),
-        maxSpeed=str(p.max_speed),
-    )
-    entries: list[tuple[float, int, etree._Element]] = []
-    if config.vehicles_per_hour > 0 and used:
-        shares = np.array([config.vehicle_mix[n] for n in used], dtype=float)
-        shares /= shares.sum()
-        times = _arrivals(rng, config.vehicles_per_hour, config.begin, config.end)
-        kinds = rng.choice(len(used), size=len(times), p=shares)
-        od_by_type = {n: _od_pairs(net, VEHICLE_TYPES[n].vclass, True) for n in used}
-        for k, (t, kind) in enumerate(zip(times, kinds, strict=True)):
-            name = used[kind]
-            ods = od_by_type[name]
-            if not ods:
-                raise HiyariError(f"{net_file}: no route between fringe edges for {name!r}")
-            o, d = ods[rng.integers(len(ods))]
-            el = etree.Element(
-                "trip",
-                id=f"veh{k}",
-                type=name,
-                depart=f"{t:.1f}",
-                attrib={"from": o, "to": d, "departLane": "best", "departSpeed": "max"},
-            )
-            entries.append((float(t), 0, el))
+    for name in [n for n, share in config.vehicle_mix.items() if share > 0]:
+        _vtype(root, name, VEHICLE_TYPES[name])
+    _vtype(root, "pedestrian", PEDESTRIAN_TYPE)
+    entries = _vehicle_entries(net, net_file, config, rng)
     if config.persons_per_hour > 0:
-        ods = _od_pairs(net, "pedestrian", False)
-        if not ods:
+        pairs = _walk_pairs(net)
+        if not pairs:
             raise HiyariError(f"{net_file}: no walkable edges for persons")
         times = _arrivals(rng, config.persons_per_hour, config.begin, config.end)
         for k, t in enumerate(times):
-            o, d = ods[rng.integers(len(ods))]
+            o, d = pairs[rng.integers(len(pairs))]
             el = etree.Element("person", id=f"ped{k}", type="pedestrian", depart=f"{t:.1f}")
             etree.SubElement(el, "walk", attrib={"from": o, "to": d})
             entries.append((float(t), 1, el))
@@ -189,3 +357,11 @@ def write_demand(net_file: str | Path, out_file: str | Path, config: DemandConfi
             str(tmp), pretty_print=True, xml_declaration=True, encoding="UTF-8"
         )
     return Path(out_file)
+
+
+def _vtype(root: etree._Element, name: str, t: VehicleType) -> None:
+    attrs = {"id": name, "vClass": t.vclass, "length": str(t.length), "width": str(t.width),
+             "height": str(t.height), "maxSpeed": str(t.max_speed)}  # fmt: skip
+    if name != "pedestrian":
+        attrs |= {"accel": str(t.accel), "decel": str(t.decel), "guiShape": t.gui_shape}
+    etree.SubElement(root, "vType", attrs)

@@ -10,11 +10,14 @@ Static attributes (class, size) are read once per actor and kept in arrays.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from itertools import chain
+from types import ModuleType
 from typing import Literal
 
 import numpy as np
 
+from hiyari.kinematics import point_ahead, wrap_angle
 from hiyari.traffic.actor_class import ActorClass, actor_class_from_vclass
 from hiyari.traffic.world_state import WorldState
 
@@ -29,7 +32,9 @@ class _StaticTable:
         self.data = np.zeros((64, 4))  # cls, length, width, height
         self.prev_speed = np.zeros(64)
 
-    def rows(self, ids: list[str], fetch) -> np.ndarray:
+    def rows(
+        self, ids: list[str], fetch: Callable[[str], tuple[float, float, float, float]]
+    ) -> np.ndarray:
         get = self.row.get
         idx = [get(i, -1) for i in ids]
         if -1 in idx:
@@ -52,7 +57,7 @@ class _StaticTable:
 class WorldStateReader:
     """Turns the current libsumo state into a WorldState; one reader per simulation."""
 
-    def __init__(self, sumo, mode: ReadMode = "getters") -> None:
+    def __init__(self, sumo: ModuleType, mode: ReadMode = "getters") -> None:
         if mode not in ("getters", "subscriptions"):
             raise ValueError(f"unknown read mode {mode!r} (getters or subscriptions)")
         self._sumo = sumo
@@ -91,7 +96,9 @@ class WorldStateReader:
 
     def _vehicle_static(self, vid: str) -> tuple[float, float, float, float]:
         v = self._sumo.vehicle
-        cls = actor_class_from_vclass(v.getVehicleClass(vid))
+        vclass = v.getVehicleClass(vid)
+        # permission-free scripted actors (vClass "ignoring") say what they are by their shape
+        cls = actor_class_from_vclass(v.getShapeClass(vid) if vclass == "ignoring" else vclass)
         return float(cls), v.getLength(vid), v.getWidth(vid), v.getHeight(vid)
 
     def _person_static(self, pid: str) -> tuple[float, float, float, float]:
@@ -121,12 +128,10 @@ class WorldStateReader:
         accel[nv:] = np.where(np.isnan(prev), 0.0, (pspeed - prev) / s.simulation.getDeltaT())
         self._per.prev_speed[prow] = pspeed
 
-        heading = np.radians(90.0 - angle)
-        heading = np.arctan2(np.sin(heading), np.cos(heading))
+        heading = wrap_angle(np.radians(90.0 - angle))
         length = st[:, 1]
         # SUMO reports the front-bumper centre; the toolkit uses the rectangle centre
-        pos[:, 0] -= 0.5 * length * np.cos(heading)
-        pos[:, 1] -= 0.5 * length * np.sin(heading)
+        pos[:, :2] = point_ahead(pos[:, :2], heading, -0.5 * length)
         lanes = vcols[4] + pcols[4]
         edge_of = self._edge_of
         edges = [edge_of.get(ln) or self._edge(ln) for ln in lanes]
@@ -192,5 +197,7 @@ class WorldStateReader:
         return vids, veh, pids, (pc[0], pc[1], pc[2], None, pc[3])
 
     @staticmethod
-    def _fetch(getters, keys, actor_id: str) -> dict:
+    def _fetch(
+        getters: Sequence[Callable[[str], object]], keys: Sequence[str], actor_id: str
+    ) -> dict:
         return dict(zip(keys, (g(actor_id) for g in getters[1:]), strict=True))

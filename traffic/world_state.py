@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hiyari.errors import HiyariError
+from hiyari.kinematics import Pose, footprint_corners, heading_vector
 from hiyari.traffic.actor_class import ActorClass
 
 
@@ -48,7 +50,29 @@ class WorldState:
     @property
     def velocity(self) -> np.ndarray:
         """(N, 2) float64: velocity in the network frame, m/s."""
-        return self.speed[:, None] * np.stack([np.cos(self.heading), np.sin(self.heading)], 1)
+        return self.speed[:, None] * heading_vector(self.heading)
+
+    def pose(self, row: int) -> Pose:
+        """The kinematic state of the actor at ``row`` (position, heading, speed, accel, size)."""
+        return Pose(
+            float(self.xyz[row, 0]),
+            float(self.xyz[row, 1]),
+            float(self.xyz[row, 2]),
+            float(self.heading[row]),
+            float(self.speed[row]),
+            float(self.accel[row]),
+            float(self.length[row]),
+            float(self.width[row]),
+        )
+
+    def pose_of(self, actor_id: str) -> Pose:
+        """The pose of ``actor_id``; HiyariError when it is not in this state."""
+        try:
+            return self.pose(self.index(actor_id))
+        except KeyError:
+            raise HiyariError(
+                f"actor {actor_id!r} is not in the WorldState at t={self.time} s"
+            ) from None
 
     def index(self, actor_id: str) -> int:
         """Row of ``actor_id``; KeyError when absent."""
@@ -76,11 +100,7 @@ class WorldState:
 
     def corners(self) -> np.ndarray:
         """(N, 4, 2) ground-rectangle corners, counter-clockwise from front-left, metres."""
-        c, s = np.cos(self.heading), np.sin(self.heading)
-        fwd = np.stack([c, s], 1) * (self.length / 2)[:, None]
-        left = np.stack([-s, c], 1) * (self.width / 2)[:, None]
-        ctr = self.xyz[:, :2]
-        return np.stack([ctr + fwd + left, ctr - fwd + left, ctr - fwd - left, ctr + fwd - left], 1)
+        return footprint_corners(self.xyz[:, :2], self.heading, self.length, self.width)
 
     def same_as(self, other: WorldState) -> bool:
         """True when both states are equal bit for bit (ids, classes, every float)."""

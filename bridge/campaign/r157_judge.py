@@ -30,13 +30,15 @@ from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.campaign.sweep import SweepOptions, execute_runs
+from hiyari.bridge.scenario.result import JUDGE_KEYS
 from hiyari.bridge.scenario.toml_file import SENSOR_NAMES, ConcreteScenario
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import cut_out_boundary
 from hiyari.risk.cc.evaluator import cut_out_lead_clear_gap
-from hiyari.risk.cc.model import KMH_PER_MPS, CCParams
+from hiyari.risk.cc.model import CCParams
 from hiyari.risk.cc.r157_points import R157Point, expected_verdicts
 from hiyari.risk.cc.regions import cut_in_regions
+from hiyari.units import KMH_PER_MPS, G
 
 
 @dataclass(frozen=True)
@@ -108,7 +110,7 @@ def duration_for(point: R157Point, options: JudgeOptions) -> float:
     if point.scenario == "cut-out":
         travel = (point.dx0_f_m + 2.0 * point.ve0_mps + 10.0) / max(point.ve0_mps, 1.0)
         return max(w / point.vy_mps, travel) + options.settle_time
-    return point.ve0_mps / (9.81 * point.gx_max_g) + options.settle_time
+    return point.ve0_mps / (G * point.gx_max_g) + options.settle_time
 
 
 def point_scenario(
@@ -193,10 +195,8 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
                 "boundary_m": point.boundary_m,
                 "offset_m": point.offset_m,
                 "expected": point.expected,
+                **{k: r[k] for k in JUDGE_KEYS},
                 "collision": str(bool(r["collision"])) if r["status"] == "ok" else "",
-                "impact_speed_kmh": r["impact_speed_kmh"],
-                "min_ttc_s": r["min_ttc_s"],
-                "min_gap_m": r["min_gap_m"],
                 "verdict": verdict,
                 "error": r["error"],
             }

@@ -13,11 +13,8 @@ import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.figure import Figure
 
 from hiyari.atomic import atomic_path, write_text_atomic  # noqa: E402
 from hiyari.bridge.campaign.sct_study import ARMS, ArmResult, StudyConfig  # noqa: E402
@@ -146,10 +143,9 @@ def _write_csv(path: Path, config: StudyConfig, results: list[ArmResult]) -> Non
                 w.writerow({**row, **asdict(e)})
 
 
-def _save(fig, path: Path) -> None:
+def _save(fig: Figure, path: Path) -> None:
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
-    plt.close(fig)
 
 
 def _bar_chart(path: Path, config: StudyConfig, summaries: list[ArmSummary]) -> None:
@@ -158,7 +154,8 @@ def _bar_chart(path: Path, config: StudyConfig, summaries: list[ArmSummary]) -> 
     for v in config.variants:
         base, sct = _pair(summaries, v)
         groups.append((f"hiyari {v}\n({base.sim_days:g} days)", base.incidents, sct.incidents))
-    fig, ax = plt.subplots(figsize=(2.6 + 2.2 * len(groups), 4.2))
+    fig = Figure(figsize=(2.6 + 2.2 * len(groups), 4.2))
+    ax = fig.subplots()
     x = np.arange(len(groups))
     w = 0.36
     b = ax.bar(x - w / 2, [g[1] for g in groups], w, label="standard drivers", color="#888")
@@ -182,9 +179,8 @@ def _histograms(path: Path, config: StudyConfig, results: list[ArmResult]) -> No
     """Per-encounter minimum TTC and SCT, baseline against SCT arm, per variant."""
     h = config.metric_horizon
     bins = np.linspace(0.0, h, int(round(h / 0.25)) + 1)  # coarser than the 0.1 s step
-    fig, axes = plt.subplots(
-        len(config.variants), 2, figsize=(10, 3.2 * len(config.variants)), squeeze=False
-    )
+    fig = Figure(figsize=(10, 3.2 * len(config.variants)))
+    axes = fig.subplots(len(config.variants), 2, squeeze=False)
     for row, v in enumerate(config.variants):
         for col, (name, field) in enumerate((("TTC", "min_ttc"), ("SCT", "min_sct"))):
             ax = axes[row, col]
@@ -214,9 +210,8 @@ def _histograms(path: Path, config: StudyConfig, results: list[ArmResult]) -> No
 def _by_hour(path: Path, config: StudyConfig, results: list[ArmResult]) -> None:
     """Incidents per simulated hour across the whole study time, per arm and variant."""
     hours = int(math.ceil(config.days * 24))
-    fig, axes = plt.subplots(
-        len(config.variants), 1, figsize=(10, 2.8 * len(config.variants)), squeeze=False
-    )
+    fig = Figure(figsize=(10, 2.8 * len(config.variants)))
+    axes = fig.subplots(len(config.variants), 1, squeeze=False)
     for row, v in enumerate(config.variants):
         ax = axes[row, 0]
         for arm, color in zip(ARMS, ("#888", "#2a7"), strict=True):

@@ -22,21 +22,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from hiyari.atomic import atomic_path
+from hiyari.bridge.scenario.result import RESULT_KEYS
 from hiyari.bridge.scenario.toml_file import ConcreteScenario, LogicalScenario
 from hiyari.errors import HiyariError
-
-RESULT_KEYS = [
-    "collision",
-    "collided_with",
-    "impact_speed_kmh",
-    "relative_impact_speed_kmh",
-    "min_ttc_s",
-    "min_gap_m",
-    "stop_distance_m",
-    "aeb_first_time_s",
-    "aeb_max_stage",
-    "final_speed_kmh",
-]
 
 
 @dataclass(frozen=True)
@@ -71,8 +59,7 @@ def run_one(cs: ConcreteScenario) -> tuple[dict, float]:
     t0 = time.perf_counter()
     row: dict = {"index": cs.index, "seed": cs.seed, **cs.params}
     try:
-        d = run_concrete(cs).as_dict()
-        row.update(status="ok", error="", **{k: d[k] for k in RESULT_KEYS})
+        row.update(status="ok", error="", **run_concrete(cs).row())
     except Exception as exc:  # one failing run must not stop the sweep
         msg = " ".join(f"{type(exc).__name__}: {exc}".split())
         row.update(status="failed", error=msg, **dict.fromkeys(RESULT_KEYS, ""))
@@ -99,7 +86,7 @@ def read_table(path: Path) -> dict[int, dict]:
     return rows
 
 
-def _fmt(v) -> str:
+def _fmt(v: object) -> str:
     if isinstance(v, float):
         return repr(v) if math.isfinite(v) else ""
     return "" if v is None else str(v)
@@ -217,10 +204,7 @@ def _execute_ray(
 
 def plot_sweep(logical: LogicalScenario, rows: list[dict], out: Path) -> Path | None:
     """Outcome over the first two varied parameters (or one), collision vs no collision."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     varied = [k for k in (*logical.ranges, *logical.random)]
     ok = [r for r in rows if r["status"] == "ok"]
@@ -228,7 +212,8 @@ def plot_sweep(logical: LogicalScenario, rows: list[dict], out: Path) -> Path | 
         return None
     xk = varied[0]
     yk = varied[1] if len(varied) > 1 else "min_ttc_s"
-    fig, ax = plt.subplots(figsize=(7, 5))
+    fig = Figure(figsize=(7, 5))
+    ax = fig.subplots()
     for coll, color, label in (
         ("True", "tab:red", "collision"),
         ("False", "tab:green", "no collision"),
@@ -248,5 +233,4 @@ def plot_sweep(logical: LogicalScenario, rows: list[dict], out: Path) -> Path | 
     fig.tight_layout()
     with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
     return out

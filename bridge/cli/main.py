@@ -40,6 +40,10 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status (1 for a HiyariError, 130 on Ctrl-C)."""
     args = build_parser().parse_args(argv)
+    # the one place that picks matplotlib's backend: files only, no display needed
+    import matplotlib
+
+    matplotlib.use("Agg")
     try:
         return int(args.func(args) or 0)
     except HiyariError as exc:

@@ -18,7 +18,7 @@ from hiyari.sensors.camera.config import CameraConfig
 from hiyari.sensors.camera.render import draw_objects
 from hiyari.sensors.camera.sensor import Camera
 from hiyari.sensors.environment.presets import disturbance_preset
-from hiyari.sensors.frames import Mount, VehiclePose
+from hiyari.sensors.frames import Mount
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.sensor import Lidar
 from hiyari.sensors.radar.config import RadarConfig
@@ -115,7 +115,7 @@ def render_sensor_frame(req: FrameRequest) -> list[Path]:
         source = "built-in street"
     scene = RayScene(mesh, preset.appearance)
     scene.update(world, ego_id)
-    ego = VehiclePose.from_world(world, ego_id)
+    ego = world.pose_of(ego_id)
     env = preset.environment_for(ego.heading)
     rng = np.random.default_rng(req.seed)
     out = Path(req.out)

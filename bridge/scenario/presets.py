@@ -15,13 +15,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import sumolib
 
 from hiyari.bridge.scenario.closed_loop import ScenarioHooks
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
-from hiyari.bridge.stack.ego_pose import EgoPose
 from hiyari.errors import HiyariError
+from hiyari.kinematics import Pose
 from hiyari.net.road.lane_frame import RoadFrame
+from hiyari.net.road.network import RoadNetwork
 from hiyari.net.sumo.build import (
     CityGridParams,
     IntersectionParams,
@@ -30,26 +30,27 @@ from hiyari.net.sumo.build import (
     build_intersection,
     build_r157_road,
 )
+from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.commands import VehicleType
 from hiyari.traffic.demand import DemandConfig, write_demand
 from hiyari.traffic.manoeuvres import ScriptedPerson, ScriptedVehicle
 from hiyari.traffic.simulation import Simulation
 from hiyari.traffic.world_state import WorldState
-
-G = 9.81
+from hiyari.units import G, kmh_to_mps
 
 
 @dataclass(frozen=True)
 class ActorSizes:
-    """Vehicle and pedestrian dimensions (m). Annex G: other vehicles 1.9 m x 5.3 m; the ego
-    1.9 m x 4.8 m (MODELS.md §1); CPNC child dummy about 1.15 m tall."""
+    """Vehicle and pedestrian dimensions (m), scenario parameters. Annex G: other vehicles
+    1.9 m x 5.3 m; the ego 1.9 m x 4.8 m (MODELS.md §1); both a car's default height
+    (ActorClass.CAR.size); CPNC child dummy about 1.15 m tall."""
 
     ego_length: float = 4.8
     ego_width: float = 1.9
-    ego_height: float = 1.5
+    ego_height: float = ActorClass.CAR.size.height
     other_length: float = 5.3
     other_width: float = 1.9
-    other_height: float = 1.5
+    other_height: float = ActorClass.CAR.size.height
     child_width: float = 0.5
     child_depth: float = 0.3
     child_height: float = 1.15
@@ -75,6 +76,7 @@ class Scenario(ScenarioHooks):
     """A ready-to-run scripted scenario."""
 
     net: Path = Path()
+    network: RoadNetwork | None = None  # the net read once, shared by everything in the run
     ego_id: str = "ego"
     target_id: str = ""
     conflict_point: tuple[float, float] | None = None
@@ -138,24 +140,24 @@ class Scenario(ScenarioHooks):
         for actor in self.scripted:
             actor.place(sim, script_time)
 
-    def done(self, world: WorldState, ego: EgoPose, script_time: float) -> bool:
+    def done(self, world: WorldState, ego: Pose, script_time: float) -> bool:
         """Ends ``settle_after_stop`` seconds after the ego first comes to a standstill."""
         if ego.speed < 0.05 and script_time > 0 and not np.isfinite(self._stopped_at):
             self._stopped_at = script_time
         return script_time - self._stopped_at >= self.settle_after_stop
 
 
-def _road_lanes(net: Path) -> tuple[RoadFrame, RoadFrame, list[str]]:
+def _road_lanes(network: RoadNetwork) -> tuple[RoadFrame, RoadFrame, list[str]]:
     """Right (ego) and left lane frames of the two-lane R157 road, and the ego route."""
-    n = sumolib.net.readNet(str(net))
+    n = network.sumo
     edges = [e for e in n.getEdges() if not e.isSpecial() and e.getLaneNumber() >= 2]
     if not edges:
-        raise HiyariError(f"{net}: no two-lane edge for the R157 scenarios")
+        raise HiyariError(f"{network.path}: no two-lane edge for the R157 scenarios")
     edge = max(edges, key=lambda e: e.getLength())
     right, left = edge.getLane(0), edge.getLane(1)
     return (
-        RoadFrame.from_lane(str(net), right.getID()),
-        RoadFrame.from_lane(str(net), left.getID()),
+        network.lane_frame(right.getID()),
+        network.lane_frame(left.getID()),
         [edge.getID()],
     )
 
@@ -174,7 +176,7 @@ def build_scenario(
     k = k or ScenarioConstants()
     z = sizes or ActorSizes()
     p = cs.params
-    ve0 = p.get("ve0_kmh", 0.0) / 3.6
+    ve0 = kmh_to_mps(p.get("ve0_kmh", 0.0))
     workdir.mkdir(parents=True, exist_ok=True)
     base = dict(ego_speed=ve0, lead_in=k.lead_in, settle_after_stop=k.settle_after_stop, sizes=z)
     # ego front at script time 0 if it holds Ve0 through the lead-in
@@ -182,9 +184,11 @@ def build_scenario(
 
     if cs.type in ("cut-in", "cut-out", "decel", "stationary"):
         net = build_r157_road(workdir / "r157.net.xml", R157RoadParams())
-        right, left, route = _road_lanes(net)
+        network = RoadNetwork(net)
+        right, left, route = _road_lanes(network)
         sc = Scenario(
             net=net,
+            network=network,
             ego_route=route,
             ego_lane=right.lane_index,
             ego_start_s=k.ego_start_s,
@@ -193,7 +197,7 @@ def build_scenario(
         )
         w = k.lane_width
         if cs.type == "cut-in":
-            vo0, vy, dx0 = p["vo0_kmh"] / 3.6, p["vy_ms"], p["dx0_m"]
+            vo0, vy, dx0 = kmh_to_mps(p["vo0_kmh"]), p["vy_ms"], p["dx0_m"]
             s_c0 = s_front0 + dx0 + z.other_length / 2
 
             def cut_in(t: float) -> tuple[float, float, float, float]:
@@ -236,10 +240,10 @@ def build_scenario(
         net = build_intersection(
             workdir / "street.net.xml", IntersectionParams(lane_width=k.lane_width)
         )
-        n = sumolib.net.readNet(str(net))
-        lane = next(ln for ln in n.getEdge("w_in").getLanes() if ln.allows("passenger"))
-        frame = RoadFrame.from_lane(str(net), lane.getID())
-        vp = p["ped_speed_kmh"] / 3.6
+        network = RoadNetwork(net)
+        lane = next(ln for ln in network.sumo.getEdge("w_in").getLanes() if ln.allows("passenger"))
+        frame = network.lane_frame(lane.getID())
+        vp = kmh_to_mps(p["ped_speed_kmh"])
         s_path = frame.length - 30.0  # the child's path crosses 30 m before the junction
         d_start = -(k.lane_width / 2 + k.ped_start_beyond_lane)
         d_impact = -z.ego_width / 2 + p["impact_fraction"] * z.ego_width
@@ -256,6 +260,7 @@ def build_scenario(
         d_parked = -(k.lane_width / 2 + k.kerb_offset)
         sc = Scenario(
             net=net,
+            network=network,
             ego_route=["w_in", "e_out"],
             ego_lane=lane.getIndex(),
             ego_start_s=k.ego_start_s,
@@ -287,11 +292,13 @@ def build_scenario(
                 vehicle_mix={"car": 0.85, "truck": 0.05, "bus": 0.05, "motorcycle": 0.05},
             ),
         )
-        ego_route = _long_route(net)
-        first = sumolib.net.readNet(str(net)).getEdge(ego_route[0])
+        network = RoadNetwork(net)
+        ego_route = _long_route(network)
+        first = network.sumo.getEdge(ego_route[0])
         lane = next(ln for ln in first.getLanes() if ln.allows("passenger"))
         sc = Scenario(
             net=net,
+            network=network,
             routes=[routes],
             ego_route=ego_route,
             ego_lane=lane.getIndex(),
@@ -307,9 +314,9 @@ def build_scenario(
     raise HiyariError(f"no scenario script for type {cs.type!r}")
 
 
-def _long_route(net: Path) -> list[str]:
+def _long_route(network: RoadNetwork) -> list[str]:
     """A long car route across the network: between the most distant boundary edges."""
-    n = sumolib.net.readNet(str(net))
+    n = network.sumo
     cars = [e for e in n.getEdges() if e.allows("passenger") and not e.isSpecial()]
     starts = [e for e in cars if not e.getIncoming()]
     ends = [e for e in cars if not e.getOutgoing()]
@@ -321,4 +328,4 @@ def _long_route(net: Path) -> list[str]:
         path, _ = n.getShortestPath(a, b, vClass="passenger")
         if path:
             return [e.getID() for e in path]
-    raise HiyariError(f"{net}: no route across the network for the ego")
+    raise HiyariError(f"{network.path}: no route across the network for the ego")

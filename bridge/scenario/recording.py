@@ -13,7 +13,7 @@ from hiyari.bridge.stack.aeb import AEBStage
 from hiyari.bridge.stack.interfaces import EgoStack, EgoStep
 from hiyari.bridge.stack.perception_sensors import SensorPerception
 from hiyari.net.mesh.road_mesh import build_scene_mesh
-from hiyari.net.road.geometry import RoadGeometry
+from hiyari.net.road.network import RoadNetwork
 from hiyari.sensors.outputs import CameraFrame, PointCloud, RadarDetections
 from hiyari.traffic.collision import Collision
 from hiyari.traffic.world_state import WorldState
@@ -55,8 +55,11 @@ class StepRecorder:
         )
 
 
-def open_recorder(path: Path, cs: ConcreteScenario, stack: EgoStack, net: Path) -> Recorder:
-    """A Recorder with the run's metadata, sensor configs and static road mesh written."""
+def open_recorder(
+    path: Path, cs: ConcreteScenario, stack: EgoStack, network: RoadNetwork
+) -> Recorder:
+    """A Recorder with the run's metadata, sensor configs and static road mesh written (the
+    sensors' scene mesh when the stack has one, else built from ``network``)."""
     rec = Recorder(
         path,
         metadata={
@@ -82,6 +85,6 @@ def open_recorder(path: Path, cs: ConcreteScenario, stack: EgoStack, net: Path) 
             )
         mesh = perception.scene.static_mesh
     else:
-        mesh = build_scene_mesh(RoadGeometry.from_net(net))
+        mesh = build_scene_mesh(network.geometry)
     rec.write_static_mesh(mesh)
     return rec

@@ -8,23 +8,23 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from hiyari.atomic import atomic_path  # noqa: E402
-from hiyari.bridge.scenario.closed_loop import RunResult, run_closed_loop  # noqa: E402
-from hiyari.bridge.scenario.presets import build_scenario  # noqa: E402
-from hiyari.bridge.scenario.toml_file import ConcreteScenario  # noqa: E402
-from hiyari.bridge.stack.aeb import ACCConfig, AEBConfig, AEBPlanner  # noqa: E402
-from hiyari.bridge.stack.fusion import KalmanFusion  # noqa: E402
-from hiyari.bridge.stack.interfaces import EgoStack  # noqa: E402
-from hiyari.bridge.stack.perception_sensors import SensorPerception  # noqa: E402
-from hiyari.bridge.stack.perception_truth import NoPerception, PerfectPerception  # noqa: E402
-from hiyari.errors import HiyariError  # noqa: E402
-from hiyari.traffic.simulation import SimConfig, Simulation  # noqa: E402
+from hiyari.atomic import atomic_path
+from hiyari.bridge.scenario.closed_loop import OnStep, run_closed_loop
+from hiyari.bridge.scenario.presets import build_scenario
+from hiyari.bridge.scenario.result import RunResult
+from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.bridge.stack.aeb import ACCConfig, AEBConfig, AEBPlanner
+from hiyari.bridge.stack.fusion import KalmanFusion
+from hiyari.bridge.stack.interfaces import EgoStack
+from hiyari.bridge.stack.perception_sensors import SensorPerception
+from hiyari.bridge.stack.perception_truth import NoPerception, PerfectPerception
+from hiyari.errors import HiyariError
+from hiyari.net.road.network import RoadNetwork
+from hiyari.traffic.simulation import SimConfig, Simulation
+from hiyari.units import kmh_to_mps, mps_to_kmh
 
 
 @dataclass(frozen=True)
@@ -38,36 +38,40 @@ class RunOptions:
     camera_image_every: int = 10  # when recording: render every Nth camera frame (0: none)
 
 
-def build_stack(cs: ConcreteScenario, net: Path) -> EgoStack:
-    """The default ego stack for a scenario on ``net``, or the user's class named in
-    ``cs.stack`` (called as ``cls(cs, net)``)."""
+def build_stack(cs: ConcreteScenario, net: Path | RoadNetwork) -> EgoStack:
+    """The default ego stack for a scenario on ``net`` (a .net.xml, or the run's RoadNetwork),
+    or the user's class named in ``cs.stack`` (called as ``cls(cs, net_file)``)."""
+    network = net if isinstance(net, RoadNetwork) else RoadNetwork(net)
     if cs.stack:
         module, _, name = cs.stack.partition(":")
         try:
             cls = getattr(importlib.import_module(module), name)
         except (ImportError, AttributeError) as exc:
             raise HiyariError(f"ego.stack: cannot load {cs.stack!r}: {exc}") from None
-        return cls(cs, net)
+        return cls(cs, network.path)
     if cs.perception == "perfect":
         perception = PerfectPerception()
     elif cs.perception == "none":
         perception = NoPerception()
     else:
-        perception = SensorPerception.for_scenario(cs, net)
-    set_speed = cs.params.get("ve0_kmh", 40.0) / 3.6
+        perception = SensorPerception.default_rig(
+            network, cs.sensors, cs.environment, cs.step_length, cs.seed
+        )
+    set_speed = kmh_to_mps(cs.params.get("ve0_kmh", 40.0))
     planner = AEBPlanner(ACCConfig(set_speed=set_speed), AEBConfig(actuation_delay=cs.aeb_delay))
     return EgoStack(perception, KalmanFusion(), planner)
 
 
 def run_concrete(
-    cs: ConcreteScenario, options: RunOptions | None = None, on_step=None
+    cs: ConcreteScenario, options: RunOptions | None = None, on_step: OnStep | None = None
 ) -> RunResult:
     """Run one concrete scenario in this process (one libsumo simulation at a time)."""
     options = options or RunOptions()
     with tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
         work = options.out_dir / "roads" if options.out_dir else Path(tmp)
         sc = build_scenario(cs, work)
-        stack = build_stack(cs, sc.net)
+        network = sc.network or RoadNetwork(sc.net)
+        stack = build_stack(cs, network)
         cfg = SimConfig(net=sc.net, routes=sc.routes, step_length=cs.step_length, seed=cs.seed)
         with Simulation(cfg) as sim:
             sim.fast_forward(sc.warmup)
@@ -78,7 +82,7 @@ def run_concrete(
                     raise HiyariError("recording needs an output folder")
                 from hiyari.bridge.scenario.recording import StepRecorder, open_recorder
 
-                recorder = open_recorder(options.out_dir / "run.mcap", cs, stack, sc.net)
+                recorder = open_recorder(options.out_dir / "run.mcap", cs, stack, network)
                 if isinstance(stack.perception, SensorPerception):
                     stack.perception.render_every = options.camera_image_every
                 on_step = _chain(StepRecorder(recorder, stack, sc.ego_id), on_step)
@@ -103,12 +107,12 @@ def run_concrete(
     return result
 
 
-def _chain(first, second):
+def _chain(first: OnStep, second: OnStep | None) -> OnStep:
     """Call ``first`` and then ``second`` (when given) with the same arguments."""
     if second is None:
         return first
 
-    def both(*args):
+    def both(*args: object) -> None:
         first(*args)
         second(*args)
 
@@ -134,23 +138,10 @@ def write_result(result: RunResult, cs: ConcreteScenario, out_dir: Path, plot: b
     }
     with atomic_path(out_dir / "result.json") as tmp:
         tmp.write_text(json.dumps(doc, indent=2))
-    keys = [
-        k
-        for k in (
-            "t",
-            "ego_speed",
-            "ego_accel_cmd",
-            "gap",
-            "ttc_true",
-            "ttc_stack",
-            "aeb_stage",
-            "conflict_distance",
-        )
-        if result.series.get(k)
-    ]
-    cols = np.array([result.series[k] for k in keys], dtype=float).T
+    columns = result.series.columns()
+    table = np.array(list(columns.values()), dtype=float).T
     with atomic_path(out_dir / "timeseries.csv") as tmp:
-        np.savetxt(tmp, cols, delimiter=",", header=",".join(keys), comments="", fmt="%.6g")
+        np.savetxt(tmp, table, delimiter=",", header=",".join(columns), comments="", fmt="%.6g")
     if plot:
         plot_timeseries(result, out_dir / "timeseries.png")
 
@@ -158,27 +149,28 @@ def write_result(result: RunResult, cs: ConcreteScenario, out_dir: Path, plot: b
 def plot_timeseries(result: RunResult, out: Path) -> Path:
     """Speed, gap and TTC over time with AEB stages shaded."""
     s = result.series
-    t = np.asarray(s["t"])
-    fig, axes = plt.subplots(3, 1, figsize=(8, 7), sharex=True)
-    axes[0].plot(t, np.asarray(s["ego_speed"]) * 3.6, label="ego speed")
+    t = np.asarray(s.t)
+    fig = Figure(figsize=(8, 7))
+    axes = fig.subplots(3, 1, sharex=True)
+    axes[0].plot(t, mps_to_kmh(np.asarray(s.ego_speed)), label="ego speed")
     axes[0].set_ylabel("speed (km/h)")
-    gap = np.asarray(s["gap"], dtype=float)
+    gap = np.asarray(s.gap, dtype=float)
     gap_label = "gap to target"
-    if s.get("conflict_distance"):
-        gap, gap_label = np.asarray(s["conflict_distance"]), "distance to conflict point"
+    if s.conflict_distance:
+        gap, gap_label = np.asarray(s.conflict_distance), "distance to conflict point"
     axes[1].plot(t, np.where(np.isfinite(gap), gap, np.nan), color="tab:orange", label=gap_label)
     axes[1].axhline(0, color="k", lw=0.6)
     axes[1].set_ylabel("distance (m)")
-    for key, lab, style in (
-        ("ttc_true", "TTC (ground truth)", "-"),
-        ("ttc_stack", "TTC (ego stack)", "--"),
+    for values, lab, style in (
+        (s.ttc_true, "TTC (ground truth)", "-"),
+        (s.ttc_stack, "TTC (ego stack)", "--"),
     ):
-        v = np.asarray(s[key], dtype=float)
+        v = np.asarray(values, dtype=float)
         axes[2].plot(t, np.where(v < 10, v, np.nan), style, label=lab)
     axes[2].set_ylim(0, 10)
     axes[2].set_ylabel("TTC (s)")
     axes[2].set_xlabel("simulation time (s)")
-    stage = np.asarray(s["aeb_stage"])
+    stage = np.asarray(s.aeb_stage)
     for ax in axes:
         for lvl, color in ((2, "#ffd8a8"), (3, "#ffa8a8")):
             ax.fill_between(
@@ -194,7 +186,7 @@ def plot_timeseries(result: RunResult, out: Path) -> Path:
         ax.grid(alpha=0.3)
         ax.legend(loc="upper right", fontsize=8)
     verdict = (
-        f"COLLISION with {result.collided_with} at {result.impact_speed * 3.6:.1f} km/h"
+        f"COLLISION with {result.collided_with} at {mps_to_kmh(result.impact_speed):.1f} km/h"
         if result.collision
         else "no collision"
     )
@@ -202,5 +194,4 @@ def plot_timeseries(result: RunResult, out: Path) -> Path:
     fig.tight_layout()
     with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
     return out

@@ -15,10 +15,9 @@ from enum import IntEnum
 
 import numpy as np
 
-from hiyari.bridge.stack.ego_pose import EgoPose
+from hiyari.kinematics import Pose, footprint_entry_time, footprint_extent
 from hiyari.sensors.outputs import ObjectList
-
-G = 9.81
+from hiyari.units import G
 
 
 class AEBStage(IntEnum):
@@ -61,25 +60,25 @@ class ACCConfig:
     stopped_speed: float = 0.5  # m/s: a lead slower than this is treated as stopped
 
 
-def time_to_collision(tracks: ObjectList, ego: EgoPose, cfg: AEBConfig) -> np.ndarray:
-    """(N,) s until each track's footprint first overlaps the ego's; inf when never.
+def time_to_collision(tracks: ObjectList, ego: Pose, cfg: AEBConfig) -> np.ndarray:
+    """(N,) s until each track's footprint first overlaps the ego's; inf when never or beyond
+    ``cfg.horizon``.
 
-    Axis-aligned in the ego frame: intervals of longitudinal and lateral overlap intersected.
+    Slab test on the ego's axes (hiyari.kinematics.footprint_entry_time): tracks at their
+    relative velocity, each footprint along its velocity over ground (track_heading), the
+    ego's widened by ``cfg.lateral_margin`` on each side.
     """
-    n = len(tracks)
-    if n == 0:
+    if len(tracks) == 0:
         return np.zeros(0)
-    x, y = tracks.position[:, 0], tracks.position[:, 1]
-    vx = np.nan_to_num(tracks.velocity[:, 0])
-    vy = np.nan_to_num(tracks.velocity[:, 1])
-    ext_x, ext_y = footprint_extent(tracks, ego)
-    half_x = ext_x + ego.length / 2
-    half_y = ext_y + ego.width / 2 + cfg.lateral_margin
-    tx0, tx1 = _interval(x, vx, half_x)
-    ty0, ty1 = _interval(y, vy, half_y)
-    t0 = np.maximum(np.maximum(tx0, ty0), 0.0)
-    t1 = np.minimum(tx1, ty1)
-    ttc = np.where((t0 <= t1) & (t1 >= 0), t0, np.inf)
+    ttc = footprint_entry_time(
+        tracks.position[:, :2],
+        np.nan_to_num(tracks.velocity[:, :2]),
+        track_heading(tracks, ego),
+        ego.length,
+        ego.width + 2 * cfg.lateral_margin,
+        tracks.size[:, 0],
+        tracks.size[:, 1],
+    )
     return np.where(ttc <= cfg.horizon, ttc, np.inf)
 
 
@@ -98,32 +97,26 @@ def select(ol: ObjectList, mask: np.ndarray) -> ObjectList:
     )
 
 
-def footprint_extent(tracks: ObjectList, ego: EgoPose, min_speed: float = 0.5):
-    """Half extents (m) along the ego's x and y of each object's footprint.
+def track_heading(tracks: ObjectList, ego: Pose, min_speed: float = 0.5) -> np.ndarray:
+    """(N,) heading (rad) of each track relative to the ego's.
 
     Objects are taken to head along their velocity over ground (Annex G's other vehicles do),
     so a car changing lane reaches further sideways than its half width; objects slower than
-    ``min_speed`` are taken as aligned with the ego.
+    ``min_speed`` m/s are taken as aligned with the ego.
     """
     vx_abs = np.nan_to_num(tracks.velocity[:, 0]) + ego.speed
     vy_abs = np.nan_to_num(tracks.velocity[:, 1])
     moving = np.hypot(vx_abs, vy_abs) > min_speed
-    psi = np.where(moving, np.arctan2(vy_abs, np.where(moving, vx_abs, 1.0)), 0.0)
-    c, s = np.abs(np.cos(psi)), np.abs(np.sin(psi))
-    lo, wo = tracks.size[:, 0], tracks.size[:, 1]
-    return (lo * c + wo * s) / 2, (lo * s + wo * c) / 2
+    return np.where(moving, np.arctan2(vy_abs, np.where(moving, vx_abs, 1.0)), 0.0)
 
 
-def _interval(p: np.ndarray, v: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Times when |p + v t| <= half (p relative position, v relative velocity)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a = (-half - p) / v
-        b = (half - p) / v
-    still = np.abs(v) < 1e-9
-    inside = np.abs(p) <= half
-    t0 = np.where(still, np.where(inside, -np.inf, np.inf), np.minimum(a, b))
-    t1 = np.where(still, np.where(inside, np.inf, -np.inf), np.maximum(a, b))
-    return t0, t1
+def track_extent(
+    tracks: ObjectList, ego: Pose, min_speed: float = 0.5
+) -> tuple[np.ndarray, np.ndarray]:
+    """Half extents (m) along the ego's x and y of each track's footprint (track_heading)."""
+    return footprint_extent(
+        tracks.size[:, 0], tracks.size[:, 1], track_heading(tracks, ego, min_speed)
+    )
 
 
 @dataclass(frozen=True)
@@ -149,7 +142,7 @@ class AEBPlanner:
         self._applied = 0.0
         self._latched = 0.0  # m/s^2 held until standstill
 
-    def plan(self, tracks: ObjectList, ego: EgoPose, time: float) -> EgoCommand:
+    def plan(self, tracks: ObjectList, ego: Pose, time: float) -> EgoCommand:
         """Acceleration command for this step from the fused tracks (ego frame)."""
         if self.aeb.require_classified and len(tracks):
             # radar alone cannot tell a parked car beside the lane from one in it (azimuth
@@ -181,7 +174,7 @@ class AEBPlanner:
             threat=str(tracks.truth[k]) if k >= 0 and ttc_min < np.inf else "",
         )
 
-    def _stage(self, ttc: float, ego: EgoPose) -> AEBStage:
+    def _stage(self, ttc: float, ego: Pose) -> AEBStage:
         c = self.aeb
         if ttc < c.full_ttc or (c.hold_after_stop and ego.speed < 0.1 and ttc < c.warning_ttc):
             return AEBStage.FULL
@@ -191,11 +184,11 @@ class AEBPlanner:
             return AEBStage.WARNING
         return AEBStage.OFF
 
-    def _acc(self, tracks: ObjectList, ego: EgoPose) -> float:
+    def _acc(self, tracks: ObjectList, ego: Pose) -> float:
         c = self.acc
         accel = c.k_speed * (c.set_speed - ego.speed)
         if len(tracks):
-            ext_x, ext_y = footprint_extent(tracks, ego)
+            ext_x, ext_y = track_extent(tracks, ego)
             ahead = (tracks.position[:, 0] > 0) & (
                 np.abs(tracks.position[:, 1]) < ext_y + ego.width / 2
             )

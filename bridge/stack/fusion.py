@@ -17,20 +17,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from hiyari.bridge.stack.ego_pose import EgoPose, frame_points_to_ego
+from hiyari.kinematics import Pose, rotation_2d
 from hiyari.sensors.outputs import ObjectList
 from hiyari.traffic.actor_class import ActorClass
 
-#: Class-typical footprint (length, width, height, m) when a sensor does not measure size.
-CLASS_SIZE = {
-    -1: (4.5, 1.8, 1.5),
-    ActorClass.CAR: (4.5, 1.8, 1.5),
-    ActorClass.TRUCK: (8.0, 2.5, 3.2),
-    ActorClass.BUS: (12.0, 2.5, 3.2),
-    ActorClass.MOTORCYCLE: (2.2, 0.9, 1.5),
-    ActorClass.BICYCLE: (1.8, 0.65, 1.7),
-    ActorClass.PEDESTRIAN: (0.5, 0.5, 1.7),
-}
+#: An observation in the network frame: position, covariance, line-of-sight unit vector.
+_World = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -103,7 +95,7 @@ class KalmanFusion:
         self._tracks: list[_Track] = []
         self._next_id = 1
 
-    def update(self, lists: list[ObjectList], ego: EgoPose, time: float) -> ObjectList:
+    def update(self, lists: list[ObjectList], ego: Pose, time: float) -> ObjectList:
         """Fuse this step's object lists (any sensors); return confirmed tracks, ego frame."""
         for tr in self._tracks:
             self._predict(tr, time)
@@ -117,14 +109,16 @@ class KalmanFusion:
     def _noise(self, source: str) -> SensorNoise:
         return self.config.noise.get(source, self.config.noise["radar"])
 
-    def _observations(self, lists: list[ObjectList], ego: EgoPose) -> list[_Obs]:
+    def _observations(self, lists: list[ObjectList], ego: Pose) -> list[_Obs]:
         cfg = self.config
         ranging: list[_Obs] = []
         cams: list[_Obs] = []
         for ol in lists:
             if not len(ol):
                 continue
-            xy = frame_points_to_ego(ol.frame_to_world, ol.position, ego)
+            pts = np.asarray(ol.position, dtype=float).reshape(-1, 3)
+            world = pts @ ol.frame_to_world[:3, :3].T + ol.frame_to_world[:3, 3]
+            xy = ego.world_to_vehicle(world[:, :2])
             vel = _vel_to_ego(ol, ego)
             nz = self._noise(ol.source)
             for k in range(len(ol)):
@@ -194,7 +188,7 @@ class KalmanFusion:
         tr.p = f @ tr.p @ f.T + q * g @ g.T
         tr.t = time
 
-    def _associate(self, obs: list[_Obs], ego: EgoPose, time: float) -> None:
+    def _associate(self, obs: list[_Obs], ego: Pose, time: float) -> None:
         world = [_to_world(o, ego) for o in obs]  # (xy, cov, unit line of sight)
         nt, nm = len(self._tracks), len(obs)
         cost = np.full((nt, nm), 1e6)
@@ -214,12 +208,12 @@ class KalmanFusion:
             if j not in used:
                 self._spawn(obs[j], world[j], ego, time)
 
-    def _update(self, tr: _Track, o: _Obs, w, ego: EgoPose, time: float) -> None:
+    def _update(self, tr: _Track, o: _Obs, w: _World, ego: Pose, time: float) -> None:
         xy, cov, unit = w
         cfg = self.config
         _kalman(tr, np.eye(4)[:2], xy, cov)
         if np.all(np.isfinite(o.vel)):
-            v_abs = _rot(ego.heading) @ o.vel + ego.velocity
+            v_abs = ego.vehicle_to_world_vec(o.vel) + ego.velocity
             _kalman(tr, np.eye(4)[2:], v_abs, np.eye(2) * cfg.full_velocity_sigma**2)
         if np.isfinite(o.radial):
             # radial relative speed = (v_object - v_ego) . unit
@@ -235,14 +229,12 @@ class KalmanFusion:
         if o.truth:
             tr.truth = o.truth
 
-    def _spawn(self, o: _Obs, w, ego: EgoPose, time: float) -> None:
+    def _spawn(self, o: _Obs, w: _World, ego: Pose, time: float) -> None:
         xy, cov, _ = w
         p = np.zeros((4, 4))
         p[:2, :2] = cov
         p[2:, 2:] = np.eye(2) * 10.0**2
-        size = (
-            tuple(o.size) if np.all(np.isfinite(o.size)) else CLASS_SIZE.get(o.cls, CLASS_SIZE[-1])
-        )
+        size = tuple(o.size) if np.all(np.isfinite(o.size)) else _class_size(o.cls)
         tr = _Track(
             self._next_id, np.concatenate([xy, np.zeros(2)]), p, time, 0, o.cls, size, o.truth, time
         )
@@ -250,14 +242,14 @@ class KalmanFusion:
         self._update(tr, o, w, ego, time)
         self._tracks.append(tr)
 
-    def _output(self, ego: EgoPose, time: float) -> ObjectList:
+    def _output(self, ego: Pose, time: float) -> ObjectList:
         tracks = [t for t in self._tracks if t.hits >= self.config.confirm_hits]
         if not tracks:
             return ObjectList.empty(time, "fusion", ego.to_world())
         xs = np.array([t.x for t in tracks])
         pos = np.zeros((len(tracks), 3))
-        pos[:, :2] = ego.world_to_ego_xy(xs[:, :2])
-        v_abs = ego.world_to_ego_vec(xs[:, 2:])
+        pos[:, :2] = ego.world_to_vehicle(xs[:, :2])
+        v_abs = ego.world_to_vehicle_vec(xs[:, 2:])
         # vehicles cannot move sideways faster than forwards: noise on a parked car's track
         # must not predict it into the ego's path (pedestrians keep their lateral speed)
         cls = np.array([t.cls for t in tracks])
@@ -290,19 +282,14 @@ def _kalman(tr: _Track, h: np.ndarray, z: np.ndarray, r: np.ndarray) -> None:
     tr.p = (np.eye(4) - k @ h) @ tr.p
 
 
-def _rot(a: float) -> np.ndarray:
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, -s], [s, c]])
-
-
-def _to_world(o: _Obs, ego: EgoPose) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _to_world(o: _Obs, ego: Pose) -> _World:
     """Position, polar covariance and line-of-sight unit vector in the network frame."""
     r = float(np.hypot(*o.xy))
     b = float(np.arctan2(o.xy[1], o.xy[0]))
-    rot = _rot(ego.heading + b)
+    rot = rotation_2d(ego.heading + b)
     cross = max(r * o.sigma_az, 0.05)
     cov = rot @ np.diag([o.sigma_r**2, cross**2]) @ rot.T
-    xy = _rot(ego.heading) @ o.xy + [ego.x, ego.y]
+    xy = ego.vehicle_to_world(o.xy)
     return xy, cov, rot[:, 0]
 
 
@@ -310,8 +297,13 @@ def _wrap(a: float) -> float:
     return (a + np.pi) % (2 * np.pi) - np.pi
 
 
-def _vel_to_ego(ol: ObjectList, ego: EgoPose) -> np.ndarray:
+def _vel_to_ego(ol: ObjectList, ego: Pose) -> np.ndarray:
     """Relative velocities of an object list -> ego axes (nan rows stay nan)."""
     v = np.asarray(ol.velocity, dtype=float)[:, :3]
     world = v @ ol.frame_to_world[:3, :3].T
-    return ego.world_to_ego_vec(world[:, :2])
+    return ego.world_to_vehicle_vec(world[:, :2])
+
+
+def _class_size(cls: int) -> tuple[float, float, float]:
+    """Class-typical size (m) for objects whose sensors do not measure size (-1: a car)."""
+    return (ActorClass(cls) if cls >= 0 else ActorClass.CAR).size.as_tuple()

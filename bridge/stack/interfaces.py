@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from hiyari.bridge.stack.aeb import EgoCommand
-from hiyari.bridge.stack.ego_pose import EgoPose
+from hiyari.kinematics import Pose
 from hiyari.sensors.outputs import ObjectList
 from hiyari.traffic.world_state import WorldState
 
@@ -19,19 +19,19 @@ from hiyari.traffic.world_state import WorldState
 class Perception(Protocol):
     """Sensors + recognition: object lists of this step (empty list when no sensor is due)."""
 
-    def perceive(self, world: WorldState, ego_row: int, ego: EgoPose) -> list[ObjectList]: ...
+    def perceive(self, world: WorldState, ego_row: int, ego: Pose) -> list[ObjectList]: ...
 
 
 class Fusion(Protocol):
     """Object lists -> tracks (ObjectList in the ego frame, velocities relative to the ego)."""
 
-    def update(self, lists: list[ObjectList], ego: EgoPose, time: float) -> ObjectList: ...
+    def update(self, lists: list[ObjectList], ego: Pose, time: float) -> ObjectList: ...
 
 
 class Planner(Protocol):
     """Tracks -> the ego's acceleration command."""
 
-    def plan(self, tracks: ObjectList, ego: EgoPose, time: float) -> EgoCommand: ...
+    def plan(self, tracks: ObjectList, ego: Pose, time: float) -> EgoCommand: ...
 
 
 @dataclass
@@ -53,7 +53,7 @@ class EgoStack:
 
     def step(self, world: WorldState, ego_row: int) -> EgoStep:
         """Run the stack on this step's WorldState; ``ego_row`` is the ego's row in it."""
-        ego = EgoPose.from_world(world, ego_row)
+        ego = world.pose(ego_row)
         lists = self.perception.perceive(world, ego_row, ego)
         tracks = self.fusion.update(lists, ego, world.time)
         return EgoStep(self.planner.plan(tracks, ego, world.time), lists, tracks)

@@ -3,14 +3,13 @@ own rate, recognised into object lists (hiyari.sensors), under one disturbance p
 
 from __future__ import annotations
 
-from pathlib import Path
+from collections.abc import Sequence
 
 import numpy as np
 
-from hiyari.bridge.scenario.toml_file import ConcreteScenario
-from hiyari.bridge.stack.ego_pose import EgoPose
+from hiyari.kinematics import Pose
 from hiyari.net.mesh.road_mesh import build_scene_mesh
-from hiyari.net.road.geometry import RoadGeometry
+from hiyari.net.road.network import RoadNetwork
 from hiyari.sensors.camera.sensor import Camera
 from hiyari.sensors.environment.presets import DisturbancePreset, disturbance_preset
 from hiyari.sensors.outputs import CameraFrame, ObjectList, PointCloud, RadarDetections
@@ -51,17 +50,24 @@ class SensorPerception:
         scene.set_appearance(preset.appearance)
 
     @staticmethod
-    def for_scenario(
-        cs: ConcreteScenario, net: Path, ego_id: str = "ego", buildings: bool = False
+    def default_rig(
+        network: RoadNetwork,
+        sensors: Sequence[str],
+        environment: str,
+        step: float,
+        seed: int,
+        ego_id: str = "ego",
+        buildings: bool = False,
     ) -> SensorPerception:
-        """The default rig (only the sensors ``cs.sensors`` names) on the scenario's road."""
-        scene = RayScene(build_scene_mesh(RoadGeometry.from_net(net), buildings=buildings))
+        """The default rig, only the sensors named in ``sensors``, on the road of ``network``
+        under the disturbance preset ``environment``; the simulation steps every ``step`` s."""
+        scene = RayScene(build_scene_mesh(network.geometry, buildings=buildings))
         rig = SensorRig.default()
-        rig.sensors = [s for s in rig.sensors if s.name in cs.sensors]
-        preset = disturbance_preset(cs.environment)
-        return SensorPerception(scene, rig, preset, ego_id, cs.step_length, cs.seed)
+        rig.sensors = [s for s in rig.sensors if s.name in sensors]
+        preset = disturbance_preset(environment)
+        return SensorPerception(scene, rig, preset, ego_id, step, seed)
 
-    def perceive(self, world: WorldState, ego_row: int, ego: EgoPose) -> list[ObjectList]:
+    def perceive(self, world: WorldState, ego_row: int, ego: Pose) -> list[ObjectList]:
         """Object lists of the sensors due at this step (none when no sensor fires)."""
         self.last_raw = []
         due = self.rig.due(world.time, self.step)

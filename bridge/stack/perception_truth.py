@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hiyari.bridge.stack.ego_pose import EgoPose
+from hiyari.kinematics import Pose
 from hiyari.sensors.outputs import ObjectList
 from hiyari.traffic.world_state import WorldState
 
@@ -21,15 +21,15 @@ class PerfectPerception:
     max_range: float = 150.0
     fov_deg: float = 180.0
 
-    def perceive(self, world: WorldState, ego_row: int, ego: EgoPose) -> list[ObjectList]:
+    def perceive(self, world: WorldState, ego_row: int, ego: Pose) -> list[ObjectList]:
         """One ObjectList ("truth") in the ego frame, velocities relative to the ego."""
         others = np.arange(len(world)) != ego_row
-        rel = ego.world_to_ego_xy(world.xyz[:, :2])
+        rel = ego.world_to_vehicle(world.xyz[:, :2])
         rng = np.hypot(rel[:, 0], rel[:, 1])
         bearing = np.degrees(np.abs(np.arctan2(rel[:, 1], rel[:, 0])))
         keep = others & (rng <= self.max_range) & (bearing <= self.fov_deg / 2)
         idx = np.flatnonzero(keep)
-        vel = ego.world_to_ego_vec(world.velocity[idx] - ego.velocity)
+        vel = ego.world_to_vehicle_vec(world.velocity[idx] - ego.velocity)
         n = len(idx)
         pos = np.zeros((n, 3))
         pos[:, :2] = rel[idx]
@@ -57,5 +57,5 @@ class PerfectPerception:
 class NoPerception:
     """Sensors disabled: nothing is ever perceived (the ego cannot react)."""
 
-    def perceive(self, world: WorldState, ego_row: int, ego: EgoPose) -> list[ObjectList]:
+    def perceive(self, world: WorldState, ego_row: int, ego: Pose) -> list[ObjectList]:
         return [ObjectList.empty(world.time, "none", ego.to_world())]

@@ -1,9 +1,12 @@
 """The static 3D road scene: triangles with one material each, built from a RoadGeometry.
 
 Parts (material):
-- lane surfaces (asphalt; grass for verge-type lanes) of normal and internal lanes, so
-  vehicles drive on the heights SUMO gives them; paved shoulders (asphalt); junction areas
-  just below the lanes (asphalt: the rest of the junction between and around its lanes);
+- lane surfaces of normal and internal lanes, so vehicles drive on the heights SUMO gives
+  them, in the material of their OpenDRIVE lane type from the one lane-type table
+  (``hiyari.net.sumo.lane_types``: asphalt for driving lanes and shoulders, grass for
+  borders and medians, concrete for curbs; asphalt for lanes of other nets); paved shoulders
+  from edge params (asphalt); junction areas just below the lanes (asphalt: the rest of the
+  junction between and around its lanes);
 - lane markings: solid / dashed lines and zebra crossings, raised ``marking_lift`` above the
   surface (lane paint);
 - sidewalks and walking areas as closed solids standing ``kerb_height`` above the road, whose
@@ -37,11 +40,9 @@ from hiyari.net.mesh.primitives import (
 from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.net.road.geometry import Edge, Lane, LaneKind, RoadGeometry
 from hiyari.net.road.polylines import Polylines
+from hiyari.net.sumo.lane_types import LANE_TYPES, lane_type
 
 __all__ = ["MeshParams", "build_scene_mesh", "export_mesh"]
-
-#: Lane types (OpenDRIVE names kept by netconvert) drawn as grass rather than asphalt.
-VERGE_LANE_TYPES = frozenset({"border", "none", "median", "curb"})
 
 
 @dataclass(frozen=True)
@@ -109,18 +110,25 @@ def _strip_of(lanes: list[Lane], material: Material) -> SceneMesh:
     return strip(left, right, lines, material)
 
 
+def surface_material(lane: Lane) -> Material:
+    """The material of a lane's surface: its OpenDRIVE lane type's in the lane-type table
+    (grass for types the table does not know), asphalt for lanes of other nets."""
+    if lane.odr_type:
+        entry = lane_type(lane.odr_type)
+    elif (entry := LANE_TYPES.get(lane.type)) is None:
+        return Material.ASPHALT
+    return Material[entry.surface.name]
+
+
 def _surfaces(g: RoadGeometry, p: MeshParams) -> SceneMesh:
-    road_kinds = (LaneKind.DRIVING, LaneKind.BIKE, LaneKind.OTHER)
-    lanes = g.lanes_of(*road_kinds)
-    verge = [ln for ln in lanes if ln.kind == LaneKind.OTHER and ln.type in VERGE_LANE_TYPES]
-    paved = [ln for ln in lanes if not (ln.kind == LaneKind.OTHER and ln.type in VERGE_LANE_TYPES)]
-    internal = [ln for ln in g.lanes_of(*road_kinds, internal=True) if ln.internal]
-    return SceneMesh.concatenate(
-        [
-            _strip_of(paved + internal, Material.ASPHALT),
-            _strip_of(verge, Material.GRASS),
-        ]
-    )
+    road_kinds = (LaneKind.DRIVING, LaneKind.SHOULDER, LaneKind.BIKE, LaneKind.OTHER)
+    lanes = g.lanes_of(*road_kinds) + [
+        ln for ln in g.lanes_of(*road_kinds, internal=True) if ln.internal
+    ]
+    by_material: dict[Material, list[Lane]] = {}
+    for ln in lanes:
+        by_material.setdefault(surface_material(ln), []).append(ln)
+    return SceneMesh.concatenate([_strip_of(by_material[m], m) for m in sorted(by_material)])
 
 
 def _junctions(g: RoadGeometry, p: MeshParams) -> SceneMesh:

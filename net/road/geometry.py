@@ -1,7 +1,8 @@
 """Road geometry read from any SUMO net: lanes, borders, polygons, junctions, markings, heights.
 
 What it holds: every lane (centre line, left / right borders, polygon, width, kind: driving,
-bike, sidewalk, crossing, walking area, other), edges, junction areas, painted markings
+shoulder, bike, sidewalk, crossing, walking area, other; for OpenDRIVE imports the source road,
+lane and lane type), edges, junction areas, painted markings
 (solid / dashed from lane-change permissions) and road boundaries (carriageway edges, with
 or without a kerb), as shapely polygons and numpy (n, 3) arrays.
 
@@ -25,6 +26,7 @@ no rails unless the mesh builder guesses rails (see ``hiyari.net.mesh.road_mesh.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from enum import StrEnum
 from pathlib import Path
@@ -53,12 +55,15 @@ _ALL = frozenset(SUMO_VEHICLE_CLASSES)
 _MOTOR = frozenset(SUMO_ROAD_MOTOR_CLASSES)
 _WALK = frozenset({"pedestrian", "wheelchair"})
 _LIGHT = frozenset({"bicycle", "scooter", "pedestrian", "wheelchair"})
+#: Classes of vehicles on duty or scripted: a lane open only to these is closed to traffic.
+_ON_DUTY = frozenset({"emergency", "authority", "army", "vip", "custom1", "custom2"})
 
 
 class LaneKind(StrEnum):
     """What a lane is for, from its edge function and vehicle permissions."""
 
     DRIVING = "driving"  # motor vehicles allowed
+    SHOULDER = "shoulder"  # paved, closed to ordinary traffic (hard shoulder, parking, works)
     BIKE = "bike"  # bicycles (and scooters) but no motor vehicles or only pedestrians
     SIDEWALK = "sidewalk"  # pedestrians only (possibly with bicycles: shared path)
     CROSSING = "crossing"  # pedestrian crossing over a junction
@@ -101,6 +106,8 @@ def lane_kind(function: str, allowed: frozenset[str]) -> LaneKind:
         return LaneKind.WALKINGAREA
     if allowed & _MOTOR:
         return LaneKind.DRIVING
+    if allowed and allowed <= _ON_DUTY:
+        return LaneKind.SHOULDER
     if allowed and allowed <= _LIGHT:
         return LaneKind.SIDEWALK if "pedestrian" in allowed else LaneKind.BIKE
     if allowed & _WALK:
@@ -119,6 +126,9 @@ class Lane:
 
     For walking areas ``centre`` is the area's outline and ``left``/``right`` repeat it.
     ``length`` is SUMO's lane length (3D), ``width`` SUMO's lane width.
+    ``odr_road`` / ``odr_lane`` / ``odr_type``: the OpenDRIVE road id, lane id and lane type
+    the lane was imported from (the net's ``origId`` param, "<road>_<lane>", and lane type;
+    the first source where netconvert joined several); "", None, "" for other nets.
     """
 
     id: str
@@ -137,6 +147,9 @@ class Lane:
     left: np.ndarray
     right: np.ndarray
     polygon: Polygon  # plan-view outline (2D)
+    odr_road: str = ""
+    odr_lane: int | None = None
+    odr_type: str = ""
 
     @property
     def heights(self) -> np.ndarray:
@@ -285,7 +298,7 @@ def _read(path: Path, root: etree._Element) -> RoadGeometry:
     for e in root.iter("edge"):
         eid = e.get("id")
         function = e.get("function", "")
-        params = {p.get("key"): p.get("value", "") for p in e.iter("param")}
+        params = {p.get("key"): p.get("value", "") for p in e.findall("param")}
         lane_ids = []
         for ln in e.iter("lane"):
             centre = parse_shape(ln.get("shape"))
@@ -294,6 +307,7 @@ def _read(path: Path, root: etree._Element) -> RoadGeometry:
             if len(centre) < 2:
                 continue  # zero-length internal lanes carry no area
             allowed = permissions(ln.get("allow"), ln.get("disallow"))
+            odr_road, odr_lane = _origin(ln)
             raw.append(
                 {
                     "id": ln.get("id"),
@@ -309,6 +323,9 @@ def _read(path: Path, root: etree._Element) -> RoadGeometry:
                     "change_right": _may_change(ln.get("changeRight")),
                     "internal": function != "",
                     "centre": centre,
+                    "odr_road": odr_road,
+                    "odr_lane": odr_lane,
+                    "odr_type": ln.get("type", "") if odr_road else "",
                 }
             )
             lane_ids.append(ln.get("id"))
@@ -399,10 +416,25 @@ def _make_lane(r: dict, poly: Polygon) -> Lane:
         left=r["left"],
         right=r["right"],
         polygon=poly,
+        odr_road=r["odr_road"],
+        odr_lane=r["odr_lane"],
+        odr_type=r["odr_type"],
     )
 
 
-def _border_points(lanes) -> np.ndarray:
+def _origin(lane: etree._Element) -> tuple[str, int | None]:
+    """OpenDRIVE (road id, lane id) from a lane's ``origId`` param ("" and None if none)."""
+    for p in lane.iter("param"):
+        if p.get("key") == "origId":
+            road, _, lane_id = (p.get("value") or "").split(" ")[0].rpartition("_")
+            try:
+                return road, int(lane_id)
+            except ValueError:
+                return "", None
+    return "", None
+
+
+def _border_points(lanes: Iterable[Lane]) -> np.ndarray:
     """(P, 3) all left and right border points of the given lanes."""
     parts = [np.concatenate([ln.left, ln.right]) for ln in lanes]
     return np.concatenate(parts) if parts else np.zeros((0, 3))

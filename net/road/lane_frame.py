@@ -8,7 +8,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import sumolib
 
 
 @dataclass(frozen=True)
@@ -21,14 +20,12 @@ class RoadFrame:
     lane_index: int
 
     @staticmethod
-    def from_lane(net_file: str, lane_id: str) -> RoadFrame:
-        """The frame of ``lane_id`` in the network ``net_file``."""
-        lane = sumolib.net.readNet(str(net_file)).getLane(lane_id)
-        pts = np.array([p[:2] for p in lane.getShape()], dtype=float)
+    def from_points(points: np.ndarray, edge: str, lane_index: int) -> RoadFrame:
+        """The frame along the centre-line polyline ``points`` (K, 2) m of lane ``lane_index``
+        of ``edge`` (a lane of a net: hiyari.net.road.network.RoadNetwork.lane_frame)."""
+        pts = np.asarray(points, dtype=float)
         seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
-        return RoadFrame(
-            pts, np.concatenate([[0.0], np.cumsum(seg)]), lane.getEdge().getID(), lane.getIndex()
-        )
+        return RoadFrame(pts, np.concatenate([[0.0], np.cumsum(seg)]), edge, lane_index)
 
     @property
     def length(self) -> float:

@@ -1,17 +1,33 @@
-"""Import an OpenDRIVE (.xodr) map into a SUMO net with netconvert, keeping elevation.
+"""Import an OpenDRIVE (.xodr) map into a SUMO net with netconvert, as its author meant it.
 
-The net keeps the OpenDRIVE coordinates (no offset normalisation: net x, y = OpenDRIVE x, y)
-and the elevation profile (z). Lane ids follow netconvert: edge "<road id>" for lanes on the
-left of the reference line (driving against the road direction) and "-<road id>" for the right
-lanes, split per lane section as "<id>#<k>" (k = 0, 1, ...) where a road has several; lane
-index 0 is the outermost imported lane.
-By default netconvert imports the lane types vehicles and pedestrians use (driving, stop /
-shoulder, sidewalk, biking ...); ``ImportOptions.all_lanes`` adds every type (border, median,
-...) as lanes no vehicle may use, which the scene mesh draws as verge.
+Coordinates and elevation: the net keeps the OpenDRIVE coordinates (no offset normalisation:
+net x, y = OpenDRIVE x, y) and the elevation profile (z).
+
+Ids: edge "<road id>" for lanes on the left of the reference line (driving against the road
+direction) and "-<road id>" for the right lanes, split per lane section as "<id>#<k>" where a
+road has several; lane index 0 is the outermost imported lane. Every lane keeps its OpenDRIVE
+identity in ``<param key="origId" value="<road>_<lane>"/>`` and its lane type in ``type``.
+
+Lane types: who may use each lane and whether it is imported by default come from the one
+table in ``hiyari.net.sumo.lane_types`` (driving lanes for vehicles; shoulders and parking in
+the net but closed to ordinary traffic; sidewalks for pedestrians, imported by default; verge
+types such as border or median only with ``ImportOptions.all_lanes``, closed to all).
+
+Repairs: valid OpenDRIVE that netconvert refuses is repaired on a temporary copy first
+(``hiyari.net.sumo.opendrive_repair``); each repair is reported through ``warn``.
+
+Junction shapes: by default the lanes inside junctions follow the file's connecting roads
+(the author's geometry). When SUMO's junction logic then disagrees with those paths (links it
+lets pass unhindered cross, or links it makes wait neither cross nor merge; see
+``hiyari.net.sumo.junction_check``) and netconvert's own computed shapes agree better, or when
+netconvert fails with the file's shapes, the computed shapes are used, with one warning.
 """
 
 from __future__ import annotations
 
+import logging
+import tempfile
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -20,16 +36,22 @@ from lxml import etree
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
 from hiyari.net.sumo.files import check_net
+from hiyari.net.sumo.junction_check import JunctionReport, check_junctions
+from hiyari.net.sumo.lane_types import write_type_map
+from hiyari.net.sumo.opendrive_repair import repair_opendrive
 from hiyari.sumo_tools import run_sumo_tool
+
+_log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
 class ImportOptions:
     """How netconvert reads the OpenDRIVE file."""
 
-    all_lanes: bool = False  # import every lane type, not only the ones traffic uses
+    all_lanes: bool = False  # also import verge lane types (border, median, ...), closed to all
     curve_resolution: float = 2.0  # point spacing along curved geometry, m
-    internal_shapes: bool = True  # take junction lane shapes from the file's junction roads
+    internal_shapes: bool | None = None  # junction lanes: file's shapes (True), computed
+    # (False), or None: the file's unless the junction check prefers the computed ones
 
 
 def check_opendrive(path: str | Path) -> etree._Element:
@@ -64,21 +86,12 @@ def check_opendrive(path: str | Path) -> etree._Element:
     return root
 
 
-def import_opendrive(
-    xodr: str | Path, out: str | Path, options: ImportOptions | None = None
-) -> Path:
-    """Convert ``xodr`` to the SUMO net ``out``; return ``out``.
-
-    Raises HiyariError (one line) for a missing, malformed or invalid file and for a map
-    without drivable lanes; ``out`` is then left untouched.
-    """
-    opts = options or ImportOptions()
-    if opts.curve_resolution <= 0:
-        raise HiyariError(f"curve resolution must be positive, got {opts.curve_resolution} m")
-    check_opendrive(xodr)
+def _netconvert_args(xodr: Path, types: Path, opts: ImportOptions, shapes: bool) -> list[str]:
     args = [
         "--opendrive-files",
         str(xodr),
+        "--type-files",
+        str(types),
         "--offset.disable-normalization",
         "true",
         "--no-turnarounds",
@@ -91,15 +104,91 @@ def import_opendrive(
         # lane type, so road / lane / s positions map onto SUMO lanes without guessing
         "--output.original-names",
         "true",
+        "--opendrive.internal-shapes",
+        "true" if shapes else "false",
+        # pedestrians need walking areas to get from one sidewalk to the next at junctions
+        "--walkingareas",
+        "true",
     ]
-    if opts.internal_shapes:
-        args += ["--opendrive.internal-shapes", "true"]
     if opts.all_lanes:
         args += ["--opendrive.import-all-lanes", "true"]
-    with atomic_path(out) as target:
-        run_sumo_tool("netconvert", [*args, "-o", str(target)], str(xodr))
+    return args
+
+
+def _convert(xodr: Path, source: Path, types: Path, opts: ImportOptions, shapes: bool,
+             target: Path) -> JunctionReport:  # fmt: skip
+    """One netconvert run into ``target``; the junction check of the result."""
+    run_sumo_tool("netconvert", [*_netconvert_args(xodr, types, opts, shapes), "-o", str(target)],
+                  str(source))  # fmt: skip
+    try:
+        check_net(target)
+    except HiyariError:
+        raise HiyariError(f"{source}: the converted map has no drivable lanes") from None
+    return check_junctions(target)
+
+
+def _choose_shapes(xodr: Path, source: Path, types: Path, opts: ImportOptions, work: Path,
+                   warn: Callable[[str], None]) -> Path:  # fmt: skip
+    """Convert with the file's junction shapes, falling back to computed ones (see module)."""
+    first = opts.internal_shapes if opts.internal_shapes is not None else True
+    compare = opts.internal_shapes is None  # an explicit choice only falls back on failure
+    results: dict[bool, tuple[Path, JunctionReport] | HiyariError] = {}
+    for shapes in (first, not first):
+        net = work / f"shapes-{shapes}.net.xml"
         try:
-            check_net(target)
-        except HiyariError:
-            raise HiyariError(f"{xodr}: the converted map has no drivable lanes") from None
+            results[shapes] = (net, _convert(xodr, source, types, opts, shapes, net))
+        except HiyariError as exc:
+            results[shapes] = exc
+        done = results[shapes]
+        if not isinstance(done, HiyariError) and (done[1].clean or not compare):
+            break
+    chosen = results[first]
+    other = results.get(not first)
+    name = {True: "the file's junction shapes", False: "netconvert's computed junction shapes"}
+    if isinstance(chosen, HiyariError):
+        if other is None or isinstance(other, HiyariError):
+            raise chosen
+        warn(f"{source}: netconvert failed with {name[first]} ({chosen}); using {name[not first]}")
+        return other[0]
+    if other is None or isinstance(other, HiyariError):
+        return chosen[0]
+    if len(other[1].unregulated) < len(chosen[1].unregulated) or (
+        not other[1].unregulated and not chosen[1].unregulated
+        and len(other[1].phantom) < len(chosen[1].phantom)
+    ):  # fmt: skip
+        warn(f"{source}: {name[first]} disagree with SUMO's junction logic "
+             f"({chosen[1].summary()}); using {name[not first]} ({other[1].summary()})")  # fmt: skip
+        return other[0]
+    return chosen[0]
+
+
+def import_opendrive(
+    xodr: str | Path,
+    out: str | Path,
+    options: ImportOptions | None = None,
+    warn: Callable[[str], None] | None = None,
+) -> Path:
+    """Convert ``xodr`` to the SUMO net ``out``; return ``out``.
+
+    ``warn`` receives one line per repair of the file and per junction-shape fallback
+    (default: this module's logger). Raises HiyariError (one line) for a missing, malformed
+    or invalid file and for a map without drivable lanes; ``out`` is then left untouched and
+    the user's file is never modified.
+    """
+    opts = options or ImportOptions()
+    warn = warn or _log.warning
+    if not opts.curve_resolution > 0:
+        raise HiyariError(f"curve resolution must be positive, got {opts.curve_resolution} m")
+    xodr = Path(xodr)
+    root = check_opendrive(xodr)
+    lane_types = {ln.get("type", "") for ln in root.iter("lane")} - {""}
+    with tempfile.TemporaryDirectory(prefix="hiyari-net-") as tmp:
+        work = Path(tmp)
+        repaired = work / xodr.name
+        for repair in repair_opendrive(xodr, repaired):
+            warn(repair.message(xodr))
+        types = write_type_map(work / "opendrive.typ.xml", lane_types)
+        net = _choose_shapes(repaired, xodr, types, opts, work, warn)
+        with atomic_path(out) as target:
+            target.write_bytes(net.read_bytes())
     return Path(out)

@@ -37,8 +37,9 @@ from hiyari.risk.cc.evaluator import (
     decel_setup,
     run_chunked,
 )
-from hiyari.risk.cc.model import KMH_PER_MPS, CCParams
+from hiyari.risk.cc.model import CCParams
 from hiyari.risk.cc.regions import Regions, RegionSearch, cut_in_regions
+from hiyari.units import KMH_PER_MPS
 
 _DEFAULT = CCParams()
 

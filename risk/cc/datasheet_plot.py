@@ -10,13 +10,15 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
 from hiyari.risk.cc.boundary import CutInDatasheet, CutOutDatasheet, DecelDatasheet
-from hiyari.risk.cc.model import KMH_PER_MPS, CCParams
+from hiyari.risk.cc.model import CCParams
+from hiyari.units import KMH_PER_MPS
 
 PREVENTABLE = "#7fc97f"
 UNPREVENTABLE = "#f4a6a6"
@@ -119,7 +121,9 @@ def cut_in_figure(
     return fig
 
 
-def _cut_in_panel(ax, sheet: CutInDatasheet, sel: np.ndarray, y_top: float, width: float) -> None:
+def _cut_in_panel(
+    ax: Axes, sheet: CutInDatasheet, sel: np.ndarray, y_top: float, width: float
+) -> None:
     """Green background, red colliding intervals per Vy, black upper ends, grey infeasible."""
     ax.set_facecolor(PREVENTABLE)
     vys = sheet.vy_mps[sel]

@@ -46,9 +46,7 @@ from dataclasses import asdict, dataclass, fields, replace
 import numpy as np
 
 from hiyari.errors import HiyariError
-
-KMH_PER_MPS = 3.6
-"""Speeds are m/s in the Python API and km/h in files and on the command line."""
+from hiyari.units import G
 
 CONVENTIONS: dict[str, tuple] = {
     "judgement": ("time", "position", "overlap"),
@@ -67,7 +65,7 @@ class CCParams:
     Times in s, distances in m, decelerations in g (multiples of ``g_mps2``).
     """
 
-    g_mps2: float = 9.81
+    g_mps2: float = G
     """Standard gravity used to turn g into m/s² (MODELS.md §1)."""
 
     # -- perception and judgement (JAMA 2.3.3.1.1-3) --
@@ -225,12 +223,14 @@ class CCParams:
         """Initial lateral clearance dy0 between ego and the adjacent-lane vehicle (m)."""
         return self.lane_width_m - 0.5 * (self.ego_width_m + self.other_width_m)
 
-    def lane_change_judgement_time(self, vy_mps):
+    def lane_change_judgement_time(self, vy_mps: float | np.ndarray) -> float | np.ndarray:
         """Time (s) from the start of the lateral motion to the cut-in / cut-out judgement
         (displacement ``wander_m``), array-friendly."""
         return self.wander_m / vy_mps
 
-    def danger_judgement_time(self, vy_mps, t_overlap=None):
+    def danger_judgement_time(
+        self, vy_mps: float | np.ndarray, t_overlap: float | np.ndarray | None = None
+    ) -> float | np.ndarray:
         """Cut-in: time (s) from the start of the lateral motion to danger judgement
         (array-friendly); ``t_overlap`` (first lateral overlap, s) is needed for
         ``judgement="overlap"``."""
@@ -242,7 +242,7 @@ class CCParams:
             raise HiyariError("CCParams: judgement='overlap' needs the lateral overlap time")
         return t_overlap
 
-    def cut_out_danger_time(self, vy_mps):
+    def cut_out_danger_time(self, vy_mps: float | np.ndarray) -> float | np.ndarray:
         """Cut-out: time (s) from the start of the lateral motion to danger judgement."""
         if not self.cut_out_perception:
             return self.wander_m / vy_mps
@@ -250,7 +250,7 @@ class CCParams:
             return (self.wander_m + self.danger_lateral_m) / vy_mps
         return self.wander_m / vy_mps + self.perception_time_s
 
-    def decel_danger_time(self, decel_mps2):
+    def decel_danger_time(self, decel_mps2: float | np.ndarray) -> np.ndarray:
         """Deceleration: time (s) from the lead's brake onset to danger judgement."""
         decel = np.asarray(decel_mps2, dtype=float)
         if self.decel_perception == "always":

@@ -57,9 +57,10 @@ from hiyari.risk.cc.evaluator import (
     decel_setup,
     run_chunked,
 )
-from hiyari.risk.cc.model import KMH_PER_MPS, CCParams
+from hiyari.risk.cc.model import CCParams
 from hiyari.risk.cc.regions import Regions, cut_in_regions
 from hiyari.risk.cc.trajectory import cut_in_tracks, cut_out_tracks, decel_tracks
+from hiyari.units import KMH_PER_MPS
 
 FORMAT = "hiyari-r157-points"
 VERSION = 1
@@ -375,7 +376,9 @@ def generate_points(config: R157Config = R157Config(), params: CCParams = _DEFAU
     return PointSet(points, Counter({k: v for k, v in skipped.items() if v}), params, config)
 
 
-def point_tracks(point: R157Point, t_s, params: CCParams = _DEFAULT, side: int = 1) -> dict:
+def point_tracks(
+    point: R157Point, t_s: np.ndarray, params: CCParams = _DEFAULT, side: int = 1
+) -> dict:
     """Annex G trajectories of a point's other vehicles and the C&C reference ego
     (:mod:`hiyari.risk.cc.trajectory`), sampled at ``t_s`` (s)."""
     if point.scenario == "cut-in":

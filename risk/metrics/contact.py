@@ -24,6 +24,12 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
+from hiyari.kinematics import (
+    heading_vector,
+    rectangle_point_distance,
+    rounded_box_entry_time,
+    unrotate,
+)
 from hiyari.risk.metrics.pedestrian_geometry import KerbSegments
 
 
@@ -76,59 +82,6 @@ class SCTConfig:
 
 
 # ---------------------------------------------------------------------------- time to contact
-def _slab_entry(p: np.ndarray, u: np.ndarray, hx: np.ndarray, hy: np.ndarray) -> np.ndarray:
-    """First t >= 0 at which p + u t lies in the box |x| <= hx, |y| <= hy (inf if never)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        near, far = [], []
-        for k, h in ((0, hx), (1, hy)):
-            pk, uk = p[..., k], u[..., k]
-            t1, t2 = (-h - pk) / uk, (h - pk) / uk
-            still = uk == 0
-            inside = np.abs(pk) <= h
-            near.append(np.where(still, np.where(inside, -np.inf, np.inf), np.minimum(t1, t2)))
-            far.append(np.where(still, np.where(inside, np.inf, -np.inf), np.maximum(t1, t2)))
-    t_in = np.maximum(near[0], near[1])
-    t_out = np.minimum(far[0], far[1])
-    hit = (t_in <= t_out) & (t_out >= 0)
-    return np.where(hit, np.maximum(t_in, 0.0), np.inf)
-
-
-def _disc_entry(q: np.ndarray, u: np.ndarray, r: float) -> np.ndarray:
-    """First t >= 0 at which |q + u t| <= r (inf if never)."""
-    a = np.einsum("...k,...k->...", u, u)
-    b = 2.0 * np.einsum("...k,...k->...", q, u)
-    c = np.einsum("...k,...k->...", q, q) - r * r
-    disc = b * b - 4.0 * a * c
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = (-b - np.sqrt(np.maximum(disc, 0.0))) / (2.0 * a)
-    hit = (disc >= 0) & (a > 0) & (t >= 0)
-    return np.where(c <= 0, 0.0, np.where(hit, t, np.inf))
-
-
-def rounded_box_entry_time(
-    p: np.ndarray, u: np.ndarray, half_length: np.ndarray, half_width: np.ndarray, radius: float
-) -> np.ndarray:
-    """First time (s) a point at ``p + u t`` comes within ``radius`` of the box |x| <= half_length,
-    |y| <= half_width; 0 if already there, inf if never.
-
-    ``p`` (P, 2) m and ``u`` (P, 2) m/s in the box frame; half sizes (P,) m. Exact: the rounded
-    box is the union of two boxes and four corner discs, so its entry time is the earliest of
-    theirs.
-    """
-    hl, hw = np.asarray(half_length, float), np.asarray(half_width, float)
-    t = np.minimum(_slab_entry(p, u, hl + radius, hw), _slab_entry(p, u, hl, hw + radius))
-    for sx in (-1.0, 1.0):
-        for sy in (-1.0, 1.0):
-            corner = np.stack([sx * hl, sy * hw], axis=-1)
-            t = np.minimum(t, _disc_entry(p - corner, u, radius))
-    return t
-
-
-def _to_vehicle_frame(d: np.ndarray, heading: np.ndarray) -> np.ndarray:
-    c, s = np.cos(heading), np.sin(heading)
-    return np.stack([d[..., 0] * c + d[..., 1] * s, -d[..., 0] * s + d[..., 1] * c], axis=-1)
-
-
 def time_to_contact(
     veh_xy: np.ndarray,
     veh_heading: np.ndarray,
@@ -146,8 +99,8 @@ def time_to_contact(
     m/s, length / width (P,) m. Pedestrian: disc centre (P, 2) m, velocity (P, 2) m/s.
     0 when already touching; inf when they never touch or only after ``horizon`` s.
     """
-    p = _to_vehicle_frame(np.asarray(ped_xy, float) - veh_xy, veh_heading)
-    u = _to_vehicle_frame(np.asarray(ped_velocity, float) - veh_velocity, veh_heading)
+    p = unrotate(np.asarray(ped_xy, float) - veh_xy, veh_heading)
+    u = unrotate(np.asarray(ped_velocity, float) - veh_velocity, veh_heading)
     hl = 0.5 * np.asarray(veh_length, float) + contact.vehicle_margin
     hw = 0.5 * np.asarray(veh_width, float) + contact.vehicle_margin
     t = rounded_box_entry_time(p, u, hl, hw, contact.pedestrian_radius)
@@ -166,15 +119,15 @@ def contact_gap(
 
     Broadcasts over any leading axes (pairs, candidates, samples).
     """
-    d = ped_xy - veh_xy
-    c, s = np.cos(veh_heading), np.sin(veh_heading)
-    dx, dy = d[..., 0], d[..., 1]
-    lx = np.abs(dx * c + dy * s) - (0.5 * veh_length + contact.vehicle_margin)
-    ly = np.abs(dy * c - dx * s) - (0.5 * veh_width + contact.vehicle_margin)
-    return np.hypot(np.maximum(lx, 0.0), np.maximum(ly, 0.0)) - contact.pedestrian_radius
+    half_x = 0.5 * veh_length + contact.vehicle_margin
+    half_y = 0.5 * veh_width + contact.vehicle_margin
+    distance = rectangle_point_distance(veh_xy, veh_heading, half_x, half_y, ped_xy)
+    return distance - contact.pedestrian_radius
 
 
-def unprotected(gap: np.ndarray, ped_xy: np.ndarray, carriageway=None) -> np.ndarray:
+def unprotected(
+    gap: np.ndarray, ped_xy: np.ndarray, carriageway: shapely.Geometry | None = None
+) -> np.ndarray:
     """``gap`` (...) with +inf where the pedestrian position ``ped_xy`` (..., 2) lies outside
     ``carriageway`` (a shapely geometry, e.g. NetGeometry.carriageway): a pedestrian off the
     carriageway cannot be hit. None: exposed everywhere."""
@@ -218,7 +171,7 @@ class Path:
     @staticmethod
     def straight(xy: np.ndarray, heading: float, length: float = 1000.0) -> Path:
         """A straight path through ``xy`` along ``heading`` (for vehicles without a route)."""
-        u = np.array([math.cos(heading), math.sin(heading)])
+        u = heading_vector(heading)
         return Path.of(np.stack([xy - length * u, xy + length * u]))
 
     def project(self, xy: np.ndarray) -> float:
@@ -275,7 +228,7 @@ def pedestrian_velocity(
     to the crossing end (a pedestrian walking round the corner to the crossing). ``open_crossings`` (C,) bool: crossings pedestrians may enter now
     (signals); ends of closed crossings do not count. None: all open.
     """
-    u = np.stack([np.cos(heading), np.sin(heading)], axis=-1)
+    u = heading_vector(heading)
     vel = speed[:, None] * u
     dart = np.zeros(len(xy), bool)
     if kerbs is None or len(kerbs) == 0 or not on_kerb.any():
@@ -319,7 +272,7 @@ def safety_cushion_time(
     ped_xy: np.ndarray,
     ped_velocity: np.ndarray,
     config: SCTConfig = SCTConfig(),
-    carriageway=None,
+    carriageway: shapely.Geometry | None = None,
 ) -> np.ndarray:
     """SCT (s) of vehicle–pedestrian pairs from predicted vehicle poses.
 

@@ -23,13 +23,12 @@ import numpy as np
 import shapely
 
 from hiyari.errors import HiyariError
+from hiyari.kinematics import footprint_corners, overlap_depth
 from hiyari.risk.metrics.contact import contact_gap, first_contact_time, pedestrian_tracks
 from hiyari.risk.sct.model import SCTModel, StepView
-from hiyari.traffic.collision import rectangle_overlap
 from hiyari.traffic.commands import Commands
 from hiyari.traffic.world_state import WorldState
-
-G = 9.81  # m/s^2
+from hiyari.units import G
 
 
 @dataclass(frozen=True)
@@ -216,12 +215,9 @@ class SCTController:
         stopped = v_end <= 0.0
         if areas is None or len(areas) == 0 or not stopped.any():
             return np.zeros(len(xy), bool)
-        c, s = np.cos(heading), np.sin(heading)
-        fwd = np.stack([c, s], 1) * (0.5 * state.length[row])
-        left = np.stack([-s, c], 1) * (0.5 * state.width[row])
-        rect = np.stack([xy + fwd + left, xy - fwd + left, xy - fwd - left, xy + fwd - left], 1)
+        rect = footprint_corners(xy, heading, state.length[row], state.width[row])
         n, a = len(rect), len(areas)
-        depth = rectangle_overlap(np.repeat(rect, a, 0), np.tile(areas.corners, (n, 1, 1)))
+        depth = overlap_depth(np.repeat(rect, a, 0), np.tile(areas.corners, (n, 1, 1)))
         return stopped & (depth.reshape(n, a) > 0).any(axis=1)
 
     def step(self, sim: Commands, view: StepView, present: set[str] | None = None) -> None:

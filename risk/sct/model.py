@@ -10,7 +10,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 
+from hiyari.kinematics import heading_vector
 from hiyari.risk.metrics.contact import (
     ContactGeometry,
     Path,
@@ -115,7 +117,7 @@ class SCTModel:
         return view.paths[k].at(view.s0[k] + travel)
 
     @property
-    def carriageway(self):
+    def carriageway(self) -> shapely.Geometry | None:
         """Where pedestrians are exposed (NetGeometry.carriageway), or None: everywhere."""
         return self.geometry.carriageway if self.geometry is not None else None
 
@@ -150,7 +152,7 @@ class SCTModel:
         t = self.times
         speed = state.speed[pj, None]
         heading = state.heading[pj]
-        cv = np.stack([np.cos(heading), np.sin(heading)], 1) * speed
+        cv = heading_vector(heading) * speed
         ped_cv = ped_xy[:, None, :] + cv[:, None, :] * t[None, :, None]
         gap = contact_gap(vxy, vh, length[:, None], width[:, None], ped_cv, ttc_contact)
         gap = unprotected(gap, ped_cv, self.carriageway)

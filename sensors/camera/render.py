@@ -14,15 +14,17 @@ import math
 import cv2
 import numpy as np
 
+from hiyari.kinematics import Pose, heading_vector, rotate
 from hiyari.net.mesh.materials import DEFAULT_OPTICS, Material
 from hiyari.sensors.camera.config import CameraConfig
 from hiyari.sensors.environment.atmosphere import AtmosphereModel
 from hiyari.sensors.environment.conditions import Environment
 from hiyari.sensors.environment.lighting import LightingModel
 from hiyari.sensors.environment.soiling import soiling_mask
-from hiyari.sensors.frames import Mount, PoseLike, sensor_to_world
+from hiyari.sensors.frames import Mount, sensor_to_world
 from hiyari.sensors.outputs import HIT_NONE, CameraFrame, ObjectList
 from hiyari.sensors.scene.ray_scene import DirectionIndex, RayScene, SensorRays
+from hiyari.traffic.world_state import WorldState
 
 _TINT = {
     Material.ASPHALT: (1.0, 1.0, 1.05),
@@ -97,8 +99,8 @@ class CameraRenderer:
         self,
         name: str,
         scene: RayScene,
-        ego: PoseLike,
-        world,
+        ego: Pose,
+        world: WorldState,
         env: Environment,
         rng: np.random.Generator,
     ) -> CameraFrame:
@@ -107,12 +109,7 @@ class CameraRenderer:
         scene.ensure(world)
         s2w = sensor_to_world(self.mount, ego)
         rot, cam = s2w[:3, :3], s2w[:3, 3]
-        ch, sh = math.cos(ego.heading), math.sin(ego.heading)
-        e = self._ego_dirs
-        dirs = np.empty_like(e)
-        dirs[:, 0] = e[:, 0] * ch - e[:, 1] * sh
-        dirs[:, 1] = e[:, 0] * sh + e[:, 1] * ch
-        dirs[:, 2] = e[:, 2]
+        dirs = rotate(self._ego_dirs, ego.heading)
         origins = np.empty_like(dirs)
         origins[:] = cam.astype(np.float32)
         hits = scene.cast(
@@ -193,12 +190,12 @@ class CameraRenderer:
         return (out * 255 + 0.5).astype(np.uint8)
 
 
-def oncoming_lamps(scene: RayScene, world, cam: np.ndarray) -> np.ndarray:
+def oncoming_lamps(scene: RayScene, world: WorldState, cam: np.ndarray) -> np.ndarray:
     """Front-lamp positions of vehicles facing the camera."""
     rows = np.flatnonzero(world.is_vehicle & (world.ids != scene.ego_id))
     if not len(rows):
         return np.zeros((0, 3))
-    fwd = np.stack([np.cos(world.heading[rows]), np.sin(world.heading[rows])], 1)
+    fwd = heading_vector(world.heading[rows])
     front = world.xyz[rows, :2] + fwd * (world.length[rows] / 2)[:, None]
     to_cam = cam[:2] - front
     dist = np.linalg.norm(to_cam, axis=1)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hiyari.kinematics import Pose, box_corners, heading_vector
 from hiyari.net.mesh.materials import DEFAULT_OPTICS, Material
 from hiyari.sensors.camera.config import CameraConfig
 from hiyari.sensors.camera.render import CameraRenderer, oncoming_lamps
@@ -24,7 +25,7 @@ from hiyari.sensors.environment.atmosphere import AtmosphereModel
 from hiyari.sensors.environment.conditions import Environment, Illumination
 from hiyari.sensors.environment.lighting import LightingModel
 from hiyari.sensors.environment.soiling import soiling_mask
-from hiyari.sensors.frames import Mount, PoseLike, sensor_to_world
+from hiyari.sensors.frames import Mount, sensor_to_world
 from hiyari.sensors.outputs import CameraFrame, ObjectList
 from hiyari.sensors.scene.ray_scene import RayScene
 from hiyari.traffic.actor_class import ActorClass
@@ -89,7 +90,7 @@ class Camera:
         """Frames per second."""
         return self.config.rate_hz
 
-    def sensor_to_world(self, ego: PoseLike) -> np.ndarray:
+    def sensor_to_world(self, ego: Pose) -> np.ndarray:
         """(4, 4) sensor-to-network transform for the ego pose."""
         return sensor_to_world(self.mount, ego)
 
@@ -102,9 +103,7 @@ class Camera:
             out[i] = DEFAULT_OPTICS[mat].visible
         return out
 
-    def view(
-        self, scene: RayScene, ego: PoseLike, world: WorldState, env: Environment
-    ) -> CameraView:
+    def view(self, scene: RayScene, ego: Pose, world: WorldState, env: Environment) -> CameraView:
         """Geometry, photometry and detection probability of every actor in view."""
         c = self.config
         scene.ensure(world)
@@ -120,15 +119,14 @@ class Camera:
             z = np.zeros(0)
             return CameraView(rows, np.zeros((0, 4)), z, z, z, z, z, z, z, np.zeros((0, 3)))
         # 3D box corners in the sensor frame
-        sx = np.array([-0.5, 0.5])
-        corner = np.array([[a, b, h] for a in sx for b in sx for h in (0.0, 1.0)])
-        size = np.stack([world.length[rows], world.width[rows], world.height[rows]], 1)
-        ch, sh = np.cos(world.heading[rows]), np.sin(world.heading[rows])
-        local = corner[None] * size[:, None, :]
-        wx = local[..., 0] * ch[:, None] - local[..., 1] * sh[:, None] + world.xyz[rows, 0:1]
-        wy = local[..., 0] * sh[:, None] + local[..., 1] * ch[:, None] + world.xyz[rows, 1:2]
-        wz = local[..., 2] + world.xyz[rows, 2:3]
-        pts = (np.stack([wx, wy, wz], -1).reshape(-1, 3) - cam) @ rot
+        corners = box_corners(
+            world.xyz[rows],
+            world.heading[rows],
+            world.length[rows],
+            world.width[rows],
+            world.height[rows],
+        )
+        pts = (corners.reshape(-1, 3) - cam) @ rot
         uv, front = c.project(pts)
         uv = uv.reshape(n, 8, 2)
         front = front.reshape(n, 8).all(1)
@@ -164,7 +162,8 @@ class Camera:
         """Share of 3 x 3 sample points across each actor that a ray from the lens reaches."""
         grid = np.array([(a, b) for a in VISIBILITY_ACROSS for b in VISIBILITY_UP])
         n = len(rows)
-        side = np.stack([-np.sin(world.heading[rows]), np.cos(world.heading[rows])], 1)
+        fwd = heading_vector(world.heading[rows])
+        side = np.stack([-fwd[:, 1], fwd[:, 0]], 1)
         to = world.xyz[rows, :2] - cam[:2]
         # offsets across the actor as the camera sees it: its width and length projected
         across = np.stack([-to[:, 1], to[:, 0]], 1) / np.maximum(
@@ -172,7 +171,7 @@ class Camera:
         )
         span = (
             np.abs((side * across).sum(1)) * world.width[rows]
-            + np.abs((np.stack([side[:, 1], -side[:, 0]], 1) * across).sum(1)) * world.length[rows]
+            + np.abs((fwd * across).sum(1)) * world.length[rows]
         )
         p = np.repeat(world.xyz[rows], len(grid), 0).astype(np.float64)
         p[:, :2] += (
@@ -188,7 +187,17 @@ class Camera:
         seen = hits.hit == np.repeat(rows, len(grid))
         return seen.reshape(n, len(grid)).mean(1)
 
-    def _contrast(self, scene, ego, world, env, rows, cam, centre_w, rot):
+    def _contrast(
+        self,
+        scene: RayScene,
+        ego: Pose,
+        world: WorldState,
+        env: Environment,
+        rows: np.ndarray,
+        cam: np.ndarray,
+        centre_w: np.ndarray,
+        rot: np.ndarray,
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Apparent Weber contrast of each actor against what lies behind it, and threshold."""
         c, light = self.config, self.lighting
         to_cam = cam - centre_w
@@ -252,7 +261,7 @@ class Camera:
     def detect(
         self,
         scene: RayScene,
-        ego: PoseLike,
+        ego: Pose,
         world: WorldState,
         env: Environment,
         rng: np.random.Generator,
@@ -330,11 +339,12 @@ class Camera:
         d = np.array(dirs)
         r = rng.uniform(*c.false_positive_range_m, k)
         uv, _ = c.project(d)
-        half = 0.5 * c.fx * 1.7 / r
+        ped = ActorClass.PEDESTRIAN.size
+        half = 0.5 * c.fx * ped.height / r
         return dict(
             cls=np.full(k, ActorClass.PEDESTRIAN, np.int8),
             position=d * r[:, None],
-            size=np.tile([0.5, 0.5, 1.7], (k, 1)),
+            size=np.tile(ped.as_tuple(), (k, 1)),
             confidence=np.full(k, 0.5),
             truth=np.full(k, "", dtype=object),
             box=np.c_[uv[:, 0] - half / 3, uv[:, 1] - half, uv[:, 0] + half / 3, uv[:, 1] + half],
@@ -343,7 +353,7 @@ class Camera:
     def render(
         self,
         scene: RayScene,
-        ego: PoseLike,
+        ego: Pose,
         world: WorldState,
         env: Environment,
         rng: np.random.Generator,
@@ -356,7 +366,7 @@ class Camera:
     def sense(
         self,
         scene: RayScene,
-        ego: PoseLike,
+        ego: Pose,
         world: WorldState,
         env: Environment,
         rng: np.random.Generator,

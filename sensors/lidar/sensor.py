@@ -16,10 +16,11 @@ import math
 
 import numpy as np
 
+from hiyari.kinematics import Pose, rotate_xy
 from hiyari.net.mesh.materials import DEFAULT_OPTICS, Material
 from hiyari.sensors.environment.conditions import Environment, Soiling
 from hiyari.sensors.environment.soiling import soiling_mask
-from hiyari.sensors.frames import Mount, PoseLike, ego_velocity, sensor_to_world
+from hiyari.sensors.frames import Mount, sensor_to_world
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.recognition import LidarRecognitionConfig, recognise_lidar
 from hiyari.sensors.outputs import HIT_NONE, ObjectList, PointCloud
@@ -89,14 +90,14 @@ class Lidar:
         """Scans per second."""
         return self.config.rate_hz
 
-    def sensor_to_world(self, ego: PoseLike) -> np.ndarray:
+    def sensor_to_world(self, ego: Pose) -> np.ndarray:
         """(4, 4) sensor-to-network transform for the ego pose."""
         return sensor_to_world(self.mount, ego)
 
     def sense(
         self,
         scene: RayScene,
-        ego: PoseLike,
+        ego: Pose,
         world: WorldState,
         env: Environment,
         rng: np.random.Generator,
@@ -116,7 +117,7 @@ class Lidar:
     def scan(
         self,
         scene: RayScene,
-        ego: PoseLike,
+        ego: Pose,
         world: WorldState,
         env: Environment,
         rng: np.random.Generator,
@@ -128,12 +129,10 @@ class Lidar:
         s2w = self.sensor_to_world(ego)
         rot, origin = s2w[:3, :3], s2w[:3, 3]
         rot32 = rot.astype(np.float32)
-        cy, sy = np.float32(math.cos(ego.heading)), np.float32(math.sin(ego.heading))
         dirs_w = np.empty((c.rays, 3), np.float32)
-        dirs_w[:, 0] = self._ego_x * cy - self._ego_y * sy
-        dirs_w[:, 1] = self._ego_x * sy + self._ego_y * cy
+        dirs_w[:, 0], dirs_w[:, 1] = rotate_xy(self._ego_x, self._ego_y, ego.heading)
         dirs_w[:, 2] = self._ego_z
-        v_ego = ego_velocity(ego)
+        v_ego = np.append(ego.velocity, 0.0)
         if np.any(v_ego):
             origins = np.empty((c.rays, 3), np.float32)
             for k in range(3):
@@ -203,7 +202,15 @@ class Lidar:
             actor_ids=world.ids,
         )
 
-    def _rain_ghosts(self, env, rng, ray, r, inten, hit):
+    def _rain_ghosts(
+        self,
+        env: Environment,
+        rng: np.random.Generator,
+        ray: np.ndarray,
+        r: np.ndarray,
+        inten: np.ndarray,
+        hit: np.ndarray,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Drop returns at 7-15 m replace (first return) or add to the real ones."""
         c = self.config
         p = min(c.rain_ghost_max_probability, c.rain_ghost_per_mm_h * env.rain_mm_h)

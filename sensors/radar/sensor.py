@@ -15,14 +15,15 @@ import math
 
 import numpy as np
 
+from hiyari.kinematics import Pose, footprint_extent
 from hiyari.net.mesh.materials import DEFAULT_OPTICS, Material
 from hiyari.sensors.environment.conditions import Environment, Soiling
 from hiyari.sensors.environment.soiling import soiling_mask
-from hiyari.sensors.frames import Mount, PoseLike, ego_velocity, sensor_to_world
+from hiyari.sensors.frames import Mount, sensor_to_world
 from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC, ObjectList, RadarDetections
 from hiyari.sensors.radar.config import RadarConfig
 from hiyari.sensors.radar.recognition import RadarRecognitionConfig, recognise_radar
-from hiyari.sensors.scene.ray_scene import DirectionIndex, RayScene, SensorRays
+from hiyari.sensors.scene.ray_scene import DirectionIndex, Hits, RayScene, SensorRays
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
@@ -73,7 +74,7 @@ class Radar:
         """Cycles per second."""
         return self.config.rate_hz
 
-    def sensor_to_world(self, ego: PoseLike) -> np.ndarray:
+    def sensor_to_world(self, ego: Pose) -> np.ndarray:
         """(4, 4) sensor-to-network transform for the ego pose."""
         return sensor_to_world(self.mount, ego)
 
@@ -95,7 +96,7 @@ class Radar:
     def sense(
         self,
         scene: RayScene,
-        ego: PoseLike,
+        ego: Pose,
         world: WorldState,
         env: Environment,
         rng: np.random.Generator,
@@ -113,7 +114,8 @@ class Radar:
         to = world.xyz[rows, :2] - sensor_xyz[:2]
         dist = np.maximum(np.linalg.norm(to, axis=1), 0.5)
         phi = np.arctan2(to[:, 1], to[:, 0]) - world.heading[rows]
-        across = np.abs(world.length[rows] * np.sin(phi)) + np.abs(world.width[rows] * np.cos(phi))
+        _, half_across = footprint_extent(world.length[rows], world.width[rows], phi)
+        across = 2.0 * half_across  # the footprint's width across the line of sight
         footprint = dist**2 * math.radians(c.h_step_deg) * math.radians(c.v_step_deg)
         return across * world.height[rows] / footprint
 
@@ -126,7 +128,7 @@ class Radar:
     def scan(
         self,
         scene: RayScene,
-        ego: PoseLike,
+        ego: Pose,
         world: WorldState,
         env: Environment,
         rng: np.random.Generator,
@@ -142,7 +144,7 @@ class Radar:
         origins[:] = origin.astype(np.float32)
         rays = SensorRays(self.index, origin, rot)
         hits = scene.cast(origins, dirs_w, c.max_range_m, rays, normals=c.multipath)
-        v_sensor = ego_velocity(ego)
+        v_sensor = np.append(ego.velocity, 0.0)
 
         ray = np.flatnonzero((hits.hit != HIT_NONE) & (hits.distance > MIN_RANGE_M))
         r = hits.distance[ray].astype(np.float64)
@@ -186,7 +188,17 @@ class Radar:
         power = c.radar_constant * sigma * weight / r**4 * 10 ** (-2 * atten_db * r / 10)
         return self._detect(world, s2w, r, rr, az, el, power, hit, rng)
 
-    def _multipath(self, scene, world, hits, ray, origins, dirs_w, origin, v_sensor):
+    def _multipath(
+        self,
+        scene: RayScene,
+        world: WorldState,
+        hits: Hits,
+        ray: np.ndarray,
+        origins: np.ndarray,
+        dirs_w: np.ndarray,
+        origin: np.ndarray,
+        v_sensor: np.ndarray,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
         """Ghosts: sensor -> wall -> actor -> wall -> sensor, seen behind the wall point."""
         c = self.config
         mats = np.array([int(m) for m in c.multipath_materials], np.uint8)
@@ -212,7 +224,18 @@ class Radar:
         rr = ((-v_sensor) * d[on]).sum(1) + (v * refl[on]).sum(1)
         return r1 + r2, sigma, rr, wall[on]
 
-    def _detect(self, world, s2w, r, rr, az, el, power, hit, rng) -> RadarDetections:
+    def _detect(
+        self,
+        world: WorldState,
+        s2w: np.ndarray,
+        r: np.ndarray,
+        rr: np.ndarray,
+        az: np.ndarray,
+        el: np.ndarray,
+        power: np.ndarray,
+        hit: np.ndarray,
+        rng: np.random.Generator,
+    ) -> RadarDetections:
         c = self.config
         keep = (r < c.max_range_m) & (np.abs(rr) < c.max_velocity_m_s) & (power > 0)
         r, rr, az, el, power, hit = r[keep], rr[keep], az[keep], el[keep], power[keep], hit[keep]

@@ -10,12 +10,13 @@ glints only in a small spot as a real one does (divp-H section 3.4, the black-le
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from enum import IntEnum
 
 import numpy as np
 
+from hiyari.kinematics import vehicle_to_world
 from hiyari.net.mesh.materials import Material
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
@@ -63,7 +64,14 @@ class Template:
     half: np.ndarray  # (F, 3) half-size of the face's box, unit coordinates
 
 
-def _box(lo, hi, part: Part, sides: Part | None = None, rounded: bool = False, bottom=False):
+def _box(
+    lo: Sequence[float],
+    hi: Sequence[float],
+    part: Part,
+    sides: Part | None = None,
+    rounded: bool = False,
+    bottom: bool = False,
+) -> tuple[np.ndarray, ...]:
     """Box between corners ``lo`` and ``hi``; ``sides`` overrides the part of the 4 side walls."""
     v = np.array(
         [
@@ -208,13 +216,8 @@ def build_actor_mesh(
         rows = np.flatnonzero(keep & (world.cls == cls))
         if rows.size == 0:
             continue
-        local = tpl.vertices[None] * size[rows, None, :]
-        c = np.cos(world.heading[rows])[:, None]
-        s = np.sin(world.heading[rows])[:, None]
-        v = np.empty_like(local)
-        v[..., 0] = local[..., 0] * c - local[..., 1] * s + world.xyz[rows, 0:1]
-        v[..., 1] = local[..., 0] * s + local[..., 1] * c + world.xyz[rows, 1:2]
-        v[..., 2] = local[..., 2] + world.xyz[rows, 2:3]
+        origin, heading = world.xyz[rows, None, :], world.heading[rows, None]
+        v = vehicle_to_world(tpl.vertices[None] * size[rows, None, :], origin, heading)
         nv, nf = len(tpl.vertices), len(tpl.faces)
         verts.append(v.reshape(-1, 3))
         faces.append(
@@ -231,10 +234,7 @@ def build_actor_mesh(
         rows_out.append(np.repeat(rows, nf))
         rnd.append(np.tile(tpl.rounded, rows.size))
         lc = tpl.centre[None] * size[rows, None, :]
-        cx = lc[..., 0] * c - lc[..., 1] * s + world.xyz[rows, 0:1]
-        cy = lc[..., 0] * s + lc[..., 1] * c + world.xyz[rows, 1:2]
-        cz = lc[..., 2] + world.xyz[rows, 2:3]
-        centres.append(np.stack([cx, cy, cz], -1).reshape(-1, 3))
+        centres.append(vehicle_to_world(lc, origin, heading).reshape(-1, 3))
         halves.append((tpl.half[None] * size[rows, None, :]).reshape(-1, 3))
         offset += rows.size * nv
     if not verts:

@@ -17,6 +17,7 @@ from embreex.mesh_construction import TriangleMesh
 from embreex.rtcore import EmbreeDevice
 
 from hiyari.errors import HiyariError
+from hiyari.kinematics import rotate_xy, unrotate_xy
 from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
 from hiyari.sensors.scene.actor_shapes import ActorAppearance, ActorMesh, build_actor_mesh
@@ -204,12 +205,11 @@ class RayScene:
         """Normals at ``points`` of the ellipsoids inscribed in the part boxes of faces ``prim``."""
         a = self.actors
         d = points - a.centre[prim]
-        c, s = np.cos(a.heading[prim]), np.sin(a.heading[prim])
+        heading = a.heading[prim]
         half2 = a.half[prim] ** 2
-        fwd = (d[:, 0] * c + d[:, 1] * s) / half2[:, 0]
-        left = (-d[:, 0] * s + d[:, 1] * c) / half2[:, 1]
-        up = d[:, 2] / half2[:, 2]
-        return np.stack([fwd * c - left * s, fwd * s + left * c, up], 1).astype(np.float32)
+        fwd, left = unrotate_xy(d[:, 0], d[:, 1], heading)
+        x, y = rotate_xy(fwd / half2[:, 0], left / half2[:, 1], heading)
+        return np.stack([x, y, d[:, 2] / half2[:, 2]], 1).astype(np.float32)
 
     def cast(
         self,

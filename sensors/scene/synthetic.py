@@ -16,16 +16,6 @@ from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
-DEFAULT_SIZE: dict[ActorClass, tuple[float, float, float]] = {
-    ActorClass.CAR: (4.5, 1.8, 1.5),
-    ActorClass.TRUCK: (7.1, 2.4, 2.4),
-    ActorClass.BUS: (12.0, 2.5, 3.4),
-    ActorClass.MOTORCYCLE: (2.2, 0.9, 1.5),
-    ActorClass.BICYCLE: (1.6, 0.65, 1.7),
-    ActorClass.PEDESTRIAN: (0.215, 0.478, 1.719),
-}
-"""Length, width, height per class, m (SUMO's default vTypes; cars 4.5 m as in NCAP targets)."""
-
 
 def quad(corners: Sequence[Sequence[float]], material: Material) -> SceneMesh:
     """Two triangles over four corners given counter-clockwise seen from the front side."""
@@ -127,10 +117,10 @@ def actor_world(
     time: float = 0.0,
 ) -> WorldState:
     """A WorldState from dicts with keys id, cls (ActorClass), x, y and optionally z, heading,
-    speed, length, width, height (defaults: DEFAULT_SIZE of the class, at rest, heading 0)."""
+    speed, length, width, height (defaults: the class's size, ActorClass.size, at rest, heading 0)."""
     n = len(actors)
     cls = np.array([int(a["cls"]) for a in actors], np.int8)
-    size = np.array([DEFAULT_SIZE[ActorClass(c)] for c in cls]).reshape(n, 3)
+    size = np.array([ActorClass(c).size.as_tuple() for c in cls]).reshape(n, 3)
     xyz = np.array([[a["x"], a["y"], a.get("z", 0.0)] for a in actors], np.float64).reshape(n, 3)
     return WorldState(
         time=time,

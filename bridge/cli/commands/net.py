@@ -1,7 +1,7 @@
 """``hiyari net``: build road networks, import OpenDRIVE maps, triangulate the 3D road scene.
 
 hiyari net build {expressway,city,intersection,r157} -o NET [--param value ...]
-hiyari net import MAP.xodr -o MAP.net.xml [--all-lanes]
+hiyari net import MAP.xodr -o MAP.net.xml [--all-lanes] [--junction-shapes auto|file|computed]
 hiyari net mesh NET -o scene.glb [-o scene.npz ...] [--buildings]
 """
 
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import sys
 import time
 from collections import Counter
 from pathlib import Path
@@ -53,9 +54,20 @@ def _run_build(args: argparse.Namespace) -> None:
     print(f"network: {net} ({_summary(net)})")
 
 
+JUNCTION_SHAPES = {"auto": None, "file": True, "computed": False}
+
+
+def _warn(message: str) -> None:
+    print(f"hiyari: warning: {message}", file=sys.stderr)
+
+
 def _run_import(args: argparse.Namespace) -> None:
-    opts = ImportOptions(all_lanes=args.all_lanes, curve_resolution=args.curve_resolution)
-    net = import_opendrive(args.xodr, args.out, opts)
+    opts = ImportOptions(
+        all_lanes=args.all_lanes,
+        curve_resolution=args.curve_resolution,
+        internal_shapes=JUNCTION_SHAPES[args.junction_shapes],
+    )
+    net = import_opendrive(args.xodr, args.out, opts, warn=_warn)
     print(f"network: {net} ({_summary(net)})")
 
 
@@ -83,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _add_params(parser: argparse.ArgumentParser, cls) -> None:
+def _add_params(parser: argparse.ArgumentParser, cls: type) -> None:
     docs = param_docs(cls)
     for f in dataclasses.fields(cls):
         flag = "--" + f.name.replace("_", "-")
@@ -112,7 +124,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     i.add_argument("xodr", help="OpenDRIVE file")
     i.add_argument("-o", "--out", required=True, help="output .net.xml")
     i.add_argument(
-        "--all-lanes", action="store_true", help="import every lane type (border, median ...)"
+        "--all-lanes",
+        action="store_true",
+        help="also import the verge lane types (border, curb, median ...), closed to traffic",
+    )
+    i.add_argument(
+        "--junction-shapes",
+        choices=list(JUNCTION_SHAPES),
+        default="auto",
+        help="lanes inside junctions: the file's connecting roads (file), netconvert's computed "
+        "shapes (computed), or the file's unless they disagree with SUMO's junction logic (auto)",
     )
     i.add_argument("--curve-resolution", type=float, default=2.0, help="point spacing on curves, m")
 

@@ -12,7 +12,6 @@ from hiyari.errors import HiyariError
 
 def run(args: argparse.Namespace) -> int:
     # imported here so `hiyari --help` and the other commands start fast
-    from hiyari.bridge.campaign.sweep import RESULT_KEYS
     from hiyari.bridge.scenario.run import RunOptions, run_concrete
     from hiyari.bridge.scenario.toml_file import load_scenario
 
@@ -31,9 +30,7 @@ def run(args: argparse.Namespace) -> int:
         folder = out / f"run{cs.index:04d}" if len(runs) > 1 else out
         res = run_concrete(cs, RunOptions(out_dir=folder, progress=not args.quiet))
         d = res.as_dict()
-        rows.append(
-            {"index": cs.index, "seed": cs.seed, **cs.params, **{k: d[k] for k in RESULT_KEYS}}
-        )
+        rows.append({"index": cs.index, "seed": cs.seed, **cs.params, **res.row()})
         ttc = "inf" if d["min_ttc_s"] is None else f"{d['min_ttc_s']:.2f} s"
         impact = (
             f" at {d['impact_speed_kmh']:.1f} km/h with {d['collided_with']}"

@@ -6,27 +6,26 @@ import csv
 import json
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.figure import Figure
 
 from hiyari.atomic import atomic_path  # noqa: E402
 from hiyari.net.sumo.build import IntersectionParams, build_intersection  # noqa: E402
 from hiyari.traffic.demand import DemandConfig, write_demand  # noqa: E402
 from hiyari.traffic.simulation import SimConfig  # noqa: E402
 from hiyari.traffic.traffic_run import TrafficSummary, run_traffic  # noqa: E402
+from hiyari.units import mps_to_kmh
 
 
 def plot_traffic(summary: TrafficSummary, out: Path) -> Path:
     """PNG of actors in the network and mean vehicle speed over time."""
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+    fig = Figure(figsize=(8, 5.5))
+    ax1, ax2 = fig.subplots(2, 1, sharex=True)
     ax1.plot(summary.times, summary.vehicle_counts, label="vehicles")
     ax1.plot(summary.times, summary.person_counts, label="pedestrians")
     ax1.set_ylabel("actors in network")
     ax1.legend(loc="upper left")
     ax1.grid(alpha=0.3)
-    ax2.plot(summary.times, summary.mean_vehicle_speed * 3.6, color="tab:green")
+    ax2.plot(summary.times, mps_to_kmh(summary.mean_vehicle_speed), color="tab:green")
     ax2.set_ylabel("mean vehicle speed (km/h)")
     ax2.set_xlabel("simulation time (s)")
     ax2.grid(alpha=0.3)
@@ -34,7 +33,6 @@ def plot_traffic(summary: TrafficSummary, out: Path) -> Path:
     fig.tight_layout()
     with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
     return out
 
 

@@ -1,0 +1,139 @@
+"""The storyboard's runtime tree: one element per story, act, maneuver group, maneuver, event
+and action, with OpenSCENARIO states (standby, running, complete) and the transitions each
+went through at the latest update (start, end, stop, skip)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hiyari.bridge.scenario.model.storyboard import Storyboard
+from hiyari.errors import HiyariError
+
+STANDBY, RUNNING, COMPLETE = 0, 1, 2
+START, END, STOP, SKIP, NO_TRANSITION = 3, 4, 5, 6, 7
+TRANSITION_NAMES = {
+    START: "startTransition",
+    END: "endTransition",
+    STOP: "stopTransition",
+    SKIP: "skipTransition",
+}
+
+
+@dataclass
+class Element:
+    """One storyboard element: ``kind`` as in StoryboardElementStateCondition (story, act,
+    maneuverGroup, maneuver, event, action), its model object and its children's indices."""
+
+    index: int
+    kind: str
+    name: str
+    model: object
+    parent: int
+    children: list[int] = field(default_factory=list)
+    executions: int = 0
+    start_trigger: int = -1  # index into the trigger list (-1: none)
+    stop_trigger: int = -1
+
+
+class ElementTree:
+    """All elements of a storyboard in arrays of states and transitions."""
+
+    def __init__(self, sb: Storyboard) -> None:
+        self.elements: list[Element] = []
+        self.triggers = [sb.stop_trigger]  # trigger 0: the storyboard's stop trigger
+        self.init = self._add("story", "Init", None, -1)
+        init_mg = self._add("maneuverGroup", "Init", None, self.init)
+        init_man = self._add("maneuver", "Init", None, init_mg)
+        self.init_event = self._add("event", "Init", None, init_man)
+        for ia in sb.init:
+            self._add("action", ia.action.name, ia, self.init_event)
+        for story in sb.stories:
+            si = self._add("story", story.name, story, -1)
+            for act in story.acts:
+                ai = self._add("act", act.name, act, si)
+                self.elements[ai].start_trigger = self._trigger(act.start_trigger)
+                self.elements[ai].stop_trigger = self._trigger(act.stop_trigger)
+                for g in act.groups:
+                    gi = self._add("maneuverGroup", g.name, g, ai)
+                    for m in g.maneuvers:
+                        mi = self._add("maneuver", m.name, m, gi)
+                        for ev in m.events:
+                            ei = self._add("event", ev.name, ev, mi)
+                            self.elements[ei].start_trigger = self._trigger(ev.start_trigger)
+                            for action in ev.actions:
+                                self._add("action", action.name, action, ei)
+        n = len(self.elements)
+        self._by_kind: dict[str, list[Element]] = {}
+        for e in self.elements:
+            self._by_kind.setdefault(e.kind, []).append(e)
+        self.parent = np.array([e.parent for e in self.elements], dtype=np.intp)
+        self.state = np.zeros(n, dtype=np.int8)
+        self.transition = np.full(n, NO_TRANSITION, dtype=np.int8)
+        self.log: list[tuple[float, str, str, str]] = []
+
+    def _add(self, kind: str, name: str, model: object, parent: int) -> int:
+        i = len(self.elements)
+        self.elements.append(Element(i, kind, name, model, parent))
+        if parent >= 0:
+            self.elements[parent].children.append(i)
+        return i
+
+    def _trigger(self, trig: tuple) -> int:
+        if not trig:
+            return -1
+        self.triggers.append(trig)
+        return len(self.triggers) - 1
+
+    def index(self, kind: str, name: str, where: str) -> int:
+        """The element ``name`` of ``kind`` (for StoryboardElementStateConditions)."""
+        for e in self.elements:
+            if e.kind == kind and e.name == name:
+                return e.index
+        raise HiyariError(f"{where}: no storyboard element {kind} {name!r}")
+
+    def of_kind(self, kind: str) -> list[Element]:
+        """Elements of one kind, in storyboard order."""
+        return self._by_kind.get(kind, [])
+
+    def open_children(self) -> np.ndarray:
+        """(n,) number of children of each element that are not complete."""
+        child = np.flatnonzero((self.parent >= 0) & (self.state != COMPLETE))
+        return np.bincount(self.parent[child], minlength=len(self.elements))
+
+    # ------------------------------------------------------------------ transitions
+    def start(self, i: int, now: float) -> None:
+        """standby -> running."""
+        self._mark(i, RUNNING, START, now)
+
+    def end(self, i: int, now: float) -> None:
+        """running -> complete (or back to standby when it may run again)."""
+        e = self.elements[i]
+        e.executions += 1
+        again = e.kind == "event" and e.executions < getattr(e.model, "max_executions", 1)
+        self._mark(i, STANDBY if again else COMPLETE, END, now)
+
+    def stop(self, i: int, now: float) -> None:
+        """Stop ``i`` and everything running or waiting below it."""
+        for c in self.elements[i].children:
+            if self.state[c] != COMPLETE:
+                self.stop(c, now)
+        if self.state[i] != COMPLETE:
+            self._mark(i, COMPLETE, STOP, now)
+
+    def skip(self, i: int, now: float) -> None:
+        """An event that was due while another ran (priority skip)."""
+        self.transition[i] = SKIP
+        e = self.elements[i]
+        self.log.append((now, e.kind, e.name, TRANSITION_NAMES[SKIP]))
+
+    def _mark(self, i: int, state: int, transition: int, now: float) -> None:
+        self.state[i] = state
+        self.transition[i] = transition
+        e = self.elements[i]
+        self.log.append((now, e.kind, e.name, TRANSITION_NAMES[transition]))
+
+    def all_children(self, i: int, state: int) -> bool:
+        """Whether every child of ``i`` is in ``state``."""
+        return all(self.state[c] == state for c in self.elements[i].children)

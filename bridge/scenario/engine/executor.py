@@ -1,0 +1,447 @@
+"""The storyboard executor: inserts a scenario's entities into SUMO, then, once per step,
+evaluates every trigger on the WorldState, advances the storyboard and moves the scripted
+actors exactly (kinematically, ``moveToXY`` with SUMO's own checks off).
+
+The ego is driven by the ego stack (hiyari's or a user's) unless its controller says
+``hiyari:driver = storyboard``; each StepReport says whether the storyboard drives it and
+lists the storyboard actions addressed to a stack-driven ego (not applied). Everything not in
+the scenario stays SUMO traffic.
+
+Use (the closed loop owns stepping)::
+
+    engine = ScenarioEngine(scenario, RoadLanes.from_files(xodr, net), dt)
+    report = engine.start(sim)            # entities inserted, Init applied
+    while not report.finished:
+        world = sim.step()
+        report = engine.step(sim, world)  # triggers on this state; actors placed for the next
+        ... ego stack on ``world`` -> sim.set_speed(engine.ego, v)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from hiyari.bridge.scenario.engine.actions import ActionStarter, Instance
+from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
+from hiyari.bridge.scenario.engine.elements import (
+    NO_TRANSITION,
+    RUNNING,
+    STANDBY,
+    ElementTree,
+)
+from hiyari.bridge.scenario.engine.motion import Actor, advance_road_actors, forward
+from hiyari.bridge.scenario.engine.positions import Pose, PoseResolver
+from hiyari.bridge.scenario.model.entities import EntityKind
+from hiyari.bridge.scenario.model.storyboard import Scenario
+from hiyari.errors import HiyariError
+from hiyari.net.road.opendrive_lanes import RoadLanes
+from hiyari.traffic.actor_class import ActorClass
+from hiyari.traffic.commands import VehicleType
+from hiyari.traffic.simulation import Simulation
+from hiyari.traffic.world_state import WorldState
+
+_SHAPE = {
+    ActorClass.CAR: "passenger",
+    ActorClass.TRUCK: "truck",
+    ActorClass.BUS: "bus",
+    ActorClass.MOTORCYCLE: "motorcycle",
+    ActorClass.BICYCLE: "bicycle",
+    ActorClass.PEDESTRIAN: "pedestrian",
+}
+#: Top speed given to SUMO types when the scenario names none, m/s.
+DEFAULT_MAX_SPEED = 100.0
+
+
+@dataclass(frozen=True)
+class StepReport:
+    """What one update did. ``time``: scenario time of the evaluated state (s)."""
+
+    time: float
+    finished: bool
+    ego_storyboard_driven: bool
+    started: tuple[str, ...] = ()
+    ended: tuple[str, ...] = ()
+    ego_requests: tuple[str, ...] = ()
+
+
+class ScenarioEngine:
+    """Executes one scenario on one running Simulation (see the module docstring)."""
+
+    def __init__(self, scenario: Scenario, roads: RoadLanes, step_length: float) -> None:
+        self.scenario = scenario
+        self.roads = roads
+        self.dt = step_length
+        self.ego = scenario.ego
+        self.names = [e.name for e in scenario.entities]
+        self.index = {n: i for i, n in enumerate(self.names)}
+        self.actors = {e.name: Actor(e.name, e) for e in scenario.entities}
+        self.tree = ElementTree(scenario.storyboard)
+        self.resolver = PoseResolver(roads.odr, self.pose_of)
+        self.starter = ActionStarter(self)
+        self.bank = ConditionBank(
+            self.tree.triggers,
+            self.index,
+            self.tree.index,
+            scenario.parameters,
+            self.resolver.resolve,
+            step_length,
+        )
+        self.instances: dict[int, list[Instance]] = {}
+        self.owner: dict[tuple[str, str], int] = {}
+        self.controller = {e.name: e.controller for e in scenario.entities}
+        self.active_domains = {
+            e.name: {"lateral": True, "longitudinal": True} for e in scenario.entities
+        }
+        self.t0 = 0.0
+        self.now = 0.0
+        self.finished = False
+        self._world: WorldState | None = None
+        self._rows: dict[str, int] = {}
+        self._located: dict[str, Pose] = {}
+        self._started: list[str] = []
+        self._ended: list[str] = []
+        self._ego_requests: list[str] = []
+        self._length = np.array([e.length for e in scenario.entities])
+        self._width = np.array([e.width for e in scenario.entities])
+        acts, events = self.tree.of_kind("act"), self.tree.of_kind("event")
+        self._act_ix = np.array([a.index for a in acts], dtype=np.intp)
+        self._act_start = np.array([a.start_trigger for a in acts], dtype=np.intp)
+        self._act_stop = np.array([a.stop_trigger for a in acts], dtype=np.intp)
+        real = [e for e in events if e.model is not None]
+        self._ev_ix = np.array([e.index for e in real], dtype=np.intp)
+        self._ev_parent = np.array([e.parent for e in real], dtype=np.intp)
+        self._ev_trig = np.array([e.start_trigger for e in real], dtype=np.intp)
+        self._has_children = np.array([bool(e.children) for e in self.tree.elements])
+        self._kind_order = {
+            k: np.array([e.index for e in self.tree.of_kind(k)], dtype=np.intp)
+            for k in ("event", "maneuver", "maneuverGroup", "act", "story")
+        }
+        self._cx = np.array([e.centre[0] for e in scenario.entities])
+        self._cy = np.array([e.centre[1] for e in scenario.entities])
+
+    # ------------------------------------------------------------------ who drives what
+    def storyboard_drives(self, name: str) -> bool:
+        """Whether the storyboard moves entity ``name`` (every entity but a stack-driven ego)."""
+        if name != self.ego:
+            return True
+        ctrl = self.controller.get(name)
+        return (
+            ctrl is not None
+            and ctrl.drives == "storyboard"
+            and any(self.active_domains[name].values())
+        )
+
+    def pose_of(self, name: str) -> Pose:
+        """Current reference-point pose of entity ``name`` with road coordinates."""
+        a = self.actors.get(name)
+        if a is None:
+            raise HiyariError(f"no entity {name!r} in the scenario")
+        if self._world is None or self.storyboard_drives(name):
+            return Pose(a.x, a.y, a.z, a.h, a.road, a.lane, a.s, a.t)
+        if name not in self._located:
+            self._located[name] = self._locate(name)
+        return self._located[name]
+
+    def speed_of(self, name: str) -> float:
+        """Current speed of entity ``name`` (m/s)."""
+        if self._world is None or self.storyboard_drives(name):
+            return self.actors[name].v
+        row = self._rows.get(name, -1)
+        return float(self._world.speed[row]) if row >= 0 else self.actors[name].v
+
+    def _locate(self, name: str) -> Pose:
+        w, row = self._world, self._rows.get(name, -1)
+        if row < 0:
+            a = self.actors[name]
+            return Pose(a.x, a.y, a.z, a.h, a.road, a.lane, a.s, a.t)
+        e = self.actors[name].entity
+        h = float(w.heading[row])
+        x = float(w.xyz[row, 0]) - e.centre[0] * math.cos(h) + e.centre[1] * math.sin(h)
+        y = float(w.xyz[row, 1]) - e.centre[0] * math.sin(h) - e.centre[1] * math.cos(h)
+        origin = self.roads.origin_of(str(w.lane[row]))
+        rc = self.roads.odr.locate(np.array([x]), np.array([y]), origin[0] if origin else None)[0]
+        return Pose(x, y, float(w.xyz[row, 2]), h, rc.road, rc.lane, rc.s, rc.t)
+
+    # ------------------------------------------------------------------ start
+    def start(self, sim: Simulation) -> StepReport:
+        """Apply the Init actions and insert every entity into SUMO. The state after SUMO's
+        next step is scenario time 0 (the Init state)."""
+        self.t0 = sim.time + self.dt
+        group = self.tree.elements[self.tree.init].children[0]
+        maneuver = self.tree.elements[group].children[0]
+        for i in (self.tree.init, group, maneuver, self.tree.init_event):
+            self.tree.start(i, 0.0)
+        for ai in self.tree.elements[self.tree.init_event].children:
+            ia = self.tree.elements[ai].model
+            self._start_action(ai, ia.action, ia.entity, 0.0, init=True)
+        for name, a in self.actors.items():
+            if not a.road and not a.free:
+                raise HiyariError(f"{self.scenario.source}: entity {name!r} has no Init position")
+        for name in self.names:
+            self._insert(sim, name)
+        self._finish_actions(0.0)
+        self._command(sim)
+        return self._report()
+
+    def _insert(self, sim: Simulation, name: str) -> None:
+        a = self.actors[name]
+        e = a.entity
+        scripted = self.storyboard_drives(name)
+        cls = e.actor_class
+        vclass = (
+            "ignoring"
+            if scripted
+            else ("passenger" if cls == ActorClass.PEDESTRIAN else _SHAPE[cls])
+        )
+        sim.define_vehicle_type(
+            VehicleType(
+                f"hiyari_{name}",
+                e.length,
+                e.width,
+                e.height,
+                max_speed=max(e.max_speed or 0.0, DEFAULT_MAX_SPEED),
+                vclass=vclass,
+                shape=_SHAPE[cls],
+            )
+        )
+        edge, lane_index, pos = self._insertion_point(a)
+        route = self.roads.route_from(edge) if not scripted else [edge]
+        sim.add_vehicle(name, route, f"hiyari_{name}", lane_index, pos, a.v, scripted=True)
+        a.inserted = True
+
+    def _insertion_point(self, a: Actor) -> tuple[str, int, float]:
+        """SUMO edge, lane index and front position for inserting ``a``."""
+        front = a.entity.centre[0] + 0.5 * a.entity.length
+        if a.road and not a.free:
+            direction = forward(self.roads.odr, a.road, a.lane)
+            s_front = float(
+                np.clip(a.s + direction * front, 0.0, self.roads.odr.road(a.road).length)
+            )
+            lane = self.roads.sumo_lane(a.road, a.lane, s_front)
+            if lane is not None:
+                p = self.roads.place(a.road, a.lane, s_front, a.t - self._centre_t(a))
+                return lane.edge, lane.index, float(np.clip(p.pos, 0.0, lane.length))
+        # off the imported lanes: insert on the nearest lane, moveToXY places it exactly
+        lanes = self.roads.lanes()
+        best = min(lanes, key=lambda ln: float(np.min(np.hypot(*(ln.shape - [a.x, a.y]).T))))
+        return best.edge, best.index, 0.5 * best.length
+
+    def _centre_t(self, a: Actor) -> float:
+        return float(self.roads.odr.road(a.road).lane_centre_t(a.lane, np.array([a.s]))[0][0])
+
+    # ------------------------------------------------------------------ step
+    def step(self, sim: Simulation, world: WorldState) -> StepReport:
+        """One update on ``world`` (the state after SUMO's latest step): evaluate triggers,
+        advance the storyboard, and place the scripted actors for the next step."""
+        self.now = world.time - self.t0
+        self._world = world
+        self._rows = {str(i): k for k, i in enumerate(world.ids)}
+        self._located = {}
+        self._started, self._ended, self._ego_requests = [], [], []
+        if self.finished:
+            return self._report()
+        snap = self._snapshot(world, sim)
+        fired = self.bank.evaluate(snap, self._active(), self.tree.state, self.tree.transition)
+        self.tree.transition[:] = NO_TRANSITION
+        if fired[0]:
+            self.finished = True
+            for story in self.tree.of_kind("story"):
+                self.tree.stop(story.index, self.now)
+            return self._report()
+        self._acts(fired)
+        self._events(fired)
+        self._advance()
+        self._finish_actions(self.now)
+        self._command(sim)
+        return self._report()
+
+    def _report(self) -> StepReport:
+        return StepReport(
+            self.now,
+            self.finished,
+            self.ego is not None and self.storyboard_drives(self.ego),
+            tuple(self._started),
+            tuple(self._ended),
+            tuple(self._ego_requests),
+        )
+
+    def _active(self) -> np.ndarray:
+        active = np.zeros(len(self.tree.triggers) + 1, dtype=bool)  # last slot: "no trigger"
+        active[0] = True
+        st = self.tree.state
+        if len(self._act_ix):
+            active[self._act_start[st[self._act_ix] == STANDBY]] = True
+            active[self._act_stop[st[self._act_ix] == RUNNING]] = True
+        if len(self._ev_ix):
+            waiting = (st[self._ev_ix] == STANDBY) & (st[self._ev_parent] == RUNNING)
+            active[self._ev_trig[waiting]] = True
+        return active[:-1]
+
+    def _acts(self, fired: np.ndarray) -> None:
+        tree, st = self.tree, self.tree.state
+        for act in tree.of_kind("act"):
+            i = act.index
+            if st[i] == STANDBY and (act.start_trigger < 0 or fired[act.start_trigger]):
+                if st[act.parent] == STANDBY:
+                    tree.start(act.parent, self.now)
+                tree.start(i, self.now)
+                for g in act.children:
+                    tree.start(g, self.now)
+                    for m in tree.elements[g].children:
+                        tree.start(m, self.now)
+            elif st[i] == RUNNING and act.stop_trigger >= 0 and fired[act.stop_trigger]:
+                self._stop(i)
+
+    def _events(self, fired: np.ndarray) -> None:
+        tree, st = self.tree, self.tree.state
+        if not len(self._ev_ix):
+            return
+        go = np.append(fired, True)[self._ev_trig]  # trigger -1: none, starts at once
+        due = (st[self._ev_ix] == STANDBY) & (st[self._ev_parent] == RUNNING) & go
+        for i in self._ev_ix[due].tolist():
+            ev = tree.elements[i]
+            if st[i] != STANDBY:
+                continue
+            running = [c for c in tree.elements[ev.parent].children if c != i and st[c] == RUNNING]
+            if running and ev.model.priority == "skip":
+                tree.skip(i, self.now)
+                continue
+            if ev.model.priority == "override":
+                for r in running:
+                    self._stop(r)
+            tree.start(i, self.now)
+            group = tree.elements[tree.elements[ev.parent].parent].model
+            for ai in ev.children:
+                for actor in group.actors:
+                    self._start_action(ai, tree.elements[ai].model, actor, self.now)
+
+    def _stop(self, i: int) -> None:
+        """Stop element ``i`` with its subtree, releasing the actors' domains."""
+        for e in self._subtree(i):
+            for inst in self.instances.pop(e, []):
+                self.starter.cancel(inst)
+                self._ended.append(self.tree.elements[e].name)
+        self.tree.stop(i, self.now)
+
+    def _subtree(self, i: int) -> list[int]:
+        out, todo = [], [i]
+        while todo:
+            k = todo.pop()
+            out.append(k)
+            todo.extend(self.tree.elements[k].children)
+        return out
+
+    def _start_action(
+        self, ai: int, action: object, actor: str, now: float, init: bool = False
+    ) -> None:
+        tree = self.tree
+        if tree.state[ai] != RUNNING:
+            tree.start(ai, now)
+            self._started.append(action.name)
+        inst = self.starter.start(ai, action, actor, now, init)
+        self.instances.setdefault(ai, []).append(inst)
+
+    # ------------------------------------------------------------------ motion
+    def _advance(self) -> None:
+        nxt = self.now + self.dt
+        moving = [a for n, a in self.actors.items() if self.storyboard_drives(n)]
+        advance_road_actors(self.roads.odr, [a for a in moving if not a.free], nxt, self.dt)
+        for a in moving:
+            if a.free and a.path is not None:
+                self.starter.follow_path(a, nxt)
+
+    def _finish_actions(self, now: float) -> None:
+        tree, st = self.tree, self.tree.state
+        for ai, insts in list(self.instances.items()):
+            if st[ai] == RUNNING and all(self.starter.done(x) for x in insts):
+                tree.end(ai, now)
+                self._ended.append(tree.elements[ai].name)
+                del self.instances[ai]
+        for ix in self._kind_order.values():  # bottom-up: events first, stories last
+            if not len(ix):
+                continue
+            open_children = tree.open_children()
+            done = ix[(st[ix] == RUNNING) & self._has_children[ix] & (open_children[ix] == 0)]
+            for i in done.tolist():
+                tree.end(i, now)
+
+    def _command(self, sim: Simulation) -> None:
+        for name, a in self.actors.items():
+            if not self.storyboard_drives(name) or not a.inserted:
+                continue
+            cx, cy = a.centre()
+            edge, lane = "", -1
+            if a.road and not a.free:
+                ln = self.roads.sumo_lane(a.road, a.lane, a.s)
+                if ln is not None:
+                    edge, lane = ln.edge, ln.index
+            speed = math.hypot(a.v, a.v_lat)
+            sim.move_vehicle(name, cx, cy, a.h, a.entity.length, speed=speed, edge=edge, lane=lane)
+
+    # ------------------------------------------------------------------ snapshot
+    def _snapshot(self, world: WorldState, sim: Simulation) -> Snapshot:
+        rows = np.array([self._rows.get(n, -1) for n in self.names], dtype=np.intp)
+        present = rows >= 0
+        r = np.where(present, rows, 0)
+        if len(world) == 0:
+            r = np.zeros(len(rows), dtype=np.intp)
+            world = _padded(world)
+        centre = world.xyz[r, :2].copy()
+        h = world.heading[r]
+        c, s = np.cos(h), np.sin(h)
+        ref = centre - np.stack([self._cx * c - self._cy * s, self._cx * s + self._cy * c], 1)
+        road_s = np.full(len(rows), np.nan)
+        road_t = np.full(len(rows), np.nan)
+        road_dir = np.ones(len(rows))
+        if self.bank.needs_road:
+            for k, name in enumerate(self.names):
+                if not present[k]:
+                    continue
+                a = self.actors[name]
+                p = a if self.storyboard_drives(name) else self.pose_of(name)
+                if p.road:
+                    road_dir[k] = (
+                        1.0 if self.roads.odr.roads[p.road].drives_forward(p.lane) else -1.0
+                    )
+                    road_s[k] = p.s + road_dir[k] * self._cx[k]
+                    road_t[k] = p.t
+        contacts: set[frozenset[int]] = set()
+        contact_any = np.zeros(len(rows), dtype=bool)
+        for col in sim.collisions:
+            ia, ib = self.index.get(col.a, -1), self.index.get(col.b, -1)
+            for x in (ia, ib):
+                if x >= 0:
+                    contact_any[x] = True
+            if ia >= 0 and ib >= 0:
+                contacts.add(frozenset((ia, ib)))
+        length, width = self._length, self._width
+        return Snapshot(
+            time=self.now,
+            present=present,
+            ref=ref,
+            centre=centre,
+            heading=h,
+            length=length,
+            width=width,
+            speed=world.speed[r],
+            accel=world.accel[r],
+            on_net=world.lane[r] != "",
+            road_s=road_s,
+            road_t=road_t,
+            road_dir=road_dir,
+            contacts=contacts,
+            contact_any=contact_any,
+        )
+
+
+def _padded(world: WorldState) -> WorldState:
+    """A one-row placeholder so that gathers on an empty state stay in bounds."""
+    o = np.array([""], dtype=object)
+    z = np.zeros(1)
+    return WorldState(world.time, o, np.zeros(1, np.int8), np.zeros((1, 3)), z, z, z, z, z, z, o, o)
+
+
+__all__ = ["ScenarioEngine", "StepReport", "EntityKind"]

@@ -1,0 +1,159 @@
+"""The result of one closed-loop run: summary, typed time series, detection counts, and the one
+list of result fields that result.json, ``hiyari run``'s results.csv, the sweep table and the
+R157 judge all take their columns from.
+
+Inside: SI (m, s, m/s). Files: speeds in km/h, times in s, distances in m, 3 decimals; None
+(JSON) or an empty cell (CSV) where a value does not exist (no collision, infinite TTC).
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from collections.abc import Callable
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+
+from hiyari.units import mps_to_kmh
+
+
+@dataclass
+class DetectionStats:
+    """Counts for one object-list source over a run."""
+
+    frames: int = 0
+    objects: int = 0
+    true_positives: int = 0
+    false_positives: int = 0
+    target_frames: int = 0  # frames in which the scenario's target was detected
+    target_first_time: float = float("nan")  # s
+    target_first_range: float = float("nan")  # m, ego centre to target centre
+    position_error_sum: float = 0.0  # m, over true positives
+
+    def as_dict(self) -> dict:
+        """JSON-ready counts (times s, ranges and errors m)."""
+        mean_err = self.position_error_sum / self.true_positives if self.true_positives else None
+        return {
+            "frames": self.frames,
+            "objects": self.objects,
+            "true_positives": self.true_positives,
+            "false_positives": self.false_positives,
+            "target_frames": self.target_frames,
+            "target_first_time_s": _num(self.target_first_time),
+            "target_first_range_m": _num(self.target_first_range),
+            "mean_position_error_m": None if mean_err is None else round(mean_err, 3),
+        }
+
+
+@dataclass
+class TimeSeries:
+    """One value per closed-loop step (all lists equally long, except ``conflict_distance``,
+    which only scenarios with a conflict point fill).
+
+    t: simulation time, s. ego_speed: m/s. ego_accel_cmd: the stack's command, m/s^2.
+    gap: bumper to bumper to the scenario's target along the ego's heading, m (inf: no target).
+    ttc_true: ground-truth TTC over all actors, s (inf: none within the horizon).
+    ttc_stack: the ego stack's own smallest TTC, s. aeb_stage: AEBStage as int.
+    conflict_distance: ego front to the conflict point along the ego's heading, m.
+    """
+
+    t: list[float] = field(default_factory=list)
+    ego_speed: list[float] = field(default_factory=list)
+    ego_accel_cmd: list[float] = field(default_factory=list)
+    gap: list[float] = field(default_factory=list)
+    ttc_true: list[float] = field(default_factory=list)
+    ttc_stack: list[float] = field(default_factory=list)
+    aeb_stage: list[int] = field(default_factory=list)
+    conflict_distance: list[float] = field(default_factory=list)
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The filled series by name (field order), as float arrays (for CSV and plots)."""
+        return {
+            f.name: np.asarray(getattr(self, f.name), dtype=float)
+            for f in fields(self)
+            if getattr(self, f.name)
+        }
+
+
+@dataclass
+class RunResult:
+    """Outcome of one closed-loop run. Speeds m/s, distances m, times s."""
+
+    label: str
+    collision: bool = False
+    collided_with: str = ""
+    collision_time: float = float("nan")
+    impact_speed: float = 0.0  # ego speed at first contact
+    relative_impact_speed: float = 0.0  # closing speed at first contact
+    min_ttc: float = float("inf")  # true TTC over all actors
+    min_gap: float = float("inf")  # bumper-to-bumper to the target
+    stop_distance: float = float("nan")  # ego front to the conflict point at the first stop
+    aeb_first_time: float = float("nan")
+    aeb_max_stage: int = 0
+    final_speed: float = 0.0
+    sim_seconds: float = 0.0
+    wall_seconds: float = 0.0
+    detection: dict[str, DetectionStats] = field(
+        default_factory=lambda: defaultdict(DetectionStats)
+    )
+    series: TimeSeries = field(default_factory=TimeSeries)
+
+    def verdict(self) -> str:
+        """'collision' or 'no collision'."""
+        return "collision" if self.collision else "no collision"
+
+    def as_dict(self) -> dict:
+        """JSON-ready summary (no time series): every RESULT_FIELDS value, then detection."""
+        doc = {f.key: f.value(self) for f in RESULT_FIELDS}
+        doc["detection"] = {k: v.as_dict() for k, v in sorted(self.detection.items())}
+        return doc
+
+    def row(self) -> dict:
+        """The result-table columns (RESULT_KEYS) of this run."""
+        return {f.key: f.value(self) for f in RESULT_FIELDS if f.in_table}
+
+
+def _num(x: float) -> float | None:
+    return None if not np.isfinite(x) else round(float(x), 3)
+
+
+def _kmh(v: float) -> float:
+    return round(float(mps_to_kmh(v)), 2)
+
+
+@dataclass(frozen=True)
+class ResultField:
+    """One summary value of a run: its key in result.json, whether it is a result-table column
+    (results.csv of ``hiyari run`` and ``hiyari sweep``) and one of the R157 judge's, and how it
+    is read from a RunResult (file units)."""
+
+    key: str
+    value: Callable[[RunResult], object]
+    in_table: bool = True
+    in_judge: bool = False
+
+
+#: The run summary, in file order: the one list of result fields.
+RESULT_FIELDS: tuple[ResultField, ...] = (
+    ResultField("label", lambda r: r.label, in_table=False),
+    ResultField("collision", lambda r: r.collision, in_judge=True),
+    ResultField("collided_with", lambda r: r.collided_with),
+    ResultField("collision_time_s", lambda r: _num(r.collision_time), in_table=False),
+    ResultField("impact_speed_kmh", lambda r: _kmh(r.impact_speed), in_judge=True),
+    ResultField("relative_impact_speed_kmh", lambda r: _kmh(r.relative_impact_speed)),
+    ResultField("min_ttc_s", lambda r: _num(r.min_ttc), in_judge=True),
+    ResultField("min_gap_m", lambda r: _num(r.min_gap), in_judge=True),
+    ResultField("stop_distance_m", lambda r: _num(r.stop_distance)),
+    ResultField("aeb_first_time_s", lambda r: _num(r.aeb_first_time)),
+    ResultField("aeb_max_stage", lambda r: r.aeb_max_stage),
+    ResultField("final_speed_kmh", lambda r: _kmh(r.final_speed)),
+    ResultField("sim_seconds", lambda r: round(r.sim_seconds, 3), in_table=False),
+    ResultField("wall_seconds", lambda r: round(r.wall_seconds, 3), in_table=False),
+)
+#: Result-table columns (results.csv of ``hiyari run`` and ``hiyari sweep``).
+RESULT_KEYS: tuple[str, ...] = tuple(f.key for f in RESULT_FIELDS if f.in_table)
+#: The result columns of the R157 judge's table (judge.csv).
+JUDGE_KEYS: tuple[str, ...] = tuple(f.key for f in RESULT_FIELDS if f.in_judge)
