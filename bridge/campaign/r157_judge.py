@@ -236,15 +236,23 @@ _DPI = 100
 _STYLE = {
     "pass": ("tab:green", "o", "pass (Preventable)"),
     "fail": ("tab:red", "X", "FAIL (Preventable, collided)"),
-    "n/a": ("0.35", "s", "Unpreventable point (no verdict)"),
+    "n/a collided": ("0.2", "s", "Unpreventable point, collided (allowed)"),
+    "n/a avoided": ("0.65", "s", "Unpreventable point, avoided"),
     "error": ("k", "*", "run error"),
 }
 _REGION = "#f4a6a6"
 
 
+def _kind(row: dict) -> str:
+    """The row's key in :data:`_STYLE`: its verdict, Unpreventable points by outcome."""
+    if row["verdict"] != "n/a":
+        return row["verdict"]
+    return "n/a collided" if row["collision"] == "True" else "n/a avoided"
+
+
 def _scatter_verdicts(ax: Axes, rows: list[dict], xk: str, yk: str) -> None:
-    for verdict, (color, marker, label) in _STYLE.items():
-        pts = [(r[xk], r[yk]) for r in rows if r["verdict"] == verdict]
+    for kind, (color, marker, label) in _STYLE.items():
+        pts = [(r[xk], r[yk]) for r in rows if _kind(r) == kind]
         if pts:
             x, y = zip(*pts, strict=True)
             ax.scatter(
@@ -256,27 +264,28 @@ def _scatter_verdicts(ax: Axes, rows: list[dict], xk: str, yk: str) -> None:
                 label=label,
                 zorder=3,
                 lw=0.4,
-                edgecolors="k" if verdict == "fail" else "none",
+                edgecolors="k" if kind == "fail" else "none",
             )
 
 
-def _finish(fig: Figure, handles: list, title: str, params: CCParams) -> Figure:
-    """Legend below the panels, title and conventions above them."""
+def _finish(fig: Figure, rows: list[dict], extra: list, title: str, params: CCParams) -> Figure:
+    """Legend below the panels; title, outcome and conventions above them."""
+    present = {_kind(r) for r in rows}
+    handles = list(extra) + [
+        Line2D([], [], color=color, marker=marker, ls="", markersize=8, label=label)
+        for kind, (color, marker, label) in _STYLE.items()
+        if kind in present
+    ]
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 4))
+    prev = [r for r in rows if r["expected"] == "preventable"]
+    passed = sum(r["verdict"] == "pass" for r in prev)
+    outcome = (
+        f"{'PASS' if passed == len(prev) else 'FAIL'}: {passed} of {len(prev)} Preventable "
+        f"points passed; {len(rows) - len(prev)} Unpreventable points"
+    )
     note = textwrap.fill(params.convention_note(), width=int(13 * fig.get_figwidth()))
-    fig.suptitle(f"{title}\n{note}", fontsize=10)
+    fig.suptitle(f"{title}\n{outcome}\n{note}", fontsize=10)
     return fig
-
-
-def _legend_handles(rows: list[dict], extra: list) -> list:
-    present = {r["verdict"] for r in rows}
-    handles = list(extra)
-    for verdict, (color, marker, label) in _STYLE.items():
-        if verdict in present:
-            handles.append(
-                Line2D([], [], color=color, marker=marker, ls="", markersize=8, label=label)
-            )
-    return handles
 
 
 def _cut_in_figure(rows: list[dict], cond: str, params: CCParams) -> Figure:
@@ -309,15 +318,12 @@ def _cut_in_figure(rows: list[dict], cond: str, params: CCParams) -> Figure:
         shown = [axes[i][j] for i in range(len(dvs)) if axes[i][j].get_visible()]
         if shown:
             shown[-1].set_xlabel("lateral velocity Vy (m/s)", fontsize=9)
-    handles = _legend_handles(
-        rows,
-        [
-            Patch(color=_REGION, label="C&C collides (Unpreventable region)"),
-            Line2D([], [], color="k", lw=1.4, label="Preventable boundary (this Ve0, Vo0)"),
-        ],
-    )
+    extra = [
+        Patch(color=_REGION, label="C&C collides (Unpreventable region)"),
+        Line2D([], [], color="k", lw=1.4, label="Preventable boundary (this Ve0, Vo0)"),
+    ]
     return _finish(
-        fig, handles, f"UN R157 cut-in test points through the closed loop: {cond}", params
+        fig, rows, extra, f"UN R157 cut-in test points through the closed loop: {cond}", params
     )
 
 
@@ -372,16 +378,13 @@ def _cut_out_figure(rows: list[dict], cond: str, params: CCParams) -> Figure:
         ax.set_ylabel("dx0_f, lead front → stopped car (m)", fontsize=9)
     for ax in axes.flat[len(ves) :]:
         ax.set_visible(False)
-    handles = _legend_handles(
-        rows,
-        [
-            Patch(color=_REGION, label="C&C collides (Unpreventable)"),
-            Line2D([], [], color="k", lw=1.4, label="Preventable boundary"),
-            Patch(facecolor="none", edgecolor="0.5", hatch="///", label="excluded: lead hits it"),
-        ],
-    )
+    extra = [
+        Patch(color=_REGION, label="C&C collides (Unpreventable)"),
+        Line2D([], [], color="k", lw=1.4, label="Preventable boundary"),
+        Patch(facecolor="none", edgecolor="0.5", hatch="///", label="excluded: lead hits it"),
+    ]
     return _finish(
-        fig, handles, f"UN R157 cut-out test points through the closed loop: {cond}", params
+        fig, rows, extra, f"UN R157 cut-out test points through the closed loop: {cond}", params
     )
 
 
@@ -394,8 +397,7 @@ def _decel_figure(rows: list[dict], cond: str, params: CCParams) -> Figure:
     ax.set_ylabel("lead deceleration Gx_max (g), step")
     ax.set_title(f"following at THW {params.thw_s:g} s", fontsize=9)
     ax.grid(alpha=0.3)
-    handles = _legend_handles(rows, [])
-    return _finish(fig, handles, f"UN R157 deceleration test points: {cond}", params)
+    return _finish(fig, rows, [], f"UN R157 deceleration test points: {cond}", params)
 
 
 def judge_figure(rows: list[dict], scenario: str, cond: str, params: CCParams) -> Figure:

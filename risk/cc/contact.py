@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hiyari.kinematics import footprint_corners
 from hiyari.risk.cc.kinematics import Motion
 from hiyari.risk.cc.model import CCParams
 
@@ -50,16 +51,13 @@ def rectangle_band_x_extent(
     """
     heading = np.asarray(heading, dtype=float)
     mirror = heading > 0
-    c, s = np.cos(heading), -np.abs(np.sin(heading))  # the mirrored image turns right
     dy = np.where(mirror, -np.asarray(cy, dtype=float), cy)
     lo = np.where(mirror, -y_hi, y_lo) - dy  # band relative to the centre
     hi = np.where(mirror, -y_lo, y_hi) - dy
-    hl, hw = 0.5 * length, 0.5 * width
-    # corners relative to the centre of a rectangle turned right (s <= 0)
-    fr = (hl * c + hw * s, hl * s - hw * c)  # lowest
-    fl = (hl * c - hw * s, hl * s + hw * c)  # foremost
-    rr = (-hl * c + hw * s, -hl * s - hw * c)  # rearmost
-    rl = (-hl * c - hw * s, -hl * s + hw * c)  # highest
+    # corners relative to the centre of the (mirrored) rectangle turned right: front-left is
+    # the foremost, rear-left the highest, rear-right the rearmost, front-right the lowest
+    k = footprint_corners(np.zeros((*heading.shape, 2)), -np.abs(heading), length, width)
+    fl, rl, rr, fr = ((k[..., i, 0], k[..., i, 1]) for i in range(4))
     y0, y1 = np.maximum(lo, fr[1]), np.minimum(hi, rl[1])
 
     def along(a: tuple, b: tuple, y: np.ndarray) -> np.ndarray:
@@ -143,9 +141,7 @@ def cut_in_contact(vo0: np.ndarray, dx0: np.ndarray, vy: np.ndarray, p: CCParams
     w, half = p.lane_width_m, 0.5 * p.ego_width_m
     heading = cut_in_heading(vo0, vy, p)
     L, W = p.other_length_m, p.other_width_m
-    c, s = np.cos(heading), np.sin(heading)
-    # corner heights relative to the centre: +-L/2 sin +- W/2 cos
-    oy = np.stack([a * 0.5 * L * s + b * 0.5 * W * c for a in (1, -1) for b in (1, -1)], axis=1)
+    oy = footprint_corners(np.zeros((*heading.shape, 2)), heading, L, W)[..., 1]  # (N, 4)
     t_settle = w / vy
     # centre height at which the lowest corner reaches the band's top edge
     t_overlap = np.clip((w - (half - oy.min(axis=1))) / vy, 0.0, t_settle)

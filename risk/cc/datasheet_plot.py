@@ -13,6 +13,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
@@ -78,8 +79,10 @@ def cut_in_figure(
     upper = sheet.regions.upper
     for j, dv in enumerate(dv_cols_kmh):
         col = np.isclose(sheet.dv_kmh, dv)
-        finite = upper[col & np.isfinite(upper)]
-        y_top = max(5.0, 1.15 * float(finite.max()) if finite.size else 5.0)
+        # one scale per relative speed, showing every finite end of the regions in it
+        ends = np.concatenate([upper[col], sheet.regions.lo[col].ravel()])
+        finite = ends[np.isfinite(ends)]
+        y_top = max(1.0, 1.15 * float(finite.max()) if finite.size else 1.0)
         for i, ve in enumerate(ve_rows_kmh):
             ax = axes[i][j]
             sel = np.flatnonzero(col & np.isclose(sheet.ve0_kmh, ve))
@@ -103,7 +106,7 @@ def cut_in_figure(
         handles=[
             Patch(color=PREVENTABLE, label="Preventable: collision not permitted"),
             Patch(color=UNPREVENTABLE, label="Unpreventable: the C&C driver collides"),
-            Patch(color="k", label="Preventable boundary (upper end)"),
+            Line2D([], [], color="k", lw=1.4, label="Preventable boundary (upper end)"),
             Patch(color=EXCLUDED, label="Vy infeasible at Vo0"),
         ],
         loc="outside lower center",
@@ -137,10 +140,11 @@ def _cut_in_panel(
     if vys.max() < vy_max - 1e-9:
         ax.axvspan(vys.max() + width / 2, vy_max + width / 2, color=EXCLUDED, lw=0)
     if np.isinf(up).any():
+        none = vys[order][np.isinf(up)]
         ax.text(
             0.97,
             0.95,
-            f"collides at every gap\nabove the region (Vy ≤ {vys[order][np.isinf(up)].max():g})",
+            f"no Preventable gap above the red\nat Vy {none.min():g}–{none.max():g} m/s",
             transform=ax.transAxes,
             ha="right",
             va="top",
@@ -154,9 +158,14 @@ def plot_cut_in(sheet: CutInDatasheet, path: str | Path) -> Path:
     return _save(cut_in_figure(sheet), Path(path))
 
 
-def plot_cut_out(
-    sheet: CutOutDatasheet, path: str | Path, vy_panels_mps: tuple[float, ...] | None = None
-) -> Path:
+def plot_cut_out(sheet: CutOutDatasheet, path: str | Path) -> Path:
+    """Write :func:`cut_out_figure` as PNG."""
+    return _save(cut_out_figure(sheet), Path(path))
+
+
+def cut_out_figure(
+    sheet: CutOutDatasheet, vy_panels_mps: tuple[float, ...] | None = None
+) -> Figure:
     """Cut-out datasheet: one panel per lateral velocity, boundary dx0_f against Ve0."""
     vys = np.unique(sheet.vy_mps)
     if vy_panels_mps is None:
@@ -214,10 +223,15 @@ def plot_cut_out(
         f"(dx0 = {p.thw_s:g} s x Ve0), stopped vehicle ahead of the lead\n{_model_note(p)}",
         fontsize=9.5,
     )
-    return _save(fig, Path(path))
+    return fig
 
 
 def plot_decel(sheet: DecelDatasheet, path: str | Path) -> Path:
+    """Write :func:`decel_figure` as PNG."""
+    return _save(decel_figure(sheet), Path(path))
+
+
+def decel_figure(sheet: DecelDatasheet) -> Figure:
     """Deceleration datasheet. Left: Preventable / Unpreventable over (Ve0, Gx_max) at the
     following THW, with contours of the C&C driver's minimum gap. Right: the smallest
     following time headway at which the scenario would be Preventable."""
@@ -243,11 +257,13 @@ def plot_decel(sheet: DecelDatasheet, path: str | Path) -> Path:
         vmax=1,
         shading="nearest",
     )
+    # contours need at least 2 x 2 grid points; a single row or column shows colours only
+    contoured = ve.size > 1 and gx.size > 1
     levels = [lv for lv in (1, 2, 5, 10, 20, 40) if np.nanmin(gap) < lv < np.nanmax(gap)]
-    if levels:
+    if contoured and levels:
         cs = ax.contour(ve, gx, gap, levels=levels, colors="0.25", linewidths=0.8)
         ax.clabel(cs, fmt="%g m", fontsize=8)
-    boundary_drawn = bool(np.nanmin(gap) < 0 < np.nanmax(gap))
+    boundary_drawn = contoured and bool(np.nanmin(gap) < 0 < np.nanmax(gap))
     if boundary_drawn:
         ax.contour(ve, gx, gap, levels=[0.0], colors="k", linewidths=2.0)
     all_ok = bool(np.all(sheet.preventable))
@@ -269,12 +285,15 @@ def plot_decel(sheet: DecelDatasheet, path: str | Path) -> Path:
     thw_levels = [
         lv for lv in (0.5, 1.0, 1.5, 2.0, 2.5, 3.0) if np.nanmin(thw) < lv < np.nanmax(thw)
     ]
-    if thw_levels:
+    if contoured and thw_levels:
         cs2 = ax2.contour(ve, gx, thw, levels=thw_levels, colors="0.25", linewidths=0.8)
         ax2.clabel(cs2, fmt="%g s", fontsize=8)
-    filled = ax2.contourf(ve, gx, thw, levels=12, cmap="viridis")
+    if contoured:
+        filled = ax2.contourf(ve, gx, thw, levels=12, cmap="viridis")
+    else:
+        filled = ax2.pcolormesh(ve, gx, thw, cmap="viridis", shading="nearest")
     fig.colorbar(filled, ax=ax2, label="smallest Preventable THW (s)")
-    if np.nanmin(thw) < p.thw_s < np.nanmax(thw):
+    if contoured and np.nanmin(thw) < p.thw_s < np.nanmax(thw):
         ax2.contour(ve, gx, thw, levels=[p.thw_s], colors="w", linewidths=2.0)
     ax2.set_title(f"smallest following THW that is Preventable (white: {p.thw_s:g} s)", fontsize=10)
     for a in (ax, ax2):
@@ -285,4 +304,4 @@ def plot_decel(sheet: DecelDatasheet, path: str | Path) -> Path:
         f"Deceleration Preventable map (cf. JAMA Fig. 30); dotted: 60 km/h\n{_model_note(p)}",
         fontsize=9.5,
     )
-    return _save(fig, Path(path))
+    return fig

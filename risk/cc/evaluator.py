@@ -38,6 +38,7 @@ from dataclasses import dataclass
 from dataclasses import fields as dataclass_fields
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.contact import CutInContact, cut_in_contact
@@ -343,7 +344,13 @@ def cut_in_setup(
     )
 
 
-def evaluate_cut_in(ve0_mps, vo0_mps, dx0_m, vy_mps, params: CCParams = _DEFAULT) -> CCResult:
+def evaluate_cut_in(
+    ve0_mps: ArrayLike,
+    vo0_mps: ArrayLike,
+    dx0_m: ArrayLike,
+    vy_mps: ArrayLike,
+    params: CCParams = _DEFAULT,
+) -> CCResult:
     """C&C driver in cut-in scenarios (arrays or scalars, broadcast).
 
     ``ve0_mps``: ego speed, ``vo0_mps``: cut-in vehicle's speed (<= ego's, Annex G),
@@ -383,7 +390,9 @@ def cut_out_setup(ve0: np.ndarray, vy: np.ndarray, dx0_f: np.ndarray, p: CCParam
     )
 
 
-def evaluate_cut_out(ve0_mps, vy_mps, dx0_f_m, params: CCParams = _DEFAULT) -> CCResult:
+def evaluate_cut_out(
+    ve0_mps: ArrayLike, vy_mps: ArrayLike, dx0_f_m: ArrayLike, params: CCParams = _DEFAULT
+) -> CCResult:
     """C&C driver in cut-out scenarios (arrays or scalars, broadcast).
 
     ``ve0_mps``: ego and lead speed (> 0), ``vy_mps``: the lead's lateral speed (> 0,
@@ -416,7 +425,12 @@ def decel_setup(ve0: np.ndarray, gx: np.ndarray, dx0: np.ndarray, p: CCParams) -
     )
 
 
-def evaluate_decel(ve0_mps, gx_max_g, params: CCParams = _DEFAULT, dx0_m=None) -> CCResult:
+def evaluate_decel(
+    ve0_mps: ArrayLike,
+    gx_max_g: ArrayLike,
+    params: CCParams = _DEFAULT,
+    dx0_m: ArrayLike | None = None,
+) -> CCResult:
     """C&C driver in deceleration scenarios (arrays or scalars, broadcast).
 
     ``ve0_mps``: ego and lead speed (> 0), ``gx_max_g``: the lead's deceleration in g

@@ -31,7 +31,9 @@ def _gather(arr: np.ndarray, idx: np.ndarray) -> np.ndarray:
     return arr.ravel()[_flat_index(arr.shape, idx)]
 
 
-def _poly(c0, c1, c2, c3, s):
+def _poly(
+    c0: np.ndarray, c1: np.ndarray, c2: np.ndarray, c3: np.ndarray, s: np.ndarray
+) -> np.ndarray:
     return c0 + s * (c1 + s * (c2 + s * c3))
 
 

@@ -13,6 +13,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
+from hiyari.kinematics import footprint_corners, overlap_depth
 from hiyari.risk.cc.model import CCParams
 
 
@@ -67,32 +70,6 @@ class _Ego:
             self.v = v_new
 
 
-def _corners(cx: float, cy: float, heading: float, length: float, width: float) -> list:
-    """Rectangle corners (x, y) in order around it."""
-    c, s = math.cos(heading), math.sin(heading)
-    fx, fy, lx, ly = c * length / 2, s * length / 2, -s * width / 2, c * width / 2
-    return [
-        (cx + fx + lx, cy + fy + ly),
-        (cx - fx + lx, cy - fy + ly),
-        (cx - fx - lx, cy - fy - ly),
-        (cx + fx - lx, cy + fy - ly),
-    ]
-
-
-def _sat_depth(a: list, b: list) -> float:
-    """Smallest overlap of two convex quadrilaterals over their edge normals (m); <= 0: apart."""
-    depth = math.inf
-    for poly in (a, b):
-        for k in range(2):
-            ex, ey = poly[k + 1][0] - poly[k][0], poly[k + 1][1] - poly[k][1]
-            norm = math.hypot(ex, ey)
-            ax, ay = -ey / norm, ex / norm
-            pa = [x * ax + y * ay for x, y in a]
-            pb = [x * ax + y * ay for x, y in b]
-            depth = min(depth, min(max(pa), max(pb)) - max(min(pa), min(pb)))
-    return depth
-
-
 def _x_extent_in_band(poly: list, half_width: float) -> tuple[float, float]:
     """Smallest and largest x of the polygon's part inside |y| <= half_width ((inf, -inf) if
     none), by clipping each edge to the band."""
@@ -110,6 +87,58 @@ def _x_extent_in_band(poly: list, half_width: float) -> tuple[float, float]:
     return lo_x, hi_x
 
 
+class _OtherShape:
+    """The cut-in vehicle's corners relative to its centre: turned by ``yaw`` while it moves
+    laterally, along the lane once centred in the ego lane (from the kinematics kernel, once;
+    the loop only translates them)."""
+
+    def __init__(self, yaw: float, p: CCParams) -> None:
+        self.p = p
+        self.reach = 0.5 * math.hypot(p.other_length_m, p.other_width_m)
+        shape = [
+            footprint_corners(np.zeros(2), h, p.other_length_m, p.other_width_m) for h in (yaw, 0.0)
+        ]
+        self.moving, self.settled = (k.tolist() for k in shape)
+
+    def in_band(self, x_rear: float, y: float) -> tuple[list | None, float, float]:
+        """Corners at rear x ``x_rear`` and centre y ``y`` (None when it cannot reach the ego's
+        band yet) and the nearest / farthest x of its part inside the band (nan when none)."""
+        p = self.p
+        half_w = 0.5 * p.ego_width_m
+        if y > 0 and y - self.reach >= half_w:
+            return None, math.nan, math.nan  # too far to the side to reach the band
+        cx = x_rear + 0.5 * p.other_length_m
+        corners = [(cx + a, y + b) for a, b in (self.moving if y > 0 else self.settled)]
+        nearest, farthest = _x_extent_in_band(corners, half_w)
+        if not math.isfinite(nearest):
+            return corners, math.nan, math.nan
+        return corners, nearest, farthest
+
+
+@dataclass
+class _Judgement:
+    """The C&C driver's online cut-in judgements: lane-change judgement at ``wander_m``,
+    danger as ``p.judgement`` says, the decision taken once at danger."""
+
+    p: CCParams
+    judged_at: float = math.inf
+    overlap_at: float = math.inf
+    decided: bool = False
+    watching: bool = False  # waiting for TTC to fall below ttc_brake_s
+
+    def danger(self, t: float, shift: float, overlapping: bool) -> bool:
+        p = self.p
+        if shift >= p.wander_m and self.judged_at == math.inf:
+            self.judged_at = t
+        if overlapping and self.overlap_at == math.inf:
+            self.overlap_at = t
+        if p.judgement == "time":
+            return t >= self.judged_at + p.perception_time_s - 1e-12
+        if p.judgement == "position":
+            return shift >= p.wander_m + p.danger_lateral_m - 1e-12
+        return t >= self.overlap_at
+
+
 def simulate_cut_in(
     ve0: float,
     vo0: float,
@@ -123,81 +152,58 @@ def simulate_cut_in(
 
     The other vehicle's rectangle is turned along its velocity while it moves laterally
     (``contact="heading"``) or kept along the lane; contact is the two rectangles overlapping
-    (separating axes) by more than ``contact_tol_m``. ``min_gap_m``: the smallest distance
-    from the ego's front to the other's nearest point inside the ego's width while they
-    overlap laterally (the lane-aligned gap when the scenario ends before they do).
+    (separating axes, :func:`hiyari.kinematics.overlap_depth`) by more than
+    ``contact_tol_m``. ``min_gap_m``: the smallest distance from the ego's front to the
+    other's nearest point inside the ego's width while they overlap laterally (the
+    lane-aligned gap when the scenario ends before they do).
     """
     ego = _Ego(ve0, vo0, p)
-    half_w = 0.5 * p.ego_width_m
+    shape = _OtherShape(-math.atan2(vy, vo0) if p.contact == "heading" else 0.0, p)
     y_other = p.lane_width_m
-    yaw = -math.atan2(vy, vo0) if p.contact == "heading" else 0.0
-    reach = 0.5 * math.hypot(p.other_length_m, p.other_width_m)
+    driver = _Judgement(p)
     t = 0.0
-    judged_at = math.inf
-    overlap_at = math.inf
-    decided = watching = False
     min_gap = math.inf
     while t < t_max:
         x_rear = dx0 + vo0 * t
         gap = x_rear - ego.x_front
-        moving = y_other > 0
-        nearest = farthest = math.nan
-        other: list = []
-        if not moving:  # centred in the ego lane along it: all of it is in the band
-            nearest, farthest = x_rear, x_rear + p.other_length_m
-            other = _corners(
-                x_rear + 0.5 * p.other_length_m, 0.0, 0.0, p.other_length_m, p.other_width_m
-            )
-        elif y_other - reach < half_w:  # else too far to the side to reach the ego's band
-            other = _corners(
-                x_rear + 0.5 * p.other_length_m,
-                y_other,
-                yaw,
-                p.other_length_m,
-                p.other_width_m,
-            )
-            nearest, farthest = _x_extent_in_band(other, half_w)
+        other, nearest, farthest = shape.in_band(x_rear, y_other)
         inside = math.isfinite(nearest)
-        if inside and overlap_at == math.inf:
-            overlap_at = t
-        shift = p.lane_width_m - y_other
-        if shift >= p.wander_m and judged_at == math.inf:
-            judged_at = t
-        if p.judgement == "time":
-            danger = t >= judged_at + p.perception_time_s - 1e-12
-        elif p.judgement == "position":
-            danger = shift >= p.wander_m + p.danger_lateral_m - 1e-12
-        else:
-            danger = t >= overlap_at
         closing = ego.v - vo0
-        if danger and not decided:
-            decided = True
+        if driver.danger(t, p.lane_width_m - y_other, inside) and not driver.decided:
+            driver.decided = True
             # at danger judgement: beside the ego (gap <= 0) it does not brake for it at all
-            watching = gap > 0
+            driver.watching = gap > 0
             above = closing <= 0 or gap >= p.ttc_brake_s * closing
-            if watching and above and p.above_ttc == "end":
+            if driver.watching and above and p.above_ttc == "end":
                 return SteppedResult(False, min(min_gap, gap), math.nan, math.nan)
-        if watching and closing > 0 and gap < p.ttc_brake_s * closing + 1e-12:
-            watching = False
+        if driver.watching and closing > 0 and gap < p.ttc_brake_s * closing + 1e-12:
+            driver.watching = False
             ego.brake_at = t + p.reaction_delay_s
         if inside:
             min_gap = min(min_gap, nearest - ego.x_front)
             if p.aeb and ego.aeb_at == math.inf and 0 <= gap < p.aeb_ttc_s * closing:
                 ego.aeb_at = t + p.aeb_delay_s
-            if nearest < ego.x_front and farthest > ego.x_front - p.ego_length_m:
-                mine = _corners(
-                    ego.x_front - 0.5 * p.ego_length_m, 0.0, 0.0, p.ego_length_m, p.ego_width_m
-                )
-                if _sat_depth(mine, other) > p.contact_tol_m:
-                    return SteppedResult(True, min_gap, t, closing)
-        settled = not moving and inside
-        past = ego.x_front - p.ego_length_m >= x_rear + p.other_length_m
-        if settled and (ego.done or past):
-            break  # nothing changes any more: at Vo0 behind it, or past it and not slower
+            if _touching(ego, other, nearest, farthest, p):
+                return SteppedResult(True, min_gap, t, closing)
+            past = ego.x_front - p.ego_length_m >= x_rear + p.other_length_m
+            if y_other <= 0 and (ego.done or past):
+                break  # nothing changes any more: at Vo0 behind it, or past it and not slower
         ego.step(t, dt)
         y_other = max(0.0, y_other - vy * dt)
         t += dt
     return SteppedResult(False, min_gap, math.nan, math.nan)
+
+
+def _touching(ego: _Ego, other: list, nearest: float, farthest: float, p: CCParams) -> bool:
+    """The two rectangles overlap by more than ``contact_tol_m`` (only tested when the other's
+    part in the ego's band reaches longitudinally into the ego)."""
+    if not (nearest < ego.x_front and farthest > ego.x_front - p.ego_length_m):
+        return False
+    mine = footprint_corners(
+        np.array([ego.x_front - 0.5 * p.ego_length_m, 0.0]), 0.0, p.ego_length_m, p.ego_width_m
+    )
+    depth = overlap_depth(mine[None], np.array(other)[None])
+    return float(depth[0]) > p.contact_tol_m
 
 
 def simulate_cut_out(

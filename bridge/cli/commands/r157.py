@@ -13,6 +13,7 @@ from pathlib import Path
 from hiyari.bridge.cli.commands.boundary import add_model_options, model_params
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import Grid
+from hiyari.risk.cc.model import CCParams
 from hiyari.risk.cc.r157_points import (
     SCENARIOS,
     R157Config,
@@ -73,7 +74,14 @@ def run_judge(args: argparse.Namespace) -> int:
     from hiyari.risk.cc.r157_points import load_point_params, load_points
 
     points = load_points(args.points)
-    params = load_point_params(args.points) or model_params(args)
+    stored, given = load_point_params(args.points), model_params(args)
+    if stored is not None and given != CCParams() and given != stored:
+        raise HiyariError(
+            f"{args.points}: its points were made with another C&C model "
+            f"({stored.convention_note()}, aeb={stored.aeb}) than the model options given: "
+            "drop the options (the file's model is used) or regenerate the points"
+        )
+    params = stored or given
     if args.scenarios:
         wanted = {s.strip() for s in args.scenarios.split(",")}
         points = [p for p in points if p.scenario in wanted]
@@ -113,7 +121,8 @@ def add_judge(sub: argparse._SubParsersAction) -> None:
         help="run test points through the closed loop and judge pass / fail",
         description="Every Preventable point must be passed without a collision. The points' "
         "expected verdicts are checked against the C&C model: the one stored in a JSON points "
-        "file, else the model options given here.",
+        "file (model options that differ from it are refused), else the model options given "
+        "here.",
     )
     p.add_argument("points", help="points file from 'hiyari r157 points' (CSV or JSON)")
     p.add_argument("-o", "--out", default="out/r157_judge", help="output folder")
