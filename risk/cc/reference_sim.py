@@ -94,25 +94,29 @@ class _OtherShape:
 
     def __init__(self, yaw: float, p: CCParams) -> None:
         self.p = p
-        self.reach = 0.5 * math.hypot(p.other_length_m, p.other_width_m)
         shape = [
             footprint_corners(np.zeros(2), h, p.other_length_m, p.other_width_m) for h in (yaw, 0.0)
         ]
         self.moving, self.settled = (k.tolist() for k in shape)
+        self.lowest = min(b for _, b in self.moving)  # its lowest corner below its centre
 
-    def in_band(self, x_rear: float, y: float) -> tuple[list | None, float, float]:
-        """Corners at rear x ``x_rear`` and centre y ``y`` (None when it cannot reach the ego's
-        band yet) and the nearest / farthest x of its part inside the band (nan when none)."""
+    def corners(self, x_rear: float, y: float) -> list[tuple[float, float]]:
+        """Its corners with the rear (lane-aligned) at ``x_rear`` and the centre at ``y``."""
+        cx = x_rear + 0.5 * self.p.other_length_m
+        return [(cx + a, y + b) for a, b in (self.moving if y > 0 else self.settled)]
+
+    def in_band(self, x_rear: float, y: float) -> tuple[float, float]:
+        """Nearest and farthest x of its part inside the ego's band (nan when none)."""
         p = self.p
         half_w = 0.5 * p.ego_width_m
-        if y > 0 and y - self.reach >= half_w:
-            return None, math.nan, math.nan  # too far to the side to reach the band
-        cx = x_rear + 0.5 * p.other_length_m
-        corners = [(cx + a, y + b) for a, b in (self.moving if y > 0 else self.settled)]
-        nearest, farthest = _x_extent_in_band(corners, half_w)
+        if y <= 0:  # centred in the ego lane and along it: all of it is in the band
+            return x_rear, x_rear + p.other_length_m
+        if y + self.lowest > half_w:  # all of it still to the side of the band
+            return math.nan, math.nan
+        nearest, farthest = _x_extent_in_band(self.corners(x_rear, y), half_w)
         if not math.isfinite(nearest):
-            return corners, math.nan, math.nan
-        return corners, nearest, farthest
+            return math.nan, math.nan
+        return nearest, farthest
 
 
 @dataclass
@@ -166,7 +170,7 @@ def simulate_cut_in(
     while t < t_max:
         x_rear = dx0 + vo0 * t
         gap = x_rear - ego.x_front
-        other, nearest, farthest = shape.in_band(x_rear, y_other)
+        nearest, farthest = shape.in_band(x_rear, y_other)
         inside = math.isfinite(nearest)
         closing = ego.v - vo0
         if driver.danger(t, p.lane_width_m - y_other, inside) and not driver.decided:
@@ -183,7 +187,7 @@ def simulate_cut_in(
             min_gap = min(min_gap, nearest - ego.x_front)
             if p.aeb and ego.aeb_at == math.inf and 0 <= gap < p.aeb_ttc_s * closing:
                 ego.aeb_at = t + p.aeb_delay_s
-            if _touching(ego, other, nearest, farthest, p):
+            if _touching(ego, shape, x_rear, y_other, (nearest, farthest)):
                 return SteppedResult(True, min_gap, t, closing)
             past = ego.x_front - p.ego_length_m >= x_rear + p.other_length_m
             if y_other <= 0 and (ego.done or past):
@@ -194,15 +198,18 @@ def simulate_cut_in(
     return SteppedResult(False, min_gap, math.nan, math.nan)
 
 
-def _touching(ego: _Ego, other: list, nearest: float, farthest: float, p: CCParams) -> bool:
-    """The two rectangles overlap by more than ``contact_tol_m`` (only tested when the other's
-    part in the ego's band reaches longitudinally into the ego)."""
-    if not (nearest < ego.x_front and farthest > ego.x_front - p.ego_length_m):
+def _touching(
+    ego: _Ego, shape: _OtherShape, x_rear: float, y: float, extent: tuple[float, float]
+) -> bool:
+    """The two rectangles overlap by more than ``contact_tol_m``: only tested (separating
+    axes on the corners) when the other's ``extent`` in the ego's band reaches into it."""
+    p = shape.p
+    if not (extent[0] < ego.x_front and extent[1] > ego.x_front - p.ego_length_m):
         return False
     mine = footprint_corners(
         np.array([ego.x_front - 0.5 * p.ego_length_m, 0.0]), 0.0, p.ego_length_m, p.ego_width_m
     )
-    depth = overlap_depth(mine[None], np.array(other)[None])
+    depth = overlap_depth(mine[None], np.array(shape.corners(x_rear, y))[None])
     return float(depth[0]) > p.contact_tol_m
 
 
