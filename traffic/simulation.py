@@ -10,7 +10,7 @@ from pathlib import Path
 
 from hiyari.errors import HiyariError
 from hiyari.net.sumo.files import check_net, check_routes, check_xml
-from hiyari.sumo_tools import sumo_binary, sumo_home
+from hiyari.sumo_tools import captured_stderr, check_net_loads, first_error, sumo_binary, sumo_home
 from hiyari.traffic.collision import Collision, CollisionDetector
 from hiyari.traffic.commands import Commands
 from hiyari.traffic.sumo_reader import ReadMode, WorldStateReader
@@ -35,6 +35,9 @@ class SimConfig:
     read_mode: ReadMode = "getters"
     ignore_route_errors: bool = False
     extra_args: Sequence[str] = field(default_factory=tuple)
+    #: Inputs hiyari wrote itself (generated demand, a scenario's road): load errors never
+    #: name them as the culprit, the user's own files are named instead.
+    generated: Sequence[Path] = ()
 
     def validate(self) -> None:
         """Raise HiyariError for impossible parameters or unreadable input files."""
@@ -134,11 +137,17 @@ class Simulation(Commands):
         self._tmpdir = tempfile.TemporaryDirectory(prefix="hiyari-sumo-")
         err_log = Path(self._tmpdir.name) / "errors.log"
         try:
-            libsumo.start([str(sumo_binary("sumo")), *self.config.sumo_args(err_log)])
-        except Exception as exc:  # libsumo raises TraCIException / FatalError with no detail
-            detail = _first_error(err_log) or str(exc) or type(exc).__name__
+            with captured_stderr() as printed:
+                try:
+                    libsumo.start([str(sumo_binary("sumo")), *self.config.sumo_args(err_log)])
+                except Exception as exc:  # TraCIException / FatalError: "Process Error"
+                    detail = first_error(printed()) or _first_error(err_log) or str(exc)
+                    raise HiyariError(
+                        self._sumo_error("SUMO could not load it", detail or type(exc).__name__)
+                    ) from None
+        except BaseException:
             self._cleanup_tmp()
-            raise HiyariError(f"SUMO could not load {self._inputs()}: {detail}") from None
+            raise
         self._sumo = libsumo
         self._open = True
         self._reader = WorldStateReader(libsumo, self.config.read_mode)
@@ -156,9 +165,43 @@ class Simulation(Commands):
             self._tmpdir.cleanup()
             self._tmpdir = None
 
-    def _inputs(self) -> str:
-        files = [self.config.config or self.config.net, *self.config.routes]
-        return ", ".join(str(f) for f in files if f is not None)
+    def _sumo_error(self, what: str, detail: str) -> str:
+        """One line for a SUMO failure, naming the user's file SUMO rejected.
+
+        SUMO names the element, rarely the file: a file named in the message is the culprit;
+        with a net and demand files, the net is checked alone to tell which one it was.
+        Generated inputs are named by file name only and never blamed when a user's file can
+        be (a caller such as ``hiyari run`` puts the scenario file in front).
+        """
+        cfg = self.config
+        generated = {Path(g) for g in cfg.generated}
+        for g in generated:
+            detail = detail.replace(str(g), g.name)
+        inputs = [Path(p) for p in (cfg.config, cfg.net) if p is not None]
+        inputs += [Path(p) for p in (*cfg.routes, *cfg.additional)]
+        user = [p for p in inputs if p not in generated]
+        named = [p for p in user if p.name in detail]
+        if named:
+            culprits = named[:1]
+        elif len(user) <= 1 or cfg.config is not None:
+            culprits = user[:1]
+        else:
+            culprits = self._culprits(user)
+        if not culprits:
+            names = ", ".join(p.name for p in inputs)
+            return f"{what} (generated {names}): {detail}"
+        return f"{', '.join(map(str, culprits))}: {what}: {detail}"
+
+    def _culprits(self, user: list[Path]) -> list[Path]:
+        """The net when SUMO rejects it alone, else the user's demand / additional files."""
+        net = self.config.net
+        if net is not None and Path(net) in user:
+            try:
+                check_net_loads(net)
+            except HiyariError:
+                return [Path(net)]
+            return [p for p in user if p != Path(net)] or [Path(net)]
+        return user
 
     # ------------------------------------------------------------------ stepping
     def _api(self):
@@ -190,7 +233,8 @@ class Simulation(Commands):
             self._sumo.simulationStep()
         except Exception as exc:
             detail = _first_error(Path(self._tmpdir.name) / "errors.log") if self._tmpdir else ""
-            raise HiyariError(f"SUMO stopped at t={self.time:.2f} s: {detail or exc}") from None
+            what = f"SUMO stopped at t={self.time:.2f} s"
+            raise HiyariError(self._sumo_error(what, detail or str(exc))) from None
         self._state = self._reader.read()
         if self._detector is not None:
             self._collisions = self._detector.detect(self._state, self._sumo_collisions())
@@ -258,9 +302,4 @@ class Simulation(Commands):
 
 
 def _first_error(log: Path) -> str:
-    if not log.exists():
-        return ""
-    for line in log.read_text(errors="replace").splitlines():
-        if line.startswith("Error:"):
-            return line[len("Error:") :].strip()
-    return ""
+    return first_error(log.read_text(errors="replace")) if log.exists() else ""

@@ -15,7 +15,7 @@ def _stage(title: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     from hiyari.bridge.cli.demo.traffic import run_traffic_demo
-    from hiyari.bridge.cli.main.demo import closed_loop as cl
+    from hiyari.bridge.cli.demo import closed_loop as cl
 
     out = Path(args.out)
     t = _stage(f"traffic: signalised city intersection, {args.duration:.0f} s simulated")

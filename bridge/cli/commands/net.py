@@ -29,7 +29,9 @@ from hiyari.net.sumo.build import (
     build_r157_road,
     param_docs,
 )
+from hiyari.net.sumo.files import check_net
 from hiyari.net.sumo.opendrive import ImportOptions, import_opendrive
+from hiyari.sumo_tools import check_net_loads
 
 GENERATORS = {
     "expressway": (ExpresswayParams, build_expressway),
@@ -64,6 +66,8 @@ def _run_mesh(args: argparse.Namespace) -> None:
         if Path(out).suffix.lower() not in SUFFIXES:
             raise HiyariError(f"{out}: unknown mesh format (use {', '.join(SUFFIXES)})")
     t0 = time.perf_counter()
+    check_net(args.net)
+    check_net_loads(args.net)  # nothing is built from a net SUMO itself rejects
     geometry = RoadGeometry.from_net(args.net)
     mesh = build_scene_mesh(
         geometry, buildings=args.buildings, params=MeshParams(ground=args.ground, seed=args.seed)
@@ -83,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _add_params(parser: argparse.ArgumentParser, cls) -> None:
+def _add_params(parser: argparse.ArgumentParser, cls: type) -> None:
     docs = param_docs(cls)
     for f in dataclasses.fields(cls):
         flag = "--" + f.name.replace("_", "-")

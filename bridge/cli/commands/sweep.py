@@ -6,12 +6,16 @@ import argparse
 import os
 from pathlib import Path
 
+from hiyari.bridge.cli import numbers
+from hiyari.errors import about
+
 
 def run(args: argparse.Namespace) -> int:
     from hiyari.bridge.campaign.sweep import SweepOptions, run_sweep
     from hiyari.bridge.scenario.toml_file import load_scenario
 
-    logical = load_scenario(args.scenario)
+    with about(args.scenario):
+        logical = load_scenario(args.scenario)
     s = run_sweep(
         logical,
         SweepOptions(
@@ -21,6 +25,7 @@ def run(args: argparse.Namespace) -> int:
             ray_address=args.ray_address,
             retry_failed=args.retry_failed,
             progress=not args.quiet,
+            max_runs=args.max_runs,
         ),
     )
     print(
@@ -38,7 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--workers",
         "-j",
-        type=int,
+        type=numbers.count(1, 4096),
         default=os.cpu_count() or 1,
         help="local worker processes (default: all cores)",
     )
@@ -47,6 +52,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--ray-address",
         default=None,
         help="Ray cluster: 'auto' or host:port (default: start a local Ray)",
+    )
+    p.add_argument(
+        "--max-runs",
+        type=numbers.count(),
+        default=10_000,
+        help="refuse sweeps whose ranges give more runs than this (default: 10000)",
     )
     p.add_argument("--retry-failed", action="store_true", help="run failed rows again")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
