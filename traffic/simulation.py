@@ -141,6 +141,8 @@ class Simulation(Commands):
                 try:
                     libsumo.start([str(sumo_binary("sumo")), *self.config.sumo_args(err_log)])
                 except Exception as exc:  # TraCIException / FatalError: "Process Error"
+                    if libsumo.simulation.isLoaded():  # a half-loaded run would block the next
+                        libsumo.close()
                     detail = first_error(printed()) or _first_error(err_log) or str(exc)
                     raise HiyariError(
                         self._sumo_error("SUMO could not load it", detail or type(exc).__name__)
