@@ -6,12 +6,11 @@ No system SUMO and no hand-set SUMO_HOME: the wheel's own folder is the SUMO hom
 
 from __future__ import annotations
 
-import contextlib
 import os
+import signal
 import subprocess
 import sys
 import tempfile
-from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from hiyari.errors import HiyariError
@@ -75,41 +74,64 @@ def check_net_loads(net: str | os.PathLike[str]) -> None:
     """Load ``net`` in SUMO itself (no demand, no step); HiyariError naming the file with
     SUMO's first complaint when SUMO rejects it (a broken shape, an edge naming an unknown
     node ...), so nothing is built from a network SUMO would not run."""
-    args = ["-n", str(net), "--begin", "0", "--end", "0", "--no-step-log", "true"]
+    check_sumo_loads(["-n", str(net)], str(net), "SUMO cannot load the network")
+
+
+def check_sumo_loads(inputs: list[str], culprit: str, what: str) -> None:
+    """Load SUMO inputs (``-n net``, ``-c config`` ...) in a ``sumo`` subprocess without
+    stepping; HiyariError ``"<culprit>: <what>: <SUMO's first error>"`` when SUMO rejects or
+    crashes on them. Run before libsumo loads a user's files into this process: SUMO's loader
+    crashes on some broken nets (a missing connection), which must not take hiyari down."""
+    args = [*inputs, "--begin", "0", "--end", "0", "--no-step-log", "true", "--no-warnings", "true"]
     proc = subprocess.run(
-        [str(sumo_binary("sumo")), *args, "--no-warnings", "true"],
-        capture_output=True,
-        text=True,
-        env=sumo_env(),
+        [str(sumo_binary("sumo")), *args], capture_output=True, text=True, env=sumo_env()
     )
+    if proc.returncode < 0:
+        name = signal.Signals(-proc.returncode).name
+        raise HiyariError(f"{culprit}: {what}: SUMO crashed reading it ({name})")
     if proc.returncode != 0:
         detail = first_error(proc.stderr) or "SUMO exited with an error"
-        raise HiyariError(f"{net}: SUMO cannot load the network: {detail}")
+        raise HiyariError(f"{culprit}: {what}: {detail}")
 
 
-@contextlib.contextmanager
-def captured_stderr() -> Iterator[Callable[[], str]]:
-    """Send what native code (libsumo) writes to file descriptor 2 into a temporary file for
-    the duration of the block; yields a function returning the text captured so far.
+class StderrTrap:
+    """Catches what native code (libsumo) writes to file descriptor 2 during a call.
 
-    libsumo prints every load error on stderr itself, before raising a bare "Process Error";
-    capturing them lets the caller report the first one, once, naming the user's file.
+    libsumo prints every load error, and route errors met while stepping, on stderr itself
+    before raising a bare "Process Error"; trapping them lets the caller report the first
+    one, once, naming the user's file. Use ``with trap:`` around each native call (two
+    ``dup2`` per call, about a microsecond); :meth:`take` returns what arrived since the
+    last take. Python's own output (progress bars) between calls is not affected. The
+    stderr restored after each call is the one at construction: one trap per simulation.
     """
-    sys.stderr.flush()
-    saved = os.dup(2)
-    with tempfile.TemporaryFile(mode="w+b") as sink:
-        os.dup2(sink.fileno(), 2)
 
-        def text() -> str:
-            sink.flush()
-            sink.seek(0)
-            return sink.read().decode(errors="replace")
+    def __init__(self) -> None:
+        self._file = tempfile.TemporaryFile(mode="w+b")  # noqa: SIM115 - closed in close()
+        self._stderr = os.dup(2)
+        self._seen = 0
 
-        try:
-            yield text
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
+    def __enter__(self) -> StderrTrap:
+        sys.stderr.flush()
+        os.dup2(self._file.fileno(), 2)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        os.dup2(self._stderr, 2)
+
+    def take(self) -> str:
+        """Text written since the last call ('' when none)."""
+        size = os.fstat(self._file.fileno()).st_size
+        if size == self._seen:
+            return ""
+        self._file.seek(self._seen)
+        self._seen = size
+        return self._file.read().decode(errors="replace")
+
+    def close(self) -> None:
+        """Release the file and the saved descriptor (safe to call twice)."""
+        if not self._file.closed:
+            os.close(self._stderr)
+            self._file.close()
 
 
 def sumo_version() -> str:

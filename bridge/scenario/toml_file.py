@@ -321,8 +321,12 @@ def _axis(path, k, value: dict, rand: dict, key: str) -> Sequence[float] | None:
         lo, hi = _number(path, k, r[0]), _number(path, k, r[1])
         if hi < lo:
             raise _err(path, k, f"range [{lo}, {hi}] is empty")
-        n = int(np.floor((hi - lo) / step + 1e-9)) + 1
-        return Steps(lo, step, n)
+        count = np.floor((hi - lo) / step + 1e-9) + 1
+        if not count < 2**53:  # also catches an overflow to inf
+            raise _err(
+                path, k, f"range [{lo:g}, {hi:g}] in steps of {step:g} gives {count:.3g} values"
+            )
+        return Steps(lo, step, int(count))
     if set(value) == {"uniform"}:
         r = value["uniform"]
         if not (isinstance(r, list) and len(r) == 2):
@@ -351,7 +355,9 @@ def load_scenario(path: str | Path) -> LogicalScenario:
     if not p.is_file():
         raise HiyariError(f"{p}: scenario file not found")
     try:
-        data = tomllib.loads(p.read_text())
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as exc:
+        raise HiyariError(f"{p}: not UTF-8 text (byte {exc.start})") from None
     except tomllib.TOMLDecodeError as exc:
         raise HiyariError(f"{p}: not valid TOML: {exc}") from None
     return parse_scenario(data, str(p))

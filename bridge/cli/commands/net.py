@@ -13,6 +13,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
+from hiyari.bridge.cli import numbers
 from hiyari.errors import HiyariError
 from hiyari.net.mesh.export import SUFFIXES, export_mesh
 from hiyari.net.mesh.materials import Material
@@ -133,4 +134,4 @@ def register(sub: argparse._SubParsersAction) -> None:
     m.add_argument(
         "--ground", action=argparse.BooleanOptionalAction, default=True, help="grass ground plane"
     )
-    m.add_argument("--seed", type=int, default=0, help="seed of the building heights")
+    m.add_argument("--seed", type=numbers.seed(), default=0, help="seed of the building heights")

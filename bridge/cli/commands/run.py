@@ -32,6 +32,11 @@ def _run(args: argparse.Namespace) -> int:
     runs = logical.expand()
     if not runs:
         raise HiyariError(f"{args.scenario}: the parameters expand to no run")
+    if args.dry_run:
+        for cs in runs:
+            print(cs.label())
+        print(f"{len(runs)} run(s); nothing run (--dry-run)")
+        return 0
     out = Path(args.out)
     record = len(runs) == 1 if args.record is None else args.record
     rows = []
@@ -76,6 +81,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=None,
         help="write run.mcap (OSI + Foxglove) per run (default: on for a single run, off for "
         "a grid)",
+    )
+    p.add_argument(
+        "--dry-run", action="store_true", help="check the file and list its runs; run nothing"
     )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)

@@ -69,6 +69,7 @@ def run(args: argparse.Namespace) -> int:
             step_length=args.step,
             seed=args.seed,
             generated=generated,
+            preflight=True,
         )
         summary = run_traffic(config, args.duration, progress=not args.quiet)
     d = summary.as_dict()
