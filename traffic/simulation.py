@@ -21,6 +21,7 @@ from hiyari.sumo_tools import (
 )
 from hiyari.traffic.collision import Collision, CollisionDetector
 from hiyari.traffic.commands import Commands
+from hiyari.traffic.read_scope import ReadScope
 from hiyari.traffic.sumo_reader import ReadMode, WorldStateReader
 from hiyari.traffic.world_state import WorldState
 
@@ -30,6 +31,10 @@ class SimConfig:
     """What SUMO runs: a net with route / demand files, or a .sumocfg.
 
     Times in seconds of simulation time. ``end_time`` None runs until stopped by the caller.
+    ``read_mode`` chooses how the full state is read (same values either way);
+    ``read_scope`` None puts every actor into every step's WorldState, a
+    :class:`~hiyari.traffic.read_scope.ReadScope` only the actors around the ego (the cheap
+    read a closed loop needs; ``Simulation.full_state`` still reads everyone on demand).
     """
 
     net: Path | None = None
@@ -41,6 +46,7 @@ class SimConfig:
     begin: float = 0.0
     end_time: float | None = None
     read_mode: ReadMode = "getters"
+    read_scope: ReadScope | None = None
     ignore_route_errors: bool = False
     extra_args: Sequence[str] = field(default_factory=tuple)
     #: Inputs hiyari wrote itself (generated demand, a scenario's road): load errors never
@@ -57,6 +63,8 @@ class SimConfig:
             raise HiyariError(f"step length must be positive, got {self.step_length} s")
         if self.end_time is not None and self.end_time <= self.begin:
             raise HiyariError(f"end time {self.end_time} s must be after begin {self.begin} s")
+        if self.read_scope is not None:
+            self.read_scope.validate()
         if (self.net is None) == (self.config is None):
             raise HiyariError("give either a network (net) or a SUMO config (config), not both")
         if self.config is not None:
@@ -167,8 +175,9 @@ class Simulation(Commands):
             raise
         self._sumo = libsumo
         self._open = True
-        self._reader = WorldStateReader(libsumo, self.config.read_mode)
+        self._reader = WorldStateReader(libsumo, self.config.read_mode, self.config.read_scope)
         self._state = self._reader.read()
+        self._full: WorldState | None = None
 
     def close(self) -> None:
         """Close SUMO (safe to call twice)."""
@@ -266,6 +275,17 @@ class Simulation(Commands):
         return self._state
 
     @property
+    def full_state(self) -> WorldState:
+        """Every vehicle and person at the current step, whatever the read scope (read on the
+        first access per step; without a scope this is ``state``)."""
+        state = self.state
+        if self.config.read_scope is None:
+            return state
+        if self._full is None or self._full.time != state.time:
+            self._full = self._reader.read_full()
+        return self._full
+
+    @property
     def time(self) -> float:
         """Current simulation time, s."""
         return self.state.time
@@ -281,12 +301,13 @@ class Simulation(Commands):
         self._advance()
         self._state = self._reader.read()
         if self._detector is not None:
-            self._collisions = self._detector.detect(self._state, self._sumo_collisions())
+            self._collisions = self._detector.detect(self._state, self._scope_contacts())
         return self._state
 
     def fast_forward(self, until: float) -> WorldState:
         """Step SUMO to ``until`` without reading states or checking contacts (warm-ups)."""
         self._require_open()
+        self._reader.pause()
         while self._sumo.simulation.getTime() < until - 1e-9:
             self._advance()
         self._state = self._reader.read()
@@ -297,6 +318,7 @@ class Simulation(Commands):
         """Advance SUMO to ``until`` (s) in one call, reading nothing: for stretches where no
         consumer needs the state (the next ``state`` access reads it)."""
         self._require_open()
+        self._reader.pause()
         self._advance(until)
         self._state = None
         self._collisions = []
@@ -305,6 +327,7 @@ class Simulation(Commands):
         """Step SUMO one step at a time to ``until`` with nothing read: the bare-SUMO baseline
         the benchmarks compare against."""
         self._require_open()
+        self._reader.pause()
         step, now = self._sumo.simulationStep, self._sumo.simulation.getTime
         end = until - 1e-9
         while now() < end:
@@ -337,6 +360,14 @@ class Simulation(Commands):
 
     def _sumo_collisions(self) -> list[tuple[str, str]]:
         return [(c.collider, c.victim) for c in self._sumo.simulation.getCollisions()]
+
+    def _scope_contacts(self) -> list[tuple[str, str]]:
+        """SUMO's contacts between actors of the current state (all of them without a scope)."""
+        pairs = self._sumo_collisions()
+        if pairs and self.config.read_scope is not None:
+            ids = set(self._state.ids.tolist())
+            pairs = [(a, b) for a, b in pairs if a in ids and b in ids]
+        return pairs
 
     def _require_open(self) -> None:
         if not self._open:
