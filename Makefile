@@ -19,9 +19,18 @@ install: $(STAMP)
 demo: $(STAMP)
 	$(BIN)/hiyari demo --out $(OUT)/demo
 
-# Debian's chromium for the replay's browser test (never Playwright's own browser download).
+# Debian's chromium (about 480 MB with its dependencies) for the replay's browser test; never
+# Playwright's own browser download. Needs root or sudo; `make test SKIP_BROWSER=1` skips it
+# (the browser test is then reported as skipped).
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 browser:
-	command -v chromium >/dev/null || (apt-get update && apt-get install -y chromium)
+ifeq ($(SKIP_BROWSER),1)
+	@echo "SKIP_BROWSER=1: not installing chromium; the replay browser test will be skipped"
+else
+	@command -v chromium >/dev/null || { \
+	  echo "installing Debian's chromium for the replay browser test (apt-get, ~480 MB)"; \
+	  $(SUDO) apt-get update && $(SUDO) apt-get install -y chromium; }
+endif
 
 test: $(STAMP) browser
 	$(BIN)/ruff check .

@@ -33,6 +33,7 @@ from hiyari.bridge.record.recorder import Recorder
 from hiyari.bridge.record.traffic import record_traffic
 from hiyari.bridge.scenario.run import RunOptions, run_concrete
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.net.road.geometry import RoadGeometry
 from hiyari.net.sumo.build import CityGridParams, build_city_grid
 from hiyari.sensors.outputs import HIT_STATIC, PointCloud
 from hiyari.traffic import DemandConfig, SimConfig, Simulation, write_demand
@@ -63,17 +64,23 @@ def lidar_scan(channels: int = 32, azimuth_steps: int = 1800, height: float = 1.
     )
 
 
-def traffic(config: SimConfig, lidar: PointCloud | None) -> Workload:
-    """Traffic-only run; with ``lidar``, that scan is recorded at every step as well."""
+def traffic(config: SimConfig, lidar: PointCloud | None, road: bool = False) -> Workload:
+    """Traffic-only run; with ``lidar``, that scan is recorded at every step as well; with
+    ``road``, the OSI road (lanes, boundaries, traffic lights and their states) too."""
 
     def run(recorder: Recorder | None, warm: float, measure: float) -> float:
         with Simulation(config) as sim:
             for _ in sim.run(until=warm):
                 pass
+            lights: list[str] = []
+            if recorder is not None and road:
+                recorder.write_road(RoadGeometry.from_net(config.net), None, sim.signal_links())
+                lights = recorder.signal_ids
             t0 = time.perf_counter()
             for state in sim.run(until=warm + measure):
                 if recorder is not None:
-                    recorder.write_world(state, collisions=sim.collisions)
+                    signals = sim.signal_states(lights) if lights else None
+                    recorder.write_world(state, collisions=sim.collisions, signals=signals)
                     if lidar is not None:
                         recorder.write_point_cloud(dataclasses.replace(lidar, time=state.time))
             wall = time.perf_counter() - t0
@@ -159,6 +166,7 @@ def main() -> None:
         runs: dict[str, tuple[Workload, bool]] = {
             "traffic, no recording (baseline)": (traffic(config, None), False),
             "traffic, ground truth recorded": (traffic(config, None), True),
+            "traffic, ground truth + OSI road recorded": (traffic(config, None, road=True), True),
             f"traffic + LiDAR {len(lidar)} pts/step recorded": (traffic(config, lidar), True),
         }
         rows = []

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import shutil
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -10,6 +13,36 @@ from hiyari.net.sumo.build import IntersectionParams, build_intersection
 from hiyari.traffic.demand import DemandConfig, write_demand
 
 SHARED = Path(__file__).resolve().parents[2] / "shared"
+#: Temporary folders hiyari makes; none may be left behind by the test suite.
+HIYARI_TEMP = ("hiyari-run-*", "hiyari-net-*", "hiyari-sumo-*", "hiyari-sim-*", "hiyari-study-*")
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Every temporary folder of this session (and of the processes it starts) goes into one
+    folder of its own, so leftovers are this suite's and not another program's."""
+    base = Path(tempfile.mkdtemp(prefix="hiyari-tests-"))
+    config.stash[_TEMP_KEY] = (base, os.environ.get("TMPDIR"))
+    os.environ["TMPDIR"] = str(base)
+    tempfile.tempdir = None  # recomputed from TMPDIR
+
+
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    """Fail the session when a test left one of hiyari's temporary folders behind."""
+    base, previous = session.config.stash[_TEMP_KEY]
+    left = sorted(p.name for pattern in HIYARI_TEMP for p in base.glob(pattern))
+    if left:
+        print(f"\nhiyari temporary folders left behind: {', '.join(left)}")
+        session.exitstatus = 1
+    else:
+        shutil.rmtree(base, ignore_errors=True)
+    if previous is None:
+        os.environ.pop("TMPDIR", None)
+    else:
+        os.environ["TMPDIR"] = previous
+    tempfile.tempdir = None
+
+
+_TEMP_KEY = pytest.StashKey[tuple[Path, str | None]]()
 
 
 @pytest.fixture(scope="session")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -114,3 +115,121 @@ def test_doctor_reports_parts():
     assert proc.returncode == 0, proc.stdout + proc.stderr
     for part in ("SUMO", "libsumo", "Embree", "ray cast ok"):
         assert part in proc.stdout
+
+
+# ---------------------------------------------------------------- in-process CLI (issue 17)
+def _main(capsys, *args: str) -> tuple[int, str, str]:
+    from hiyari.bridge.cli.main import main
+
+    status = main(list(args))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def _one_line(status: int, err: str, *needles: str) -> str:
+    assert status == 1, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("hiyari: error: "), err
+    for n in needles:
+        assert n in lines[0], lines[0]
+    return lines[0]
+
+
+def _net_with(net: Path, old: str, new: str, out: Path) -> Path:
+    text = net.read_text()
+    assert old in text
+    out.write_text(text.replace(old, new, 1))
+    return out
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-inf", "-1", "0", "1e300", "ten"])
+def test_sim_duration_not_a_usable_number(intersection_net, capsys, value):
+    status, _, err = _main(capsys, "sim", "-n", str(intersection_net), "-q", f"-d={value}")
+    _one_line(status, err, "--duration", repr(value))
+
+
+def test_sim_json_in_missing_folder_fails_before_running(intersection_net, tmp_path, capsys):
+    target = tmp_path / "no" / "such" / "dir" / "s.json"
+    status, out, err = _main(
+        capsys, "sim", "-n", str(intersection_net), "-q", "-d", "30", "--json", str(target)
+    )
+    _one_line(status, err, "s.json", "does not exist")
+    assert "simulated" not in out  # refused before SUMO ran
+    assert not (tmp_path / "no").exists()
+
+
+def test_sim_json_written_whole(intersection_net, tmp_path, capsys):
+    target = tmp_path / "s.json"
+    status, _, err = _main(
+        capsys, "sim", "-n", str(intersection_net), "-q", "-d", "5", "--json", str(target)
+    )
+    assert status == 0, err
+    import json
+
+    assert json.loads(target.read_text())["steps"] == 50
+    assert [p.name for p in tmp_path.iterdir()] == ["s.json"]  # no .part left
+
+
+def test_sumo_load_error_is_one_line_naming_the_net(intersection_net, tmp_path, capsys):
+    bad = _net_with(intersection_net, 'shape="', 'shape="1,2,x ', tmp_path / "badshape.net.xml")
+    status, _, err = _main(capsys, "sim", "-n", str(bad), "-q", "-d", "5")
+    line = _one_line(status, err, str(bad), "Invalid Number Format", "more error")
+    assert "Error:" not in err and "/tmp" not in line.replace(str(tmp_path), "")
+
+
+def test_sumo_route_error_names_the_route_file(intersection_net, tmp_path, capsys):
+    routes = tmp_path / "ghost.rou.xml"
+    routes.write_text(
+        '<routes><vehicle id="v0" depart="0"><route edges="nope1 nope2"/></vehicle></routes>'
+    )
+    status, _, err = _main(
+        capsys, "sim", "-n", str(intersection_net), "-r", str(routes), "-q", "-d", "5"
+    )
+    line = _one_line(status, err, "nope1")
+    assert line.startswith(f"hiyari: error: {routes}: ")
+
+
+def test_generated_demand_is_never_named(intersection_net, tmp_path, capsys):
+    routes = tmp_path / "ghost.rou.xml"
+    routes.write_text(
+        '<routes><vehicle id="v0" depart="0"><route edges="nope1"/></vehicle></routes>'
+    )
+    status, _, err = _main(
+        capsys,
+        "sim",
+        "-n",
+        str(intersection_net),
+        "-r",
+        str(routes),
+        "--vph",
+        "300",
+        "-q",
+        "-d",
+        "5",
+    )
+    line = _one_line(status, err, str(routes))
+    assert "hiyari-sim-" not in line and "demand.rou.xml" not in line
+
+
+@pytest.mark.parametrize(
+    "old, new, complaint",
+    [
+        ('shape="', 'shape="1,2,x ', "Invalid Number Format"),
+        ('from="C"', 'from="NOPE"', "NOPE"),
+    ],
+)
+def test_net_mesh_refuses_a_net_sumo_rejects(
+    intersection_net, tmp_path, capsys, old, new, complaint
+):
+    if old not in intersection_net.read_text():
+        old = 'from="' + intersection_net.read_text().split('from="', 1)[1].split('"', 1)[0] + '"'
+    bad = _net_with(intersection_net, old, new, tmp_path / "bad.net.xml")
+    glb = tmp_path / "scene.glb"
+    status, _, err = _main(capsys, "net", "mesh", str(bad), "-o", str(glb))
+    _one_line(status, err, str(bad), "SUMO cannot load", complaint)
+    assert not glb.exists() and [p.name for p in tmp_path.iterdir()] == ["bad.net.xml"]
+
+
+def test_usage_errors_are_one_line(capsys):
+    status, _, err = _main(capsys, "sim", "--duration", "5")
+    _one_line(status, err, "--config", "--net")

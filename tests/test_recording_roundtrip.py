@@ -275,6 +275,7 @@ def test_killed_run_leaves_readable_part_file(intersection_net, intersection_dem
         ],
         stdout=subprocess.PIPE,
         text=True,
+        env={**os.environ, "TMPDIR": str(tmp_path)},  # SIGKILL leaves SUMO's temporary folder
     )
     watchdog = threading.Timer(90.0, proc.kill)
     watchdog.start()

@@ -72,6 +72,8 @@ def _reference(state: WorldState, osi_ids: list[int], ns: int, ego: int | None) 
             m.source_reference.add(
                 type="org.eclipse.sumo.lane", identifier=[state.lane[i], state.edge[i]]
             )
+        if ego is not None and osi_ids[i] == ego:  # the vehicle frame: ground-rectangle centre
+            m.vehicle_attributes.bbcenter_to_rear.z = -0.5 * state.height[i]
     return gt
 
 

@@ -13,6 +13,7 @@ import pytest
 
 from hiyari.bridge.campaign.sweep import SweepOptions, read_table, run_sweep
 from hiyari.bridge.scenario.toml_file import load_scenario
+from hiyari.errors import HiyariError
 
 GRID = """
 [scenario]
@@ -68,15 +69,25 @@ def test_ray_local_cluster_same_table(reference, tmp_path):
     assert s.table.read_bytes() == reference
 
 
+def _start_sweep(scen: Path, out: Path, tmp: Path, workers: int) -> subprocess.Popen:
+    """`hiyari sweep` in its own process group, its temporary folders in ``tmp``."""
+    tmp.mkdir(exist_ok=True)
+    return subprocess.Popen(
+        [sys.executable, "-m", "hiyari", "sweep", str(scen), "-o", str(out), "-j", str(workers)]
+        + ["-q"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        env={**os.environ, "TMPDIR": str(tmp)},
+    )
+
+
 def test_killed_sweep_resumes_only_missing_rows(reference, tmp_path):
     scen = _scenario(tmp_path)
     out = tmp_path / "killed"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "hiyari", "sweep", str(scen), "-o", str(out), "-j", "1", "-q"],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-        start_new_session=True,
-    )
+    # SIGKILL leaves the run's temporary folders: they go to a folder of this test
+    proc = _start_sweep(scen, out, tmp_path / "tmp", workers=1)
     table = out / "results.csv"
     deadline = time.time() + 120
     while time.time() < deadline and len(read_table(table)) < 10:
@@ -109,3 +120,55 @@ def test_failing_run_is_recorded(tmp_path, monkeypatch):
     assert [r["ve0_kmh"] for r in bad] == ["23.0"]
     assert bad[0]["error"] == "RuntimeError: planner diverged at 23 km/h"
     assert all(r["status"] == "ok" for r in rows.values() if r["ve0_kmh"] != "23.0")
+
+
+@pytest.mark.parametrize("sig, status", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_interrupted_sweep_stops_cleanly(reference, tmp_path, sig, status):
+    """Ctrl-C (to the whole process group, as a terminal sends it) or SIGTERM: the workers
+    stop, no traceback, the rows done are kept, the message says how to resume, and no
+    temporary folder is left (resuming is tested after a SIGKILL above)."""
+    scen = _scenario(tmp_path)
+    out, tmp = tmp_path / "stopped", tmp_path / "tmp"
+    proc = _start_sweep(scen, out, tmp, workers=2)
+    table = out / "results.csv"
+    deadline = time.time() + 120
+    while time.time() < deadline and len(read_table(table)) < 6:
+        time.sleep(0.1)
+    if sig == signal.SIGINT:
+        os.killpg(proc.pid, sig)
+    else:
+        os.kill(proc.pid, sig)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == status, err
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "run the same command again to resume" in lines[0], err
+    kept = len(read_table(table))
+    assert 6 <= kept < 50 and f"{kept} of 50 runs are kept" in lines[0]
+    assert list(tmp.iterdir()) == []
+    # the rows kept are whole and the same as in the uninterrupted sweep
+    ref_path = tmp_path / "reference.csv"
+    ref_path.write_bytes(reference)
+    ref = read_table(ref_path)
+    assert all(row == ref[i] for i, row in read_table(table).items())
+
+
+def test_run_count_guard_counts_without_expanding(tmp_path, capsys):
+    from hiyari.bridge.cli.main import main
+
+    scen = tmp_path / "tiny.toml"
+    scen.write_text(
+        GRID.format(stack="").replace("step = 1 }", "step = 1e-7 }") + "[sampling]\nmode = 'grid'\n"
+    )
+    t0 = time.perf_counter()
+    status = main(["sweep", str(scen), "-o", str(tmp_path / "out"), "-q"])
+    err = capsys.readouterr().err
+    assert status == 1, err
+    assert f"{scen}: the parameter ranges give 490,000,001 runs" in err
+    assert "--max-runs 10,000" in err
+    assert time.perf_counter() - t0 < 2.0  # counted, not listed
+    assert not (tmp_path / "out").exists()
+    # the same grid within a raised limit is accepted (counted exactly: 50 runs here)
+    logical = load_scenario(_scenario(tmp_path))
+    with pytest.raises(HiyariError, match="give 50 runs, more than --max-runs 49"):
+        run_sweep(logical, SweepOptions(tmp_path / "o2", max_runs=49, progress=False))

@@ -3,6 +3,7 @@
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.collision import Collision, CollisionDetector
 from hiyari.traffic.demand import DemandConfig, write_demand
+from hiyari.traffic.read_scope import ReadScope
 from hiyari.traffic.simulation import SimConfig, Simulation
 from hiyari.traffic.world_state import WorldState
 
@@ -11,6 +12,7 @@ __all__ = [
     "Collision",
     "CollisionDetector",
     "DemandConfig",
+    "ReadScope",
     "SimConfig",
     "Simulation",
     "WorldState",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 import tempfile
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
@@ -10,9 +11,17 @@ from pathlib import Path
 
 from hiyari.errors import HiyariError
 from hiyari.net.sumo.files import check_net, check_routes, check_xml
-from hiyari.sumo_tools import sumo_binary, sumo_home
+from hiyari.sumo_tools import (
+    StderrTrap,
+    check_net_loads,
+    check_sumo_loads,
+    first_error,
+    sumo_binary,
+    sumo_home,
+)
 from hiyari.traffic.collision import Collision, CollisionDetector
 from hiyari.traffic.commands import Commands
+from hiyari.traffic.read_scope import ReadScope
 from hiyari.traffic.sumo_reader import ReadMode, WorldStateReader
 from hiyari.traffic.world_state import WorldState
 
@@ -22,6 +31,10 @@ class SimConfig:
     """What SUMO runs: a net with route / demand files, or a .sumocfg.
 
     Times in seconds of simulation time. ``end_time`` None runs until stopped by the caller.
+    ``read_mode`` chooses how the full state is read (same values either way);
+    ``read_scope`` None puts every actor into every step's WorldState, a
+    :class:`~hiyari.traffic.read_scope.ReadScope` only the actors around the ego (the cheap
+    read a closed loop needs; ``Simulation.full_state`` still reads everyone on demand).
     """
 
     net: Path | None = None
@@ -33,8 +46,16 @@ class SimConfig:
     begin: float = 0.0
     end_time: float | None = None
     read_mode: ReadMode = "getters"
+    read_scope: ReadScope | None = None
     ignore_route_errors: bool = False
     extra_args: Sequence[str] = field(default_factory=tuple)
+    #: Inputs hiyari wrote itself (generated demand, a scenario's road): load errors never
+    #: name them as the culprit, the user's own files are named instead.
+    generated: Sequence[Path] = ()
+    #: Load the net (or config) in a SUMO subprocess first: SUMO's loader crashes on some
+    #: broken nets, and a crash in libsumo takes this process down. For files from users
+    #: (the CLI turns it on); costs one extra load of the net.
+    preflight: bool = False
 
     def validate(self) -> None:
         """Raise HiyariError for impossible parameters or unreadable input files."""
@@ -42,6 +63,8 @@ class SimConfig:
             raise HiyariError(f"step length must be positive, got {self.step_length} s")
         if self.end_time is not None and self.end_time <= self.begin:
             raise HiyariError(f"end time {self.end_time} s must be after begin {self.begin} s")
+        if self.read_scope is not None:
+            self.read_scope.validate()
         if (self.net is None) == (self.config is None):
             raise HiyariError("give either a network (net) or a SUMO config (config), not both")
         if self.config is not None:
@@ -112,6 +135,7 @@ class Simulation(Commands):
         self._state: WorldState | None = None
         self._collisions: list[Collision] = []
         self._tmpdir: tempfile.TemporaryDirectory[str] | None = None
+        self._trap: StderrTrap | None = None
 
     # ------------------------------------------------------------------ lifecycle
     def __enter__(self) -> Simulation:
@@ -131,18 +155,29 @@ class Simulation(Commands):
                 "per process (close it first, or run the second in another process)"
             )
         os.environ.setdefault("SUMO_HOME", str(sumo_home()))
+        self._preflight()
         self._tmpdir = tempfile.TemporaryDirectory(prefix="hiyari-sumo-")
+        self._trap = StderrTrap()
         err_log = Path(self._tmpdir.name) / "errors.log"
         try:
-            libsumo.start([str(sumo_binary("sumo")), *self.config.sumo_args(err_log)])
-        except Exception as exc:  # libsumo raises TraCIException / FatalError with no detail
-            detail = _first_error(err_log) or str(exc) or type(exc).__name__
+            with self._trap:
+                libsumo.start([str(sumo_binary("sumo")), *self.config.sumo_args(err_log)])
+        except Exception as exc:  # TraCIException / FatalError: "Process Error"
+            if libsumo.simulation.isLoaded():  # a half-loaded run would block the next
+                libsumo.close()
+            detail = first_error(self._trap.take()) or _first_error(err_log) or str(exc)
             self._cleanup_tmp()
-            raise HiyariError(f"SUMO could not load {self._inputs()}: {detail}") from None
+            raise HiyariError(
+                self._sumo_error("SUMO could not load it", detail or type(exc).__name__)
+            ) from None
+        except BaseException:
+            self._cleanup_tmp()
+            raise
         self._sumo = libsumo
         self._open = True
-        self._reader = WorldStateReader(libsumo, self.config.read_mode)
+        self._reader = WorldStateReader(libsumo, self.config.read_mode, self.config.read_scope)
         self._state = self._reader.read()
+        self._full: WorldState | None = None
 
     def close(self) -> None:
         """Close SUMO (safe to call twice)."""
@@ -155,10 +190,76 @@ class Simulation(Commands):
         if self._tmpdir is not None:
             self._tmpdir.cleanup()
             self._tmpdir = None
+        if self._trap is not None:
+            self._trap.close()
+            self._trap = None
 
-    def _inputs(self) -> str:
-        files = [self.config.config or self.config.net, *self.config.routes]
-        return ", ".join(str(f) for f in files if f is not None)
+    def _preflight(self) -> None:
+        """SUMO's own check of the user's net / config in a subprocess (see SimConfig)."""
+        cfg = self.config
+        generated = {Path(g) for g in cfg.generated}
+        if not cfg.preflight:
+            return
+        if cfg.config is not None and Path(cfg.config) not in generated:
+            check_sumo_loads(["-c", str(cfg.config)], str(cfg.config), "SUMO could not load it")
+        elif cfg.net is not None and Path(cfg.net) not in generated:
+            check_net_loads(cfg.net)
+
+    def _advance(self, *until: float) -> None:
+        """One ``simulationStep`` (to ``until`` when given) with SUMO's stderr trapped: a
+        failure becomes one HiyariError naming the user's file; messages of a step that
+        went on are passed to stderr as they came."""
+        now = self._sumo.simulation.getTime()
+        try:
+            with self._trap:
+                self._sumo.simulationStep(*until)
+        except Exception as exc:
+            detail = first_error(self._trap.take())
+            if not detail and self._tmpdir:
+                detail = _first_error(Path(self._tmpdir.name) / "errors.log")
+            what = f"SUMO stopped at t={now:.2f} s"
+            raise HiyariError(self._sumo_error(what, detail or str(exc))) from None
+        text = self._trap.take()
+        if text:
+            sys.stderr.write(text)
+
+    def _sumo_error(self, what: str, detail: str) -> str:
+        """One line for a SUMO failure, naming the user's file SUMO rejected.
+
+        SUMO names the element, rarely the file: a file named in the message is the culprit;
+        with a net and demand files, the net is checked alone to tell which one it was.
+        Generated inputs are named by file name only and never blamed when a user's file can
+        be (a caller such as ``hiyari run`` puts the scenario file in front).
+        """
+        cfg = self.config
+        generated = {Path(g) for g in cfg.generated}
+        for g in generated:
+            detail = detail.replace(str(g), g.name)
+        inputs = [Path(p) for p in (cfg.config, cfg.net) if p is not None]
+        inputs += [Path(p) for p in (*cfg.routes, *cfg.additional)]
+        user = [p for p in inputs if p not in generated]
+        named = [p for p in user if p.name in detail]
+        if named:
+            culprits = named[:1]
+        elif len(user) <= 1 or cfg.config is not None:
+            culprits = user[:1]
+        else:
+            culprits = self._culprits(user)
+        if not culprits:
+            names = ", ".join(p.name for p in inputs)
+            return f"{what} (generated {names}): {detail}"
+        return f"{', '.join(map(str, culprits))}: {what}: {detail}"
+
+    def _culprits(self, user: list[Path]) -> list[Path]:
+        """The net when SUMO rejects it alone, else the user's demand / additional files."""
+        net = self.config.net
+        if net is not None and Path(net) in user:
+            try:
+                check_net_loads(net)
+            except HiyariError:
+                return [Path(net)]
+            return [p for p in user if p != Path(net)] or [Path(net)]
+        return user
 
     # ------------------------------------------------------------------ stepping
     def _api(self):
@@ -174,6 +275,17 @@ class Simulation(Commands):
         return self._state
 
     @property
+    def full_state(self) -> WorldState:
+        """Every vehicle and person at the current step, whatever the read scope (read on the
+        first access per step; without a scope this is ``state``)."""
+        state = self.state
+        if self.config.read_scope is None:
+            return state
+        if self._full is None or self._full.time != state.time:
+            self._full = self._reader.read_full()
+        return self._full
+
+    @property
     def time(self) -> float:
         """Current simulation time, s."""
         return self.state.time
@@ -186,21 +298,18 @@ class Simulation(Commands):
     def step(self) -> WorldState:
         """Advance one step and return the new WorldState."""
         self._require_open()
-        try:
-            self._sumo.simulationStep()
-        except Exception as exc:
-            detail = _first_error(Path(self._tmpdir.name) / "errors.log") if self._tmpdir else ""
-            raise HiyariError(f"SUMO stopped at t={self.time:.2f} s: {detail or exc}") from None
+        self._advance()
         self._state = self._reader.read()
         if self._detector is not None:
-            self._collisions = self._detector.detect(self._state, self._sumo_collisions())
+            self._collisions = self._detector.detect(self._state, self._scope_contacts())
         return self._state
 
     def fast_forward(self, until: float) -> WorldState:
         """Step SUMO to ``until`` without reading states or checking contacts (warm-ups)."""
         self._require_open()
+        self._reader.pause()
         while self._sumo.simulation.getTime() < until - 1e-9:
-            self._sumo.simulationStep()
+            self._advance()
         self._state = self._reader.read()
         self._collisions = []
         return self._state
@@ -209,7 +318,8 @@ class Simulation(Commands):
         """Advance SUMO to ``until`` (s) in one call, reading nothing: for stretches where no
         consumer needs the state (the next ``state`` access reads it)."""
         self._require_open()
-        self._sumo.simulationStep(until)
+        self._reader.pause()
+        self._advance(until)
         self._state = None
         self._collisions = []
 
@@ -217,6 +327,7 @@ class Simulation(Commands):
         """Step SUMO one step at a time to ``until`` with nothing read: the bare-SUMO baseline
         the benchmarks compare against."""
         self._require_open()
+        self._reader.pause()
         step, now = self._sumo.simulationStep, self._sumo.simulation.getTime
         end = until - 1e-9
         while now() < end:
@@ -250,6 +361,14 @@ class Simulation(Commands):
     def _sumo_collisions(self) -> list[tuple[str, str]]:
         return [(c.collider, c.victim) for c in self._sumo.simulation.getCollisions()]
 
+    def _scope_contacts(self) -> list[tuple[str, str]]:
+        """SUMO's contacts between actors of the current state (all of them without a scope)."""
+        pairs = self._sumo_collisions()
+        if pairs and self.config.read_scope is not None:
+            ids = set(self._state.ids.tolist())
+            pairs = [(a, b) for a, b in pairs if a in ids and b in ids]
+        return pairs
+
     def _require_open(self) -> None:
         if not self._open:
             raise HiyariError(
@@ -258,9 +377,4 @@ class Simulation(Commands):
 
 
 def _first_error(log: Path) -> str:
-    if not log.exists():
-        return ""
-    for line in log.read_text(errors="replace").splitlines():
-        if line.startswith("Error:"):
-            return line[len("Error:") :].strip()
-    return ""
+    return first_error(log.read_text(errors="replace")) if log.exists() else ""

@@ -1,11 +1,16 @@
 """Read one WorldState per step out of a running libsumo simulation.
 
-Two read paths give identical states. ``"getters"`` calls libsumo's per-object getters in one
-pass; ``"subscriptions"`` subscribes each actor to its variables at departure and fetches all
-results with one ``getAllSubscriptionResults`` call per domain. In libsumo (in-process, no
-socket) the getters are the faster of the two (benchmarks/worldstate.py measures both: the
-subscription path also makes every simulation step slower), so they are the default.
-Static attributes (class, size) are read once per actor and kept in arrays.
+What is read: every vehicle and person in the network (the default), or with a
+:class:`~hiyari.traffic.read_scope.ReadScope` only the actors around the ego (SUMO's context
+subscription finds them); :meth:`WorldStateReader.read_full` reads everyone on demand either way.
+
+How the full state is read: ``"getters"`` calls libsumo's compiled per-object getters (the SWIG
+functions themselves, without libsumo's Python wrappers) in one pass per variable;
+``"subscriptions"`` subscribes each actor to its variables at departure and fetches all results
+with one ``getAllSubscriptionResults`` call per domain. In libsumo (in-process, no socket) the
+getters are the cheaper of the two (benchmarks/worldstate.py measures both: the subscription
+path also makes every simulation step slower), so they are the default. Both give identical
+states. Static attributes (class, size) are read once per actor and kept in arrays.
 """
 
 from __future__ import annotations
@@ -19,27 +24,28 @@ import numpy as np
 
 from hiyari.kinematics import point_ahead, wrap_angle
 from hiyari.traffic.actor_class import ActorClass, actor_class_from_vclass
+from hiyari.traffic.read_scope import Columns, ContextScope, ReadScope
 from hiyari.traffic.world_state import WorldState
 
 ReadMode = Literal["getters", "subscriptions"]
 
 
-class _StaticTable:
-    """Per-actor class and size, appended when an actor is first seen."""
+class _ActorTable:
+    """Per-actor static values (class, sizes), appended when an actor is first seen, and the
+    last two speeds read with their times (persons' accelerations are differenced)."""
 
     def __init__(self) -> None:
         self.row: dict[str, int] = {}
         self.data = np.zeros((64, 4))  # cls, length, width, height
-        self.prev_speed = np.zeros(64)
+        self.speeds = np.full((64, 4), np.nan)  # time, speed of the latest read; of the one before
 
     def rows(
         self, ids: list[str], fetch: Callable[[str], tuple[float, float, float, float]]
     ) -> np.ndarray:
-        get = self.row.get
-        idx = [get(i, -1) for i in ids]
-        if -1 in idx:
+        idx = list(map(self.row.get, ids))
+        if None in idx:
             for k, i in enumerate(ids):
-                if idx[k] < 0:
+                if idx[k] is None:
                     idx[k] = self._add(i, fetch(i))
         return np.array(idx, dtype=np.intp)
 
@@ -47,26 +53,50 @@ class _StaticTable:
         r = len(self.row)
         if r == len(self.data):
             self.data = np.concatenate([self.data, np.zeros_like(self.data)])
-            self.prev_speed = np.concatenate([self.prev_speed, np.zeros_like(self.prev_speed)])
+            self.speeds = np.concatenate([self.speeds, np.full_like(self.speeds, np.nan)])
         self.data[r] = values
-        self.prev_speed[r] = np.nan
         self.row[actor_id] = r
         return r
+
+    def differenced_accel(
+        self, rows: np.ndarray, speed: np.ndarray, now: float, before: float, dt: float
+    ) -> np.ndarray:
+        """(speed - speed read at time ``before``) / ``dt`` per row, 0 where the actor was not
+        read at ``before``; records ``speed`` as read at ``now`` (s)."""
+        hist = self.speeds[rows]
+        if (hist[:, 0] != now).all():  # the usual case: the first read at this time
+            hist[:, 2:] = hist[:, :2]
+        else:  # a second read at the same time keeps the history of the first
+            fresh = hist[:, 0] != now
+            hist[fresh, 2:] = hist[fresh, :2]
+        hist[:, 0] = now
+        hist[:, 1] = speed
+        self.speeds[rows] = hist
+        return np.where(hist[:, 2] == before, (speed - hist[:, 3]) / dt, 0.0)
 
 
 class WorldStateReader:
     """Turns the current libsumo state into a WorldState; one reader per simulation."""
 
-    def __init__(self, sumo: ModuleType, mode: ReadMode = "getters") -> None:
+    def __init__(
+        self,
+        sumo: ModuleType,
+        mode: ReadMode = "getters",
+        scope: ReadScope | None = None,
+    ) -> None:
         if mode not in ("getters", "subscriptions"):
             raise ValueError(f"unknown read mode {mode!r} (getters or subscriptions)")
         self._sumo = sumo
         self._mode = mode
-        self._veh = _StaticTable()
-        self._per = _StaticTable()
+        self._veh = _ActorTable()
+        self._per = _ActorTable()
         self._edge_of: dict[str, str] = {}
+        self._dt = sumo.simulation.getDeltaT()
+        self._now = self._before = float("nan")  # the times of the latest two reads, s
+        self._scope = ContextScope(sumo, scope) if scope is not None else None
         # the SWIG functions themselves: libsumo's Python wrappers add a call layer per value
         c = sumo._libsumo
+        self._time = c.simulation_getTime
         self._v = (
             c.vehicle_getIDList,
             c.vehicle_getPosition3D,
@@ -94,6 +124,31 @@ class WorldStateReader:
             self._per_vars = [tc.VAR_POSITION3D, tc.VAR_ANGLE, tc.VAR_SPEED, tc.VAR_LANE_ID]
             sumo.simulation.subscribe([tc.VAR_DEPARTED_VEHICLES_IDS, tc.VAR_DEPARTED_PERSONS_IDS])
 
+    @property
+    def scope(self) -> ReadScope | None:
+        """The read scope (None: every actor is read every step)."""
+        return self._scope.scope if self._scope is not None else None
+
+    def read(self) -> WorldState:
+        """The WorldState at the simulation's current time: the scope's actors when a scope is
+        set and its centre is in the network, else every actor."""
+        if self._scope is not None:
+            cols = self._scope.read(self._v[0])
+            if cols is not None:
+                return self._assemble(*cols)
+        return self.read_full()
+
+    def pause(self) -> None:
+        """Nothing will be read for a while (bare stepping): stop the scope's subscriptions."""
+        if self._scope is not None:
+            self._scope.pause()
+
+    def read_full(self) -> WorldState:
+        """The WorldState with every vehicle and person in the network now."""
+        if self._mode == "subscriptions":
+            return self._assemble(*self._read_subscriptions())
+        return self._assemble(*self._read_getters())
+
     def _vehicle_static(self, vid: str) -> tuple[float, float, float, float]:
         v = self._sumo.vehicle
         vclass = v.getVehicleClass(vid)
@@ -105,39 +160,36 @@ class WorldStateReader:
         p = self._sumo.person
         return float(ActorClass.PEDESTRIAN), p.getLength(pid), p.getWidth(pid), p.getHeight(pid)
 
-    def read(self) -> WorldState:
-        """The WorldState at the simulation's current time."""
-        s = self._sumo
-        time = s.simulation.getTime()
-        if self._mode == "subscriptions":
-            vids, vcols, pids, pcols = self._read_subscriptions()
-        else:
-            vids, vcols, pids, pcols = self._read_getters()
-        nv, n = len(vids), len(vids) + len(pids)
-        vrow = self._veh.rows(vids, self._vehicle_static)
-        prow = self._per.rows(pids, self._person_static)
+    def _assemble(self, veh: Columns, per: Columns) -> WorldState:
+        time = self._time()
+        if time != self._now:
+            self._before, self._now = self._now, time
+        nv, n = len(veh.ids), len(veh.ids) + len(per.ids)
+        vrow = self._veh.rows(veh.ids, self._vehicle_static)
+        prow = self._per.rows(per.ids, self._person_static)
         st = np.concatenate([self._veh.data[vrow], self._per.data[prow]])
-        pos = np.fromiter(chain.from_iterable(vcols[0] + pcols[0]), float, 3 * n).reshape(n, 3)
-        angle = np.fromiter(chain(vcols[1], pcols[1]), float, n)
-        speed = np.fromiter(chain(vcols[2], pcols[2]), float, n)
+        pos = np.fromiter(chain.from_iterable(chain(veh.pos, per.pos)), float, 3 * n)
+        pos = pos.reshape(n, 3)
+        angle = np.fromiter(chain(veh.angle, per.angle), float, n)
+        speed = np.fromiter(chain(veh.speed, per.speed), float, n)
         accel = np.empty(n)
-        accel[:nv] = vcols[3]
-        # persons have no acceleration getter: difference of speeds over the last step
-        prev = self._per.prev_speed[prow]
-        pspeed = speed[nv:]
-        accel[nv:] = np.where(np.isnan(prev), 0.0, (pspeed - prev) / s.simulation.getDeltaT())
-        self._per.prev_speed[prow] = pspeed
-
+        accel[:nv] = veh.accel
+        if n > nv:
+            # persons have no acceleration getter: difference of speeds over the last step
+            accel[nv:] = self._per.differenced_accel(prow, speed[nv:], time, self._before, self._dt)
         heading = wrap_angle(np.radians(90.0 - angle))
         length = st[:, 1]
         # SUMO reports the front-bumper centre; the toolkit uses the rectangle centre
         pos[:, :2] = point_ahead(pos[:, :2], heading, -0.5 * length)
-        lanes = vcols[4] + pcols[4]
-        edge_of = self._edge_of
-        edges = [edge_of.get(ln) or self._edge(ln) for ln in lanes]
+        lanes = [*veh.lane, *per.lane]
+        edges = list(map(self._edge_of.get, lanes))
+        if None in edges:
+            edges = [
+                e if e is not None else self._edge(ln) for e, ln in zip(edges, lanes, strict=True)
+            ]
         return WorldState(
             time=time,
-            ids=np.array(vids + pids, dtype=object),
+            ids=np.array([*veh.ids, *per.ids], dtype=object),
             cls=st[:, 0].astype(np.int8),
             xyz=pos,
             heading=heading,
@@ -156,28 +208,30 @@ class WorldStateReader:
         self._edge_of[lane] = edge
         return edge
 
-    def _read_getters(self):
+    def _read_getters(self) -> tuple[Columns, Columns]:
         ids, pos, ang, spd, acc, lane = self._v
         vids = list(ids())
-        veh = (
-            [pos(i) for i in vids],
-            [ang(i) for i in vids],
-            [spd(i) for i in vids],
-            [acc(i) for i in vids],
-            [lane(i) for i in vids],
+        veh = Columns(
+            vids,
+            list(map(pos, vids)),
+            list(map(ang, vids)),
+            list(map(spd, vids)),
+            list(map(acc, vids)),
+            list(map(lane, vids)),
         )
         ids, pos, ang, spd, lane = self._p
         pids = list(ids())
-        per = (
-            [pos(i) for i in pids],
-            [ang(i) for i in pids],
-            [spd(i) for i in pids],
+        per = Columns(
+            pids,
+            list(map(pos, pids)),
+            list(map(ang, pids)),
+            list(map(spd, pids)),
             None,
-            [lane(i) for i in pids],
+            list(map(lane, pids)),
         )
-        return vids, veh, pids, per
+        return veh, per
 
-    def _read_subscriptions(self):
+    def _read_subscriptions(self) -> tuple[Columns, Columns]:
         s = self._sumo
         tc = s.constants
         dep = s.simulation.getSubscriptionResults()
@@ -192,9 +246,9 @@ class WorldStateReader:
         pres = s.person.getAllSubscriptionResults()
         vr = [vres.get(i) or self._fetch(self._v, self._veh_vars, i) for i in vids]
         pr = [pres.get(i) or self._fetch(self._p, self._per_vars, i) for i in pids]
-        veh = tuple([r[k] for r in vr] for k in self._veh_vars)
+        veh = Columns(vids, *([r[k] for r in vr] for k in self._veh_vars))
         pc = [[r[k] for r in pr] for k in self._per_vars]
-        return vids, veh, pids, (pc[0], pc[1], pc[2], None, pc[3])
+        return veh, Columns(pids, pc[0], pc[1], pc[2], None, pc[3])
 
     @staticmethod
     def _fetch(

@@ -29,7 +29,8 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
-from hiyari.bridge.campaign.sweep import SweepOptions, execute_runs
+from hiyari.bridge.campaign.pool import PoolOptions, run_all
+from hiyari.bridge.campaign.sweep import run_one
 from hiyari.bridge.scenario.result import JUDGE_KEYS
 from hiyari.bridge.scenario.toml_file import SENSOR_NAMES, ConcreteScenario
 from hiyari.errors import HiyariError
@@ -165,11 +166,9 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
             meta.append((p, f"{perception}/{preset}" if perception == "sensors" else perception))
     report = JudgeReport([c for c in dict.fromkeys(m[1] for m in meta)], params=options.params)
     results: dict[int, dict] = {}
-    sweep_opts = SweepOptions(
-        Path("."), backend=options.backend, workers=options.workers, progress=False
-    )
+    pool = PoolOptions(workers=options.workers, backend=options.backend)
     with tqdm(total=len(runs), unit="run", disable=not progress, desc="r157 judge") as bar:
-        for row, _ in execute_runs(runs, sweep_opts):
+        for _, (row, _) in run_all(run_one, runs, pool):
             results[row["index"]] = row
             bar.update(1)
     for i, (point, cond) in enumerate(meta):

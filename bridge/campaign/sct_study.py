@@ -22,14 +22,13 @@ import os
 import tempfile
 import time
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, wait
 from dataclasses import dataclass, field, replace
-from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
 from lxml import etree
 
+from hiyari.bridge.campaign.pool import PoolOptions, report_progress, run_all
 from hiyari.errors import HiyariError
 from hiyari.net.sumo.build import IntersectionParams, build_intersection
 from hiyari.risk.metrics.contact import PostEncroachmentTracker, SCTConfig
@@ -448,8 +447,8 @@ def _read_tripinfo(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 # ---------------------------------------------------------------------------- the study
-def _run_in_worker(task: ArmTask, queue) -> ArmResult:
-    return run_arm(task, queue.put if queue is not None else None)
+def _run_reporting(task: ArmTask) -> ArmResult:
+    return run_arm(task, report_progress)
 
 
 def run_tasks(
@@ -459,23 +458,13 @@ def run_tasks(
 ) -> list[ArmResult]:
     """Run every task, ``jobs`` processes in parallel (default: one per CPU); results in
     task order. ``on_progress`` receives simulated seconds done, summed over runs."""
-    jobs = max(1, min(jobs or os.cpu_count() or 1, len(tasks)))
-    ctx = get_context("spawn")
-    with ctx.Manager() as manager, ProcessPoolExecutor(jobs, mp_context=ctx) as pool:
-        queue = manager.Queue() if on_progress is not None else None
-        # the SCT arms take longest: start them first so the pool ends evenly
-        order = sorted(range(len(tasks)), key=lambda k: tasks[k].arm != "sct")
-        futures = [None] * len(tasks)
-        for k in order:
-            futures[k] = pool.submit(_run_in_worker, tasks[k], queue)
-        pending = set(futures)
-        while pending:
-            _, pending = wait(pending, timeout=0.5)
-            while queue is not None and not queue.empty():
-                on_progress(queue.get())
-        while queue is not None and not queue.empty():
-            on_progress(queue.get())
-        return [f.result() for f in futures]
+    # the SCT arms take longest: start them first so the pool ends evenly
+    order = sorted(range(len(tasks)), key=lambda k: tasks[k].arm != "sct")
+    pool = PoolOptions(workers=jobs or os.cpu_count() or 1)
+    results: list[ArmResult | None] = [None] * len(tasks)
+    for i, result in run_all(_run_reporting, [tasks[k] for k in order], pool, on_progress):
+        results[order[i]] = result
+    return results
 
 
 def run_study(
@@ -518,13 +507,18 @@ def run_bare(task: ArmTask, read_state: bool = False) -> float:
         return time.perf_counter() - t0
 
 
-def _bare_in_worker(task: ArmTask, read_state: bool) -> float:
-    return run_bare(task, read_state)
+def _bare_state(task: ArmTask) -> float:
+    return run_bare(task, read_state=True)
+
+
+def _bare_only(task: ArmTask) -> float:
+    return run_bare(task, read_state=False)
 
 
 def run_bare_tasks(tasks: list[ArmTask], read_state: bool, jobs: int | None = None) -> list[float]:
     """run_bare for every task, ``jobs`` processes in parallel; wall times in task order."""
-    jobs = max(1, min(jobs or os.cpu_count() or 1, len(tasks)))
-    ctx = get_context("spawn")
-    with ProcessPoolExecutor(jobs, mp_context=ctx) as pool:
-        return list(pool.map(_bare_in_worker, tasks, [read_state] * len(tasks)))
+    pool = PoolOptions(workers=jobs or os.cpu_count() or 1)
+    walls = [0.0] * len(tasks)
+    for i, wall in run_all(_bare_state if read_state else _bare_only, tasks, pool):
+        walls[i] = wall
+    return walls

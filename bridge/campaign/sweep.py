@@ -1,27 +1,30 @@
 """Scenario sweeps: every concrete run of a logical scenario, each in its own worker process.
 
-libsumo runs one simulation per process, so runs go to a local process pool (default) or to a
-Ray cluster (``backend="ray"``; ``pip install hiyari[ray]``). Runs are independent and seeded
-by their index, so the result table is the same whichever backend or worker count ran them.
+libsumo runs one simulation per process, so runs go to the campaign pool
+(:mod:`hiyari.bridge.campaign.pool`): local worker processes (default) or a Ray cluster
+(``backend="ray"``; ``pip install hiyari[ray]``). Runs are independent and seeded by their
+index, so the result table is the same whichever backend or worker count ran them.
 Results stream to ``results.csv`` as runs finish (one row per run, flushed), so a killed sweep
-resumes where it stopped: a re-run skips the rows already there. At the end the table is
-rewritten sorted by run index; wall-clock timings go to ``timings.csv`` so that ``results.csv``
-is reproducible byte for byte.
+resumes where it stopped: a re-run skips the rows already there. An interrupted sweep (Ctrl-C,
+SIGTERM) stops its workers, keeps the rows done and says how to resume. At the end the table
+is rewritten sorted by run index; wall-clock timings go to ``timings.csv`` so that
+``results.csv`` is reproducible byte for byte.
+
+The number of runs is counted from the ranges before anything is expanded, and a sweep of
+more than ``max_runs`` runs is refused (a typo in a step can otherwise ask for millions).
 """
 
 from __future__ import annotations
 
 import csv
 import math
-import multiprocessing
 import os
 import time
-from collections.abc import Iterator
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from pathlib import Path
 
 from hiyari.atomic import atomic_path
+from hiyari.bridge.campaign.pool import PoolOptions, run_all
 from hiyari.bridge.scenario.result import RESULT_KEYS
 from hiyari.bridge.scenario.toml_file import ConcreteScenario, LogicalScenario
 from hiyari.errors import HiyariError
@@ -38,6 +41,11 @@ class SweepOptions:
     ray_address: str | None = None
     retry_failed: bool = False
     progress: bool = True
+    max_runs: int = 10_000  # refuse sweeps with more runs than this
+
+    def pool(self) -> PoolOptions:
+        """The pool these options ask for."""
+        return PoolOptions(self.workers, self.backend, self.ray_address)
 
 
 @dataclass
@@ -64,6 +72,14 @@ def run_one(cs: ConcreteScenario) -> tuple[dict, float]:
         msg = " ".join(f"{type(exc).__name__}: {exc}".split())
         row.update(status="failed", error=msg, **dict.fromkeys(RESULT_KEYS, ""))
     return row, time.perf_counter() - t0
+
+
+def count_runs(logical: LogicalScenario) -> int:
+    """How many concrete runs ``logical`` expands to, computed from the axis lengths (nothing
+    is expanded)."""
+    if logical.sampling.get("mode", "grid") == "random":
+        return int(logical.sampling.get("n", 0))
+    return math.prod(len(v) for v in logical.ranges.values())
 
 
 def _columns(logical: LogicalScenario) -> list[str]:
@@ -96,13 +112,16 @@ def run_sweep(logical: LogicalScenario, options: SweepOptions) -> SweepSummary:
     """Run every concrete scenario not yet in ``out_dir/results.csv``; return counts."""
     from tqdm import tqdm
 
+    options.pool().validate()
+    n = count_runs(logical)
+    if n > options.max_runs:
+        raise HiyariError(
+            f"{logical.path}: the parameter ranges give {n:,} runs, more than --max-runs "
+            f"{options.max_runs:,} (use coarser steps, or raise --max-runs)"
+        )
     runs = logical.expand()
     if not runs:
         raise HiyariError(f"{logical.path}: the parameters expand to no run")
-    if options.backend not in ("local", "ray"):
-        raise HiyariError(f"unknown backend {options.backend!r} (local or ray)")
-    if options.workers < 1:
-        raise HiyariError(f"--workers must be >= 1, got {options.workers}")
     out = options.out_dir
     out.mkdir(parents=True, exist_ok=True)
     table = out / "results.csv"
@@ -129,14 +148,23 @@ def run_sweep(logical: LogicalScenario, options: SweepOptions) -> SweepSummary:
         ) as bar,
     ):
         writer = csv.DictWriter(f, fieldnames=cols)
-        for row, wall in execute_runs(todo, options):
-            writer.writerow({k: _fmt(row.get(k)) for k in cols})
+        try:
+            for _, (row, wall) in run_all(run_one, todo, options.pool()):
+                writer.writerow({k: _fmt(row.get(k)) for k in cols})
+                f.flush()
+                tf.write(f"{row['index']},{wall:.4f}\n")
+                tf.flush()
+                failed += row["status"] == "failed"
+                bar.update(1)
+                bar.set_postfix(failed=failed, remaining=len(runs) - bar.n)
+        except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: workers are stopped by now
             f.flush()
-            tf.write(f"{row['index']},{wall:.4f}\n")
-            tf.flush()
-            failed += row["status"] == "failed"
-            bar.update(1)
-            bar.set_postfix(failed=failed, remaining=len(runs) - bar.n)
+            kept = len(read_table(table))
+            exc.args = (
+                f"{kept} of {len(runs)} runs are kept in {table}; run the same command "
+                "again to resume",
+            )
+            raise
     final = read_table(table)
     _write_rows(table, cols, [final[i] for i in sorted(final)])
     summary = SweepSummary(len(runs), len(todo), len(keep), failed, time.perf_counter() - t0, table)
@@ -150,56 +178,6 @@ def _write_rows(path: Path, cols: list[str], rows: list[dict]) -> None:
         w.writeheader()
         for r in rows:
             w.writerow({k: r.get(k, "") for k in cols})
-
-
-def execute_runs(
-    todo: list[ConcreteScenario], options: SweepOptions
-) -> Iterator[tuple[dict, float]]:
-    """Run concrete scenarios on the configured backend; yield (row, wall s) as they finish."""
-    if not todo:
-        return
-    if options.backend == "ray":
-        yield from _execute_ray(todo, options)
-        return
-    if options.workers == 1:
-        for cs in todo:
-            yield run_one(cs)
-        return
-    # fork is safe: no simulation is open in this process, and each run starts its own
-    ctx = multiprocessing.get_context("fork")
-    with ProcessPoolExecutor(max_workers=options.workers, mp_context=ctx) as pool:
-        pending = {pool.submit(run_one, cs) for cs in todo}
-        while pending:
-            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for fut in finished:
-                yield fut.result()
-
-
-def _execute_ray(
-    todo: list[ConcreteScenario], options: SweepOptions
-) -> Iterator[tuple[dict, float]]:
-    try:
-        import ray
-    except ImportError:
-        raise HiyariError("the ray backend needs Ray: pip install 'hiyari[ray]'") from None
-    started = not ray.is_initialized()
-    if started:
-        kwargs = (
-            {"address": options.ray_address}
-            if options.ray_address
-            else {"num_cpus": options.workers}
-        )
-        ray.init(include_dashboard=False, log_to_driver=False, **kwargs)
-    try:
-        remote = ray.remote(num_cpus=1)(run_one)
-        pending = [remote.remote(cs) for cs in todo]
-        while pending:
-            ready, pending = ray.wait(pending, num_returns=1)
-            for ref in ready:
-                yield ray.get(ref)
-    finally:
-        if started:
-            ray.shutdown()
 
 
 def plot_sweep(logical: LogicalScenario, rows: list[dict], out: Path) -> Path | None:

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
+import signal
 import sys
+import threading
 
 from hiyari import __version__
 from hiyari.errors import HiyariError
@@ -25,11 +28,27 @@ COMMAND_MODULES = [
 ]
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is a HiyariError: one line, exit status 1."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        # "argument --duration/-d: expected ..." -> "--duration: expected ..."
+        option = re.sub(r"^argument (-[-\w]+)(?:/-[-\w]+)*: ", r"\1: ", message)
+        raise HiyariError(option if option != message else f"{self.prog}: {message}")
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, delivered like Ctrl-C so that every ``finally`` and ``with`` unwinds
+    (temporary folders removed, workers stopped, partial outputs discarded)."""
+
+
+def _terminate(signum: int, frame: object) -> None:
+    raise Terminated()
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full argument parser with every subcommand registered."""
-    parser = argparse.ArgumentParser(
-        prog="hiyari", description="Automated-driving safety evaluation on SUMO."
-    )
+    parser = _Parser(prog="hiyari", description="Automated-driving safety evaluation on SUMO.")
     parser.add_argument("--version", action="version", version=f"hiyari {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in COMMAND_MODULES:
@@ -38,20 +57,29 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point; returns the exit status (1 for a HiyariError, 130 on Ctrl-C)."""
-    args = build_parser().parse_args(argv)
+    """Entry point; returns the exit status (1 for a HiyariError or a usage error, 130 on
+    Ctrl-C, 143 on SIGTERM)."""
     # the one place that picks matplotlib's backend: files only, no display needed
     import matplotlib
 
     matplotlib.use("Agg")
+    previous = None
+    if threading.current_thread() is threading.main_thread():  # where handlers may be set
+        previous = signal.signal(signal.SIGTERM, _terminate)
     try:
+        args = build_parser().parse_args(argv)
         return int(args.func(args) or 0)
     except HiyariError as exc:
         print(f"hiyari: error: {exc}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print("hiyari: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        # a command may say what was kept and how to resume in the exception's message
+        detail = f": {exc}" if str(exc) else ""
+        print(f"hiyari: interrupted{detail}", file=sys.stderr)
+        return 143 if isinstance(exc, Terminated) else 130
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

@@ -62,14 +62,17 @@ def _sumo_frame(req: FrameRequest) -> tuple[SceneMesh, WorldState, str]:
 
     from hiyari.net.mesh.road_mesh import build_scene_mesh
     from hiyari.net.road.geometry import RoadGeometry
+    from hiyari.sumo_tools import check_net_loads
     from hiyari.traffic.demand import DemandConfig, write_demand
     from hiyari.traffic.simulation import SimConfig, Simulation
 
     if req.time_s <= 0:
         raise HiyariError(f"--time must be positive, got {req.time_s} s")
+    check_net_loads(req.net)  # SUMO's own check first: its loader crashes on some broken nets
     mesh = build_scene_mesh(RoadGeometry.from_net(req.net), buildings=True)
     with tempfile.TemporaryDirectory(prefix="hiyari-sensors-") as tmp:
         routes = list(req.routes)
+        generated = []
         if not routes:
             demand = DemandConfig(
                 vehicles_per_hour=req.vehicles_per_hour,
@@ -77,8 +80,9 @@ def _sumo_frame(req: FrameRequest) -> tuple[SceneMesh, WorldState, str]:
                 end=req.time_s + 60,
                 seed=req.seed,
             )
-            routes = [write_demand(req.net, Path(tmp) / "demand.rou.xml", demand)]
-        with Simulation(SimConfig(net=req.net, routes=routes, seed=req.seed)) as sim:
+            routes = generated = [write_demand(req.net, Path(tmp) / "demand.rou.xml", demand)]
+        config = SimConfig(net=req.net, routes=routes, seed=req.seed, generated=generated)
+        with Simulation(config) as sim:
             world = None
             for state in sim.run(until=req.time_s):
                 world = state

@@ -240,6 +240,9 @@ class GroundTruthEncoder:
         cache = self._tails
         tails = [cache.get(k) or _tail(*k) for k in keys]
         self._tails = dict(zip(keys, tails, strict=True))  # only actors still present
+        if ego_osi_id is not None:
+            for i in np.flatnonzero(np.asarray(osi_ids) == ego_osi_id).tolist():
+                tails[i] = tails[i] + _host_tail(float(state.height[i]))
         return head + splice(_MOVING_OBJECT_KEY, rows, tails)
 
 
@@ -258,6 +261,23 @@ def _tail(sumo_id: str, lane: str, edge: str, cls: int, osi_id: int) -> bytes:
     if lane or edge:
         m.source_reference.add(type=REF_LANE, identifier=[lane, edge])
     return m.SerializeToString()
+
+
+def _host_tail(height: float) -> bytes:
+    """The host vehicle's reference point (what OSI calls the rear-axle centre) put at the
+    centre of its ground rectangle, hiyari's vehicle frame (sensor mounts are given in it)."""
+    m = MovingObject()
+    m.vehicle_attributes.bbcenter_to_rear.z = -0.5 * height
+    return m.SerializeToString()
+
+
+def vehicle_pose(x: float, y: float, z: float, heading: float) -> np.ndarray:
+    """(4, 4) vehicle frame (origin at the ground-rectangle centre, x forward) to world."""
+    c, s = math.cos(heading), math.sin(heading)
+    pose = np.eye(4)
+    pose[:2, :2] = [[c, -s], [s, c]]
+    pose[:3, 3] = (x, y, z)
+    return pose
 
 
 def ground_truth_message(
@@ -429,8 +449,9 @@ def environment_summary(msg: osi_environment_pb2.EnvironmentalConditions) -> dic
 
 
 # ------------------------------------------------------------------ object lists
-def _pose_to_base(pose: np.ndarray, base: osi_common_pb2.BaseMoving) -> None:
-    """A 4x4 frame-to-world pose as position + roll/pitch/yaw (Z-Y-X intrinsic)."""
+def set_pose(pose: np.ndarray, base: Any) -> None:
+    """A 4x4 frame-to-world pose as position + roll/pitch/yaw (Z-Y-X intrinsic), into any
+    message with ``position`` and ``orientation`` (BaseMoving, MountingPosition)."""
     r = pose[:3, :3]
     base.position.x, base.position.y, base.position.z = pose[:3, 3].tolist()
     base.orientation.yaw = math.atan2(r[1, 0], r[0, 0])
@@ -438,7 +459,7 @@ def _pose_to_base(pose: np.ndarray, base: osi_common_pb2.BaseMoving) -> None:
     base.orientation.roll = math.atan2(r[2, 1], r[2, 2])
 
 
-def _base_to_pose(base: osi_common_pb2.BaseMoving) -> np.ndarray:
+def pose_of(base: Any) -> np.ndarray:
     o = base.orientation
     cy, sy = math.cos(o.yaw), math.sin(o.yaw)
     cp, sp = math.cos(o.pitch), math.sin(o.pitch)
@@ -468,12 +489,20 @@ _LWH = ("length", "width", "height")
 
 
 def sensor_data_message(
-    objects: ObjectList, sensor_id: int, truth_osi_ids: Sequence[int | None], time_ns: int
+    objects: ObjectList,
+    sensor_id: int,
+    truth_osi_ids: Sequence[int | None],
+    time_ns: int,
+    host: tuple[np.ndarray, Sequence[float]] | None = None,
 ) -> SensorData:
     """One ``osi3.SensorData`` for an object list.
 
-    ``host_vehicle_location`` holds the pose of the list's frame (``frame_to_world``) and the
-    mounting position is the identity, so world = host location applied to each object.
+    ``host``: (vehicle frame to world (4, 4), (length, width, height) m) of the ego at this
+    time. With it, ``host_vehicle_location`` is the ego's bounding box (centre pose and
+    dimension, as OSI's BaseMoving) and ``mounting_position`` the list's frame in the vehicle
+    frame (ground-rectangle centre, see ``bbcenter_to_rear`` of the host in the ground truth),
+    so world = vehicle pose, then mounting, applied to each object. Without it the host
+    location is the list's frame itself and the mounting the identity.
     Track / detection ids go to ``header.tracking_id``, confidence to
     ``existence_probability``, the truth to ``ground_truth_id``; components that are nan are
     left unset.
@@ -485,8 +514,18 @@ def sensor_data_message(
     set_timestamp(sd.timestamp, time_ns)
     set_timestamp(sd.last_measurement_time, time_ns)
     sd.sensor_id.value = sensor_id
-    _pose_to_base(np.asarray(objects.frame_to_world, np.float64), sd.host_vehicle_location)
-    sd.mounting_position.position.x = 0.0
+    frame = np.asarray(objects.frame_to_world, np.float64)
+    if host is None:
+        set_pose(frame, sd.host_vehicle_location)
+        sd.mounting_position.position.x = 0.0
+    else:
+        vehicle, (length, width, height) = np.asarray(host[0], np.float64), host[1]
+        centre = vehicle.copy()
+        centre[:3, 3] += vehicle[:3, 2] * (0.5 * height)
+        set_pose(centre, sd.host_vehicle_location)
+        d = sd.host_vehicle_location.dimension
+        d.length, d.width, d.height = float(length), float(width), float(height)
+        set_pose(np.linalg.solve(vehicle, frame), sd.mounting_position)
     pos, vel, size = objects.position.tolist(), objects.velocity.tolist(), objects.size.tolist()
     conf, oid, cls = objects.confidence.tolist(), objects.object_id.tolist(), objects.cls.tolist()
     for i in range(len(objects)):
@@ -532,10 +571,13 @@ def object_list_from_sensor_data(
         if d.candidate:
             c = d.candidate[0]
             cls[i] = _actor_class(c.type, c.vehicle_classification.type)
+    host = sd.host_vehicle_location
+    vehicle = pose_of(host)
+    vehicle[:3, 3] -= vehicle[:3, 2] * (0.5 * host.dimension.height)  # 0 without a dimension
     return ObjectList(
         time=timestamp_ns(sd.timestamp) / 1e9,
         source=source,
-        frame_to_world=_base_to_pose(sd.host_vehicle_location),
+        frame_to_world=vehicle @ pose_of(sd.mounting_position),
         object_id=object_id,
         cls=cls,
         position=position,

@@ -328,6 +328,17 @@ class Recording:
                     self._gt_cache.popitem(last=False)
         return gt
 
+    def road(self) -> GroundTruth | None:
+        """The recorded road: the first ground-truth frame that has lanes (its lanes, lane
+        boundaries and stationary objects), or None when the run recorded no road."""
+        for k in range(len(self)):
+            gt = self.ground_truth(k)
+            if len(gt.lane):
+                return gt
+            if k >= 1:  # the road goes into the first frame written after it
+                return None
+        return None
+
     def world(self, k: int) -> WorldState:
         """WorldState of frame ``k``."""
         return osi.world_state_from_ground_truth(self.ground_truth(k), self.id_names)[0]

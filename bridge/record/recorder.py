@@ -29,15 +29,20 @@ from mcap.well_known import MessageEncoding, SchemaEncoding
 from mcap.writer import CompressionType, Writer
 from mcap_protobuf.schema import register_schema
 from osi3.osi_groundtruth_pb2 import GroundTruth
+from osi3.osi_sensordata_pb2 import SensorData
+from osi3.osi_sensorview_pb2 import SensorView
 
 from hiyari import __version__
 from hiyari.bridge.record import format as fmt
 from hiyari.bridge.record import foxglove_convert as fox
 from hiyari.bridge.record import osi_convert as osi
+from hiyari.bridge.record.osi_road import RoadEncoder
 from hiyari.errors import HiyariError
 from hiyari.net.mesh.scene_mesh import SceneMesh
+from hiyari.net.road.geometry import RoadGeometry
 from hiyari.sensors.outputs import CameraFrame, ObjectList, PointCloud, RadarDetections
 from hiyari.traffic.collision import Collision
+from hiyari.traffic.commands import SignalLink
 from hiyari.traffic.world_state import WorldState
 
 _COMPRESSION = {
@@ -95,6 +100,10 @@ class RecorderConfig:
     camera_format: str = "jpeg"  # "jpeg" (lossy) or "png" (lossless)
     jpeg_quality: int = 90
     foxglove_boxes: bool = True  # also write SceneUpdate boxes for Foxglove's 3D panel
+    # the OSI road (lanes, boundaries, stationary objects) in the first GroundTruth after
+    # write_road, as OSI tools write static content (esmini; OSMP's GroundTruthInit); True
+    # repeats it in every frame (self-contained frames; ~0.5 MB per frame on a city grid)
+    road_every_frame: bool = False
     creation_time: str | None = None  # ISO 8601 UTC; None = now (fix it for identical files)
 
     def validate(self) -> None:
@@ -111,6 +120,28 @@ class RecorderConfig:
             raise HiyariError(f"camera format must be jpeg or png, got {self.camera_format!r}")
         if not 1 <= self.jpeg_quality <= 100:
             raise HiyariError(f"JPEG quality must be 1..100, got {self.jpeg_quality}")
+
+
+@dataclass(frozen=True)
+class SensorMount:
+    """Where a sensor sits on the ego and what it covers, for OSI SensorView / SensorData.
+
+    ``kind``: "lidar", "radar" or "camera"; ``sensor_to_vehicle``: (4, 4) sensor frame (x
+    boresight, y left, z up) in the vehicle frame (origin at the ground-rectangle centre);
+    fields of view in radians (None: not stated).
+    """
+
+    kind: str
+    sensor_to_vehicle: np.ndarray
+    fov_horizontal: float | None = None
+    fov_vertical: float | None = None
+
+
+_VIEWS = {
+    "lidar": "lidar_sensor_view",
+    "radar": "radar_sensor_view",
+    "camera": "camera_sensor_view",
+}
 
 
 def metadata_text(value: Any) -> str:
@@ -174,6 +205,11 @@ class Recorder:
         self._schemas: dict[str, int] = {}
         self._channels: dict[str, int] = {}
         self._sensor_ids: dict[str, int] = {}
+        self._mounts: dict[str, SensorMount] = {}
+        self._road: RoadEncoder | None = None
+        self._road_written = False
+        # the ego at the latest step: (time ns, vehicle pose (4, 4), (l, w, h) m, OSI id)
+        self._host: tuple[int, np.ndarray, tuple[float, float, float], int] | None = None
         self._step_ns = -1
         self._flushed_ns = 0
         self._pending = 0
@@ -311,11 +347,48 @@ class Recorder:
         self._writer.add_metadata(fmt.METADATA_HIYARI, record)
 
     # ------------------------------------------------------------------ public writes
-    def add_sensor_config(self, name: str, config: Any) -> None:
-        """Store one sensor's configuration (dataclass, mapping or text) as metadata."""
+    def add_sensor_config(self, name: str, config: Any, mount: SensorMount | None = None) -> None:
+        """Store one sensor's configuration (dataclass, mapping or text) as metadata.
+
+        ``mount``: where it sits on the ego; then every object list of source ``name`` is
+        written with its mounting position, and an ``osi3.SensorView`` (mounting position,
+        view configuration, host vehicle) goes to ``/osi/sensor_view`` at the same time.
+        """
+        if mount is not None:
+            if mount.kind not in _VIEWS:
+                raise HiyariError(f"sensor {name!r}: kind must be one of {', '.join(_VIEWS)}")
+            self._mounts[name] = mount
+        record = {"name": name, "config": metadata_text(config)}
+        record["osi_sensor_id"] = str(self._sensor_id(name))
+        self._writer.add_metadata(fmt.METADATA_SENSOR, record)
+
+    @property
+    def signal_ids(self) -> list[str]:
+        """Traffic light ids of the recorded road (pass their states to :meth:`write_world`)."""
+        return [] if self._road is None else list(self._road.signal_ids)
+
+    def _sensor_id(self, source: str) -> int:
+        return self._sensor_ids.setdefault(source, len(self._sensor_ids) + 1)
+
+    def write_road(
+        self,
+        geometry: RoadGeometry,
+        mesh: SceneMesh | None = None,
+        signal_links: Sequence[SignalLink] = (),
+    ) -> dict[str, int]:
+        """Put the road into the ground truth from now on: lanes and lane boundaries from
+        ``geometry``, stationary objects (guard rails, buildings) from the static scene
+        ``mesh``, traffic lights from ``signal_links`` (their states come with each
+        :meth:`write_world`). Returns the counts of what was encoded."""
+        if self._road is not None:
+            raise HiyariError(f"{self.path}: the road is already recorded")
+        self._road = RoadEncoder(geometry, mesh, signal_links)
+        counts = {**self._road.counts, "traffic_lights": len(self._road.signal_ids)}
         self._writer.add_metadata(
-            fmt.METADATA_SENSOR, {"name": name, "config": metadata_text(config)}
+            fmt.METADATA_ROAD,
+            {"net": str(geometry.path.name), **{k: str(v) for k, v in counts.items()}},
         )
+        return counts
 
     def write_static_mesh(self, mesh: SceneMesh, time: float = 0.0) -> None:
         """Store the static road mesh once (exact arrays as an attachment, plus markers)."""
@@ -338,6 +411,7 @@ class Recorder:
         ego_id: str | None = None,
         environment: Any = None,
         collisions: Sequence[Collision] = (),
+        signals: Mapping[str, str] | None = None,
     ) -> None:
         """Ground truth of one step (one frame of the recording).
 
@@ -345,16 +419,30 @@ class Recorder:
         ``environment``: a mapping or object with the fields in
         ``osi_convert.ENVIRONMENT_FIELDS`` (or an ``osi3.EnvironmentalConditions``).
         ``collisions``: contacts at this step (written when not empty).
+        ``signals``: traffic light id -> SUMO state string (``Simulation.signal_states``),
+        for the lights of :meth:`write_road`.
         """
         ns = fmt.to_ns(state.time)
         self._begin_step(ns)
         osi_ids = self._osi_ids(state.ids.tolist(), ns)
         ego_osi = None
         if ego_id is not None:
-            if not np.any(state.ids == ego_id):
+            rows = np.flatnonzero(state.ids == ego_id)
+            if not len(rows):
                 raise HiyariError(f"ego {ego_id!r} is not in the world state at t={state.time} s")
             ego_osi = self._ids.get(ego_id)
+            r = int(rows[0])
+            x, y, z = state.xyz[r].tolist()
+            pose = osi.vehicle_pose(x, y, z, float(state.heading[r]))
+            dims = (float(state.length[r]), float(state.width[r]), float(state.height[r]))
+            self._host = (ns, pose, dims, ego_osi)
         gt = self._gt.encode(state, osi_ids, ns, ego_osi, environment)
+        if self._road is not None:
+            if self.config.road_every_frame or not self._road_written:
+                gt += self._road.static
+                self._road_written = True
+            if signals:
+                gt += self._road.traffic_lights(signals)
         cid = self._osi_channel(fmt.TOPIC_GROUND_TRUTH, GroundTruth, "ground truth, every step")
         self._put(cid, ns, gt)
         if self.config.foxglove_boxes:
@@ -411,14 +499,28 @@ class Recorder:
         """One object list (a sensor's or the fusion's) on ``/osi/sensor_data/<source>``."""
         ns = fmt.to_ns(objects.time)
         self._begin_step(ns)
-        sensor_id = self._sensor_ids.setdefault(objects.source, len(self._sensor_ids) + 1)
+        sensor_id = self._sensor_id(objects.source)
         truth = objects.truth.tolist()
         known = [t for t in truth if t]
         osi_of = dict(zip(known, self._osi_ids(known, ns), strict=True))
-        sd = osi.sensor_data_message(objects, sensor_id, [osi_of.get(t) for t in truth], ns)
+        host = self._host[1:3] if self._host is not None and self._host[0] == ns else None
+        sd = osi.sensor_data_message(
+            objects, sensor_id, [osi_of.get(t) for t in truth], ns, host
+        ).SerializeToString()
+        # every source on one channel first: what an OSI reader gets when it asks for
+        # SensorData without naming a topic (it takes the first SensorData channel)
+        every = self._osi_channel(
+            fmt.TOPIC_SENSOR_DATA_ALL, SensorData, "object lists of every source (by sensor_id)"
+        )
+        self._put(every, ns, sd)
         topic = fmt.TOPIC_SENSOR_DATA + objects.source
-        cid = self._osi_channel(topic, type(sd), f"object list from {objects.source}")
-        self._proto(cid, ns, sd)
+        cid = self._osi_channel(topic, SensorData, f"object list from {objects.source}")
+        self._put(cid, ns, sd)
+        mount = self._mounts.get(objects.source)
+        if mount is not None and self._host is not None and self._host[0] == ns:
+            view = self._sensor_view(sensor_id, mount, ns)
+            cid = self._osi_channel(fmt.TOPIC_SENSOR_VIEW, SensorView, "sensor views (mounting)")
+            self._proto(cid, ns, view)
         if self.config.foxglove_boxes:
             t = np.asarray(objects.frame_to_world, np.float64)
             world = objects.position @ t[:3, :3].T + t[:3, 3]
@@ -426,6 +528,25 @@ class Recorder:
             boxes = fox.object_boxes(world, yaw, objects.size, objects.source, ns)
             topic = fmt.TOPIC_MARKERS_OBJECTS + objects.source
             self._put(self._proto_channel(topic, SceneUpdate, {}), ns, boxes)
+
+    def _sensor_view(self, sensor_id: int, mount: SensorMount, ns: int) -> SensorView:
+        """SensorView of one sensor: mounting position and view configuration; its ground
+        truth is the /osi/ground_truth message of the same time (not repeated here)."""
+        sv = SensorView()
+        sv.version.CopyFrom(osi.interface_version())
+        osi.set_timestamp(sv.timestamp, ns)
+        sv.sensor_id.value = sensor_id
+        osi.set_pose(np.asarray(mount.sensor_to_vehicle, np.float64), sv.mounting_position)
+        if self._host is not None:
+            sv.host_vehicle_id.value = self._host[3]
+        view = getattr(sv, _VIEWS[mount.kind]).add().view_configuration
+        view.sensor_id.value = sensor_id
+        view.mounting_position.CopyFrom(sv.mounting_position)
+        if mount.fov_horizontal is not None:
+            view.field_of_view_horizontal = mount.fov_horizontal
+        if mount.fov_vertical is not None:
+            view.field_of_view_vertical = mount.fov_vertical
+        return sv
 
     def write_ego_status(
         self,

@@ -14,6 +14,7 @@ from tqdm import tqdm
 from hiyari.bridge.record.recorder import Recorder, RecorderConfig
 from hiyari.errors import HiyariError
 from hiyari.net.mesh.scene_mesh import SceneMesh
+from hiyari.net.road.geometry import RoadGeometry
 from hiyari.traffic.simulation import SimConfig, Simulation
 
 
@@ -38,15 +39,17 @@ def record_simulation(
 ) -> int:
     """Step ``sim`` up to ``until`` (s), writing each WorldState and its contacts.
 
-    ``ego_id`` is marked as the host vehicle while it is in the network. Returns the number
-    of steps written.
+    ``ego_id`` is marked as the host vehicle while it is in the network; the states of the
+    recorded road's traffic lights go with every step. Returns the number of steps written.
     """
+    lights = recorder.signal_ids
     n_steps = max(int(round((until - sim.time) / sim.config.step_length)), 0)
     steps = 0
     with tqdm(total=n_steps, unit="step", desc="record", disable=not progress) as bar:
         for state in sim.run(until=until):
             ego = ego_id if ego_id is not None and np.any(state.ids == ego_id) else None
-            recorder.write_world(state, ego, environment, sim.collisions)
+            signals = sim.signal_states(lights) if lights else None
+            recorder.write_world(state, ego, environment, sim.collisions, signals)
             steps += 1
             bar.update(1)
     return steps
@@ -61,7 +64,9 @@ def record_traffic(
     recorder_config: RecorderConfig | None = None,
     progress: bool = True,
 ) -> RecordedRun:
-    """Run ``config`` for ``duration`` simulated seconds and record it to ``out`` (.mcap)."""
+    """Run ``config`` for ``duration`` simulated seconds and record it to ``out`` (.mcap),
+    with the road of its net (lanes, boundaries, traffic lights; stationary objects from
+    ``mesh``) in the OSI ground truth."""
     if duration <= 0:
         raise HiyariError(f"duration must be positive, got {duration} s")
     meta = {"scenario": "traffic", "seed": config.seed, "step_length_s": config.step_length}
@@ -70,6 +75,8 @@ def record_traffic(
     with Simulation(config) as sim, Recorder(out, meta, recorder_config) as rec:
         if mesh is not None:
             rec.write_static_mesh(mesh, sim.time)
+        if config.net is not None:
+            rec.write_road(RoadGeometry.from_net(config.net), mesh, sim.signal_links())
         start = sim.time
         frames = record_simulation(sim, rec, start + duration, progress=progress)
         sim_seconds = sim.time - start

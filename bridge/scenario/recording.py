@@ -4,27 +4,40 @@ fused tracks and the ego's status, one MCAP file per run (hiyari.bridge.record.r
 from __future__ import annotations
 
 import dataclasses
+import math
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
 from hiyari import __version__
-from hiyari.bridge.record.recorder import Recorder
+from hiyari.bridge.record.recorder import Recorder, SensorMount
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
 from hiyari.bridge.stack.aeb import AEBStage
 from hiyari.bridge.stack.interfaces import EgoStack, EgoStep
 from hiyari.bridge.stack.perception_sensors import SensorPerception
 from hiyari.net.mesh.road_mesh import build_scene_mesh
 from hiyari.net.road.network import RoadNetwork
+from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.outputs import CameraFrame, PointCloud, RadarDetections
+from hiyari.sensors.radar.config import RadarConfig
+from hiyari.sensors.rig import Sensor
 from hiyari.traffic.collision import Collision
+from hiyari.traffic.commands import SignalLink
 from hiyari.traffic.world_state import WorldState
 
 
 class StepRecorder:
     """An ``on_step`` callback for run_closed_loop that writes every step to ``recorder``."""
 
-    def __init__(self, recorder: Recorder, stack: EgoStack, ego_id: str) -> None:
+    def __init__(
+        self,
+        recorder: Recorder,
+        stack: EgoStack,
+        ego_id: str,
+        signals: Callable[[], Mapping[str, str]] | None = None,
+    ) -> None:
         self.recorder = recorder
         self.ego_id = ego_id
+        self.signals = signals  # traffic light states now (Simulation.signal_states)
         self.perception = (
             stack.perception if isinstance(stack.perception, SensorPerception) else None
         )
@@ -36,7 +49,8 @@ class StepRecorder:
             env = self.perception.preset.environment_for(
                 float(world.heading[world.index(self.ego_id)])
             )
-        rec.write_world(world, self.ego_id, env, collisions)
+        signals = self.signals() if self.signals is not None else None
+        rec.write_world(world, self.ego_id, env, collisions, signals)
         if self.perception is not None:
             for raw in self.perception.last_raw:
                 if isinstance(raw, PointCloud):
@@ -56,10 +70,15 @@ class StepRecorder:
 
 
 def open_recorder(
-    path: Path, cs: ConcreteScenario, stack: EgoStack, network: RoadNetwork
+    path: Path,
+    cs: ConcreteScenario,
+    stack: EgoStack,
+    network: RoadNetwork,
+    signal_links: Sequence[SignalLink] = (),
 ) -> Recorder:
-    """A Recorder with the run's metadata, sensor configs and static road mesh written (the
-    sensors' scene mesh when the stack has one, else built from ``network``)."""
+    """A Recorder with the run's metadata, sensor configs (with mounts), static road mesh (the
+    sensors' scene mesh when the stack has one, else built from ``network``) and OSI road
+    (lanes, boundaries, stationary objects, traffic lights) written."""
     rec = Recorder(
         path,
         metadata={
@@ -82,9 +101,27 @@ def open_recorder(
             rec.add_sensor_config(
                 sensor.name,
                 dataclasses.asdict(config) if dataclasses.is_dataclass(config) else str(config),
+                _mount(sensor),
             )
+    geometry = network.geometry
+    if isinstance(perception, SensorPerception):
         mesh = perception.scene.static_mesh
     else:
-        mesh = build_scene_mesh(network.geometry)
+        mesh = build_scene_mesh(geometry)
     rec.write_static_mesh(mesh)
+    rec.write_road(geometry, mesh, signal_links)
     return rec
+
+
+def _mount(sensor: Sensor) -> SensorMount:
+    """The sensor's mount and fields of view (radians) for OSI."""
+    c = sensor.config
+    if isinstance(sensor.config, LidarConfig):
+        kind, h = "lidar", c.horizontal_fov_deg
+        v = max(c.elevations_deg) - min(c.elevations_deg)
+    elif isinstance(sensor.config, RadarConfig):
+        kind, h, v = "radar", c.h_fov_deg, c.v_fov_deg
+    else:
+        kind, h = "camera", c.horizontal_fov_deg
+        v = math.degrees(2 * math.atan(math.tan(math.radians(h) / 2) * c.height_px / c.width_px))
+    return SensorMount(kind, sensor.mount.sensor_to_ego(), math.radians(h), math.radians(v))

@@ -74,7 +74,13 @@ def run_concrete(
         sc = build_scenario(cs, work)
         network = sc.network or RoadNetwork(sc.net)
         stack = build_stack(cs, network)
-        cfg = SimConfig(net=sc.net, routes=sc.routes, step_length=cs.step_length, seed=cs.seed)
+        cfg = SimConfig(
+            net=sc.net,
+            routes=sc.routes,
+            step_length=cs.step_length,
+            seed=cs.seed,
+            generated=(sc.net, *sc.routes),
+        )
         with Simulation(cfg) as sim:
             sim.fast_forward(sc.warmup)
             sc.insert(sim)
@@ -84,10 +90,13 @@ def run_concrete(
                     raise HiyariError("recording needs an output folder")
                 from hiyari.bridge.scenario.recording import StepRecorder, open_recorder
 
-                recorder = open_recorder(options.out_dir / "run.mcap", cs, stack, network)
+                links = sim.signal_links()
+                recorder = open_recorder(options.out_dir / "run.mcap", cs, stack, network, links)
                 if isinstance(stack.perception, SensorPerception):
                     stack.perception.render_every = options.camera_image_every
-                on_step = _chain(StepRecorder(recorder, stack, sc.ego_id), on_step)
+                signals = sim.signal_states if links else None
+                step_recorder = StepRecorder(recorder, stack, sc.ego_id, signals)
+                on_step = _chain(step_recorder, on_step)
             try:
                 result = run_closed_loop(
                     sim,

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import itertools
 import tomllib
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -100,6 +101,24 @@ _SECTIONS = {
 }
 
 
+class Steps(Sequence[float]):
+    """``lo, lo + step, ...`` (``n`` values, rounded to 1e-9): a range axis held as its three
+    numbers, so that a tiny step is counted (and refused by a run-count guard) without ever
+    being listed."""
+
+    def __init__(self, lo: float, step: float, n: int) -> None:
+        self.lo, self.step, self.n = lo, step, n
+
+    def __len__(self) -> int:
+        return self.n
+
+    def __getitem__(self, i):  # noqa: ANN001, ANN204 - Sequence protocol (int or slice)
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(self.n))]
+        k = range(self.n)[i]
+        return round(self.lo + k * self.step, 9)
+
+
 @dataclass(frozen=True)
 class ConcreteScenario:
     """One run: every parameter has a value. Speeds in the units their names give."""
@@ -134,7 +153,7 @@ class LogicalScenario:
     duration: float
     step_length: float
     fixed: dict[str, float]
-    ranges: dict[str, list[float]]  # grid axes (range/step or values)
+    ranges: dict[str, Sequence[float]]  # grid axes (Steps for range/step, or values)
     random: dict[str, tuple[float, float]]  # uniform draws
     sampling: dict[str, Any] = field(default_factory=dict)
     ego: dict[str, Any] = field(default_factory=dict)
@@ -187,6 +206,8 @@ def _err(path: str, key: str, problem: str) -> HiyariError:
 def _number(path: str, key: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise _err(path, key, f"expected a number, got {value!r}")
+    if not np.isfinite(value):  # TOML has inf and nan
+        raise _err(path, key, f"expected a finite number, got {value!r}")
     return float(value)
 
 
@@ -236,7 +257,8 @@ def parse_scenario(data: dict[str, Any], path: str = "<scenario>") -> LogicalSce
             raise _err(path, k, f"missing (required for {stype})")
         if isinstance(value, dict):
             vals = _axis(path, k, value, rand, key)
-            for v in vals if vals is not None else rand[key]:
+            ends = (vals[0], vals[-1]) if isinstance(vals, Steps) else vals
+            for v in ends if vals is not None else rand[key]:
                 _check_range(path, k, v, lo, hi)
             if vals is not None:
                 ranges[key] = vals
@@ -286,7 +308,7 @@ def parse_scenario(data: dict[str, Any], path: str = "<scenario>") -> LogicalSce
     )
 
 
-def _axis(path, k, value: dict, rand: dict, key: str) -> list[float] | None:
+def _axis(path, k, value: dict, rand: dict, key: str) -> Sequence[float] | None:
     if set(value) == {"values"}:
         vals = value["values"]
         if not isinstance(vals, list) or not vals:
@@ -299,8 +321,12 @@ def _axis(path, k, value: dict, rand: dict, key: str) -> list[float] | None:
         lo, hi = _number(path, k, r[0]), _number(path, k, r[1])
         if hi < lo:
             raise _err(path, k, f"range [{lo}, {hi}] is empty")
-        n = int(np.floor((hi - lo) / step + 1e-9)) + 1
-        return [round(lo + i * step, 9) for i in range(n)]
+        count = np.floor((hi - lo) / step + 1e-9) + 1
+        if not count < 2**53:  # also catches an overflow to inf
+            raise _err(
+                path, k, f"range [{lo:g}, {hi:g}] in steps of {step:g} gives {count:.3g} values"
+            )
+        return Steps(lo, step, int(count))
     if set(value) == {"uniform"}:
         r = value["uniform"]
         if not (isinstance(r, list) and len(r) == 2):
@@ -329,7 +355,9 @@ def load_scenario(path: str | Path) -> LogicalScenario:
     if not p.is_file():
         raise HiyariError(f"{p}: scenario file not found")
     try:
-        data = tomllib.loads(p.read_text())
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as exc:
+        raise HiyariError(f"{p}: not UTF-8 text (byte {exc.start})") from None
     except tomllib.TOMLDecodeError as exc:
         raise HiyariError(f"{p}: not valid TOML: {exc}") from None
     return parse_scenario(data, str(p))

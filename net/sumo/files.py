@@ -21,6 +21,8 @@ def check_xml(path: str | Path, root_tags: tuple[str, ...], what: str) -> etree.
         root = etree.parse(str(path), etree.XMLParser(huge_tree=True)).getroot()
     except etree.XMLSyntaxError as exc:
         raise HiyariError(f"{path}: {what} is not well-formed XML: {exc.msg}") from None
+    except OSError as exc:  # lxml reports undecodable bytes as a read error
+        raise HiyariError(f"{path}: {what} cannot be read: {exc}") from None
     if root.tag not in root_tags:
         expected = " or ".join(f"<{t}>" for t in root_tags)
         raise HiyariError(

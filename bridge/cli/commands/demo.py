@@ -7,6 +7,8 @@ import os
 import time
 from pathlib import Path
 
+from hiyari.bridge.cli import numbers
+
 
 def _stage(title: str) -> float:
     print(f"\n== {title}", flush=True)
@@ -14,8 +16,8 @@ def _stage(title: str) -> float:
 
 
 def run(args: argparse.Namespace) -> int:
+    from hiyari.bridge.cli.demo import closed_loop as cl
     from hiyari.bridge.cli.demo.traffic import run_traffic_demo
-    from hiyari.bridge.cli.main.demo import closed_loop as cl
 
     out = Path(args.out)
     t = _stage(f"traffic: signalised city intersection, {args.duration:.0f} s simulated")
@@ -84,8 +86,10 @@ def run(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("demo", help="run the main jobs on built-in defaults")
     p.add_argument("--out", default="out/demo", help="output folder")
-    p.add_argument("--duration", type=float, default=300.0, help="traffic seconds to simulate")
-    p.add_argument("--r157-sample", type=int, default=60, help="R157 points to judge")
-    p.add_argument("--workers", "-j", type=int, default=os.cpu_count() or 1)
-    p.add_argument("--seed", type=int, default=42)
+    p.add_argument(
+        "--duration", type=numbers.seconds(), default=300.0, help="traffic seconds to simulate"
+    )
+    p.add_argument("--r157-sample", type=numbers.count(1), default=60, help="R157 points to judge")
+    p.add_argument("--workers", "-j", type=numbers.count(1, 4096), default=os.cpu_count() or 1)
+    p.add_argument("--seed", type=numbers.seed(), default=42)
     p.set_defaults(func=run)

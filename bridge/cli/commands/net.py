@@ -14,6 +14,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
+from hiyari.bridge.cli import numbers
 from hiyari.errors import HiyariError
 from hiyari.net.mesh.export import SUFFIXES, export_mesh
 from hiyari.net.mesh.materials import Material
@@ -30,7 +31,9 @@ from hiyari.net.sumo.build import (
     build_r157_road,
     param_docs,
 )
+from hiyari.net.sumo.files import check_net
 from hiyari.net.sumo.opendrive import ImportOptions, import_opendrive
+from hiyari.sumo_tools import check_net_loads
 
 GENERATORS = {
     "expressway": (ExpresswayParams, build_expressway),
@@ -76,6 +79,8 @@ def _run_mesh(args: argparse.Namespace) -> None:
         if Path(out).suffix.lower() not in SUFFIXES:
             raise HiyariError(f"{out}: unknown mesh format (use {', '.join(SUFFIXES)})")
     t0 = time.perf_counter()
+    check_net(args.net)
+    check_net_loads(args.net)  # nothing is built from a net SUMO itself rejects
     geometry = RoadGeometry.from_net(args.net)
     mesh = build_scene_mesh(
         geometry, buildings=args.buildings, params=MeshParams(ground=args.ground, seed=args.seed)
@@ -150,4 +155,4 @@ def register(sub: argparse._SubParsersAction) -> None:
     m.add_argument(
         "--ground", action=argparse.BooleanOptionalAction, default=True, help="grass ground plane"
     )
-    m.add_argument("--seed", type=int, default=0, help="seed of the building heights")
+    m.add_argument("--seed", type=numbers.seed(), default=0, help="seed of the building heights")

@@ -8,6 +8,7 @@ import sys
 import threading
 from pathlib import Path
 
+from hiyari.bridge.cli import numbers
 from hiyari.bridge.record.reader import Recording
 from hiyari.bridge.replay.scene import LIDAR_COLOR_MODES, ReplayOptions
 from hiyari.errors import HiyariError
@@ -66,7 +67,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("recording", type=Path, help="recording written by the Recorder (.mcap)")
     p.add_argument("--host", default="127.0.0.1", help="address to serve on")
-    p.add_argument("--port", type=int, default=8080, help="port (next free one if taken)")
+    p.add_argument(
+        "--port", type=numbers.count(0, 65535), default=8080, help="port (next free one if taken)"
+    )
     p.add_argument("--browser", action="store_true", help="open the replay in a web browser")
     p.add_argument(
         "--point-colors",
@@ -75,9 +78,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="colour LiDAR points by intensity or by the actor they hit",
     )
     p.add_argument("--export", type=Path, help="write a static HTML replay here instead")
-    p.add_argument("--start", type=float, help="export from this time, s")
-    p.add_argument("--end", type=float, help="export up to this time, s")
-    p.add_argument("--every", type=int, default=1, help="export every N-th frame")
+    p.add_argument("--start", type=numbers.seconds(lo_open=False), help="export from this time, s")
+    p.add_argument("--end", type=numbers.seconds(lo_open=False), help="export up to this time, s")
+    p.add_argument("--every", type=numbers.count(1), default=1, help="export every N-th frame")
     p.add_argument(
         "--recover",
         type=Path,

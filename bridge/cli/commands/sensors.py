@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from hiyari.bridge.cli import numbers
 from hiyari.bridge.cli.sensor_frame import SENSOR_KINDS, FrameRequest, render_sensor_frame
 from hiyari.sensors.camera.config import CAMERA_PRESETS
 from hiyari.sensors.environment.presets import PRESETS
@@ -53,12 +54,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     r.add_argument(
         "--routes", nargs="*", default=[], help="route files for --net (default: generated demand)"
     )
-    r.add_argument("--vph", type=float, default=1800.0, help="generated vehicles per hour (--net)")
-    r.add_argument("--pph", type=float, default=1200.0, help="generated persons per hour (--net)")
     r.add_argument(
-        "--time", type=float, default=60.0, help="simulation time of the frame, s (--net)"
+        "--vph", type=numbers.per_hour(), default=1800.0, help="generated vehicles per hour (--net)"
+    )
+    r.add_argument(
+        "--pph", type=numbers.per_hour(), default=1200.0, help="generated persons per hour (--net)"
+    )
+    r.add_argument(
+        "--time",
+        type=numbers.seconds(lo_open=False),
+        default=60.0,
+        help="simulation time of the frame, s (--net)",
     )
     r.add_argument("--ego", help="SUMO id of the ego vehicle (--net; default: the most central)")
-    r.add_argument("--seed", type=int, default=1)
+    r.add_argument("--seed", type=numbers.seed(), default=1)
     r.add_argument("--out", default="out/sensors", help="output folder")
     r.set_defaults(func=run)

@@ -4,10 +4,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import tempfile
 from pathlib import Path
 
-from hiyari.errors import HiyariError
+from hiyari.atomic import write_text_atomic
+from hiyari.bridge.cli import numbers
+from hiyari.errors import HiyariError, about
+from hiyari.net.sumo.files import check_net
 from hiyari.traffic.demand import DemandConfig, write_demand
 from hiyari.traffic.simulation import SimConfig
 from hiyari.traffic.traffic_run import run_traffic
@@ -19,14 +23,34 @@ def parse_mix(text: str) -> dict[str, float]:
     for part in filter(None, text.split(",")):
         name, _, share = part.partition("=")
         try:
-            mix[name.strip()] = float(share) if share else 1.0
+            value = float(share) if share else 1.0
         except ValueError:
-            raise HiyariError(f"--mix: share of {name!r} is not a number: {share!r}") from None
+            value = math.nan
+        if not (math.isfinite(value) and value >= 0):
+            raise HiyariError(f"--mix: share of {name!r} must be a number >= 0, got {share!r}")
+        mix[name.strip()] = value
     return mix
 
 
+def check_output(path: str | None, option: str) -> Path | None:
+    """An output file the command writes at the end: refuse it before any work is done when
+    its folder does not exist or it names a folder."""
+    if path is None:
+        return None
+    out = Path(path)
+    if not out.parent.is_dir():
+        raise HiyariError(f"{option} {out}: the folder {out.parent} does not exist")
+    if out.is_dir():
+        raise HiyariError(f"{option} {out}: is a folder, give a file name")
+    return out
+
+
 def run(args: argparse.Namespace) -> int:
+    json_out = check_output(args.json, "--json")
     routes = [Path(r) for r in args.routes]
+    generated: list[Path] = []
+    if args.net:
+        check_net(args.net)  # a broken net is named as such before demand is made from it
     with tempfile.TemporaryDirectory(prefix="hiyari-sim-") as tmp:
         if args.net and (args.vph or args.pph):
             demand = DemandConfig(
@@ -36,16 +60,17 @@ def run(args: argparse.Namespace) -> int:
                 seed=args.seed,
                 vehicle_mix=parse_mix(args.mix),
             )
-            routes.append(write_demand(args.net, Path(tmp) / "demand.rou.xml", demand))
+            with about(args.net):
+                generated.append(write_demand(args.net, Path(tmp) / "demand.rou.xml", demand))
         config = SimConfig(
             net=Path(args.net) if args.net else None,
             config=Path(args.config) if args.config else None,
-            routes=routes,
+            routes=[*routes, *generated],
             step_length=args.step,
             seed=args.seed,
+            generated=generated,
+            preflight=True,
         )
-        if args.duration <= 0:
-            raise HiyariError(f"--duration must be positive, got {args.duration} s")
         summary = run_traffic(config, args.duration, progress=not args.quiet)
     d = summary.as_dict()
     print(
@@ -55,9 +80,9 @@ def run(args: argparse.Namespace) -> int:
         f"persons {d['persons_seen']} (max {d['max_persons']}), "
         f"collision pairs {len(d['collision_pairs'])}"
     )
-    if args.json:
-        Path(args.json).write_text(json.dumps(d, indent=2))
-        print(f"summary: {args.json}")
+    if json_out is not None:
+        write_text_atomic(json_out, json.dumps(d, indent=2))
+        print(f"summary: {json_out}")
     return 0
 
 
@@ -67,12 +92,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     src.add_argument("--config", "-c", help="SUMO .sumocfg file")
     src.add_argument("--net", "-n", help="SUMO .net.xml file")
     p.add_argument("--routes", "-r", nargs="*", default=[], help="route / demand files")
-    p.add_argument("--vph", type=float, default=0.0, help="generated vehicles per hour")
-    p.add_argument("--pph", type=float, default=0.0, help="generated persons per hour")
+    p.add_argument(
+        "--vph", type=numbers.per_hour(), default=0.0, help="generated vehicles per hour"
+    )
+    p.add_argument("--pph", type=numbers.per_hour(), default=0.0, help="generated persons per hour")
     p.add_argument("--mix", default="car=1", help="vehicle mix, e.g. car=0.8,truck=0.1,bus=0.1")
-    p.add_argument("--duration", "-d", type=float, default=300.0, help="simulated seconds")
-    p.add_argument("--step", type=float, default=0.1, help="step length, s")
-    p.add_argument("--seed", type=int, default=42)
+    p.add_argument(
+        "--duration", "-d", type=numbers.seconds(), default=300.0, help="simulated duration, s"
+    )
+    p.add_argument(
+        "--step",
+        type=numbers.number(0.0, 60.0, lo_open=True, unit="s", what="the step length"),
+        default=0.1,
+        help="step length, s",
+    )
+    p.add_argument("--seed", type=numbers.seed(), default=42)
     p.add_argument("--json", help="write the summary as JSON here")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     p.set_defaults(func=run)

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from hiyari.bridge.campaign.sct_report import SEED_REDUCTION, reduction, summarise, write_report
 from hiyari.bridge.campaign.sct_study import VARIANTS, StudyConfig, run_study
+from hiyari.bridge.cli import numbers
 from hiyari.errors import HiyariError
 from hiyari.risk.metrics.incidents import IncidentConfig
 from hiyari.risk.sct.controller import SCTControllerConfig
@@ -74,29 +75,56 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     d = StudyConfig()
     s.add_argument("--out", "-o", default="out/study_sct", help="report folder")
-    s.add_argument("--days", type=float, default=d.days, help="simulated days per arm")
-    s.add_argument("--vph", type=float, default=d.vehicles_per_hour, help="vehicles per hour")
-    s.add_argument("--pph", type=float, default=d.persons_per_hour, help="pedestrians per hour")
+    s.add_argument(
+        "--days",
+        type=numbers.number(None, 3660, unit="days"),  # > 0 checked by the study config
+        default=d.days,
+        help="simulated days per arm",
+    )
+    s.add_argument(
+        "--vph", type=numbers.per_hour(), default=d.vehicles_per_hour, help="vehicles per hour"
+    )
+    s.add_argument(
+        "--pph", type=numbers.per_hour(), default=d.persons_per_hour, help="pedestrians per hour"
+    )
     s.add_argument(
         "--variants",
         default=",".join(d.variants),
         help="comma-separated intersection variants: unsignalised, signalised (or 'both')",
     )
-    s.add_argument("--runs", type=int, default=d.runs, help="independent runs (seeds) per arm")
-    s.add_argument("--seed", type=int, default=d.seed, help="seed of the first run")
+    s.add_argument(
+        "--runs",
+        type=numbers.count(1, 100_000),
+        default=d.runs,
+        help="independent runs (seeds) per arm",
+    )
+    s.add_argument("--seed", type=numbers.seed(), default=d.seed, help="seed of the first run")
     s.add_argument(
         "--penetration",
-        type=float,
+        type=numbers.number(),  # range checked by the study config
         default=d.penetration,
         help="share of SCT vehicles in the SCT arm (0..1)",
     )
-    s.add_argument("--sct-safe", type=float, default=d.controller.sct_safe, help="SCT_safe, s")
     s.add_argument(
-        "--ttc-threshold", type=float, default=d.incidents.ttc_threshold, help="incident TTC, s"
+        "--sct-safe",
+        type=numbers.number(0, 60, lo_open=True, unit="s"),
+        default=d.controller.sct_safe,
+        help="SCT_safe, s",
     )
     s.add_argument(
-        "--pet-threshold", type=float, default=d.incidents.pet_threshold, help="incident PET, s"
+        "--ttc-threshold",
+        type=numbers.number(0, 60, lo_open=True, unit="s"),
+        default=d.incidents.ttc_threshold,
+        help="incident TTC, s",
     )
-    s.add_argument("--jobs", "-j", type=int, help="parallel processes (default: CPU count)")
+    s.add_argument(
+        "--pet-threshold",
+        type=numbers.number(None, 60, unit="s"),  # > 0 checked by the incident config
+        default=d.incidents.pet_threshold,
+        help="incident PET, s",
+    )
+    s.add_argument(
+        "--jobs", "-j", type=numbers.count(1, 4096), help="parallel processes (default: CPU count)"
+    )
     s.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     s.set_defaults(func=run_sct)

@@ -6,12 +6,28 @@ import argparse
 import os
 from pathlib import Path
 
+from hiyari.bridge.cli import numbers
+from hiyari.errors import HiyariError, about
+
 
 def run(args: argparse.Namespace) -> int:
-    from hiyari.bridge.campaign.sweep import SweepOptions, run_sweep
+    from hiyari.bridge.campaign.sweep import SweepOptions, count_runs, run_sweep
     from hiyari.bridge.scenario.toml_file import load_scenario
 
-    logical = load_scenario(args.scenario)
+    with about(args.scenario):
+        logical = load_scenario(args.scenario)
+    if args.dry_run:
+        n = count_runs(logical)
+        if n > args.max_runs:
+            raise HiyariError(
+                f"{args.scenario}: the parameter ranges give {n:,} runs, more than --max-runs "
+                f"{args.max_runs:,} (use coarser steps, or raise --max-runs)"
+            )
+        runs = logical.expand()
+        for cs in runs[:5]:
+            print(cs.label())
+        print(f"{len(runs)} run(s){' (first 5 shown)' * (len(runs) > 5)}; nothing run (--dry-run)")
+        return 0
     s = run_sweep(
         logical,
         SweepOptions(
@@ -21,6 +37,7 @@ def run(args: argparse.Namespace) -> int:
             ray_address=args.ray_address,
             retry_failed=args.retry_failed,
             progress=not args.quiet,
+            max_runs=args.max_runs,
         ),
     )
     print(
@@ -38,7 +55,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--workers",
         "-j",
-        type=int,
+        type=numbers.count(1, 4096),
         default=os.cpu_count() or 1,
         help="local worker processes (default: all cores)",
     )
@@ -47,6 +64,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--ray-address",
         default=None,
         help="Ray cluster: 'auto' or host:port (default: start a local Ray)",
+    )
+    p.add_argument(
+        "--max-runs",
+        type=numbers.count(),
+        default=10_000,
+        help="refuse sweeps whose ranges give more runs than this (default: 10000)",
+    )
+    p.add_argument(
+        "--dry-run", action="store_true", help="check the file and count its runs; run nothing"
     )
     p.add_argument("--retry-failed", action="store_true", help="run failed rows again")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")

@@ -1,0 +1,76 @@
+"""The package layers of docs/architecture.md, checked on the source: a package imports only
+packages below it, only traffic/ imports libsumo, only the CLI picks matplotlib's backend."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+LAYER = {"hiyari": 0, "net": 1, "traffic": 2, "sensors": 3, "risk": 3, "bridge": 4}
+
+
+def _modules() -> list[tuple[str, Path, ast.Module]]:
+    out = []
+    for pkg in LAYER:
+        for path in sorted((ROOT / pkg).rglob("*.py")):
+            out.append((pkg, path, ast.parse(path.read_text(encoding="utf-8"))))
+    return out
+
+
+def _imported(tree: ast.Module) -> list[str]:
+    names = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names += [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            names.append(node.module)
+    return names
+
+
+def _package_of(module: str) -> str | None:
+    parts = module.split(".")
+    if parts[0] != "hiyari":
+        return None
+    return parts[1] if len(parts) > 1 and parts[1] in LAYER else "hiyari"
+
+
+def test_packages_import_only_layers_below():
+    bad = []
+    for pkg, path, tree in _modules():
+        if path.name == "__main__.py":  # `python -m hiyari` is the CLI's entry, above everything
+            continue
+        for name in _imported(tree):
+            other = _package_of(name)
+            if other is None or other == pkg:
+                continue
+            if LAYER[other] >= LAYER[pkg]:
+                bad.append(f"{path.relative_to(ROOT)} imports {name}")
+    assert not bad, "\n".join(bad)
+
+
+def test_only_traffic_imports_libsumo():
+    bad = [
+        str(path.relative_to(ROOT))
+        for pkg, path, tree in _modules()
+        if pkg != "traffic"
+        and any(n.split(".")[0] in ("libsumo", "_libsumo", "traci") for n in _imported(tree))
+    ]
+    assert not bad, bad
+
+
+def test_only_the_cli_picks_the_matplotlib_backend():
+    bad = []
+    for _, path, tree in _modules():
+        rel = path.relative_to(ROOT)
+        for node in ast.walk(tree):
+            is_use = (
+                isinstance(node, ast.Call)
+                and isinstance(node.func, ast.Attribute)
+                and node.func.attr == "use"
+                and isinstance(node.func.value, ast.Name)
+                and node.func.value.id == "matplotlib"
+            )
+            if is_use and rel.parts[:2] != ("bridge", "cli"):
+                bad.append(str(rel))
+    assert not bad, bad
