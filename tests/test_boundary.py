@@ -71,11 +71,13 @@ def test_cut_in_boundary_is_exact(aeb):
 
 
 def test_cut_in_boundary_shape():
-    """The boundary grows with the relative speed and shrinks as the cut-in gets faster
-    (earlier judgement); it is the same for every Ve0 at a given Ve0 - Vo0 (symmetry); with
-    no closing speed it is 0; past about 52 km/h closing speed the TTC-2 s reaction comes
-    too late at any gap (no Preventable gap); the AEB moves that limit beyond 60 km/h."""
-    sheet = cut_in_datasheet(Grid(10, 130, 1), Grid(0, 60, 1), Grid(0.1, 3.0, 0.1))
+    """Lane-aligned contact: the boundary grows with the relative speed and shrinks as the
+    cut-in gets faster (earlier judgement); it is the same for every Ve0 at a given Ve0 - Vo0
+    (symmetry); with no closing speed it is 0; past about 52 km/h closing speed the TTC-2 s
+    reaction comes too late at any gap (no Preventable gap); the AEB moves that limit beyond
+    60 km/h."""
+    lane = CCParams(contact="lane")
+    sheet = cut_in_datasheet(Grid(10, 130, 1), Grid(0, 60, 1), Grid(0.1, 3.0, 0.1), lane)
     dv, vy, b = sheet.dv_kmh, sheet.vy_mps, sheet.boundary_dx0_m
     assert np.all(b[dv == 0] == 0)
     for v in (0.1, 0.5, 1.0, 3.0):
@@ -94,7 +96,7 @@ def test_cut_in_boundary_shape():
     assert np.isfinite(b[dv <= 52]).all()
     assert np.isinf(b[dv >= 53]).all()
     aeb = cut_in_datasheet(
-        Grid(60, 60, 1), Grid(50, 60, 1), Grid(0.5, 3.0, 0.5), CCParams(aeb=True)
+        Grid(60, 60, 1), Grid(50, 60, 1), Grid(0.5, 3.0, 0.5), CCParams(aeb=True, contact="lane")
     )
     assert np.isfinite(aeb.boundary_dx0_m).all()
 

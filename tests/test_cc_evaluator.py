@@ -51,24 +51,27 @@ def test_cut_out_60kmh_by_hand():
 
 
 def test_cut_in_by_hand():
-    """Ve0 = 60, Vo0 = 30 km/h (closing 8.333 m/s), Vy = 1 m/s. Danger at 0.375 + 0.4 s,
-    braking from 1.525 s, relative braking distance S = 8.333 x 0.6 - 0.456 + 6.055² / (2a)
-    = 6.959 m: the ego closes 8.333 x 1.525 + 6.959 = 19.667 m, so dx0 = 19.667 m is the
-    boundary. At dx0 = 60 m, TTC at danger is 6.4 s: the reaction waits for TTC = 2 s, and
-    the gap at braking onset is (2 - 0.75) x 8.333 = 10.417 m, leaving 3.458 m."""
+    """Lane-aligned contact. Ve0 = 60, Vo0 = 30 km/h (closing 8.333 m/s), Vy = 1 m/s. Danger
+    at 0.375 + 0.4 s, braking from 1.525 s, relative braking distance S = 8.333 x 0.6 - 0.456
+    + 6.055² / (2a) = 6.959 m: the ego closes 8.333 x 1.525 + 6.959 = 19.667 m, so dx0 =
+    19.667 m is the boundary. At dx0 = 60 m, TTC at danger is 6.4 s: the reaction waits for
+    TTC = 2 s, and the gap at braking onset is (2 - 0.75) x 8.333 = 10.417 m, leaving 3.458 m."""
     ve, vo = 60 * KMH, 30 * KMH
     dv = ve - vo
+    lane = CCParams(contact="lane")
     relative = dv * 1.525 + braking_distance(ve, vo)
     assert relative == pytest.approx(19.667, abs=1e-3)
-    r = evaluate_cut_in(ve, vo, [relative - 0.01, relative + 0.01, 60.0, 5.0], 1.0)
+    r = evaluate_cut_in(ve, vo, [relative - 0.01, relative + 0.01, 60.0, 5.0], 1.0, lane)
     assert r.collision.tolist() == [True, False, False, True]
     assert r.min_gap_m[2] == pytest.approx(1.25 * dv - braking_distance(ve, vo), abs=1e-9)
     assert r.t_brake_s[2] == pytest.approx(60 / dv - 2 + 0.75)
-    # dx0 = 5 m: at 1.6 s, when the other enters the ego's width (1.6 m / 1 m/s), the ego is
-    # alongside (gap 5 - 8.333 x 1.525 - 8.333 x 0.075 + j 0.075³ / 6 < 0): a side impact
-    # at 1.6 s, closing at 8.333 - j 0.075² / 2 with j = a / 0.6
+    # dx0 = 5 m: at danger judgement (0.775 s) the gap is 5 - 8.333 x 0.775 = -1.458 m: the
+    # other car is beside the ego, which does not brake for it (issue 15); at 1.6 s, when the
+    # other enters the ego's width (1.6 m / 1 m/s), the ego is alongside (gap 5 - 8.333 x 1.6
+    # = -8.333 m > -(4.8 + 5.3)): a side impact at 1.6 s at the full closing speed
+    assert r.t_brake_s[3] == np.inf
     assert r.t_collision_s[3] == pytest.approx(1.6)
-    assert r.impact_speed_mps[3] == pytest.approx(dv - A / 0.6 * 0.075**2 / 2)
+    assert r.impact_speed_mps[3] == pytest.approx(dv)
 
 
 def test_position_based_judgement_agrees_at_1_8_mps():
@@ -82,8 +85,9 @@ def test_position_based_judgement_agrees_at_1_8_mps():
 
 
 def test_cut_in_depends_on_relative_speed_only():
-    """Symmetry: shifting both speeds by the same amount changes nothing (the ego brakes down
-    to the other's speed, so only the relative motion matters)."""
+    """Symmetry with lane-aligned contact: shifting both speeds by the same amount changes
+    nothing (the ego brakes down to the other's speed, so only the relative motion matters;
+    with the Annex G heading the other car's yaw, atan2(Vy, Vo0), breaks it)."""
     rng = np.random.default_rng(3)
     n = 2000
     dv = rng.uniform(0, 60, n) * KMH
@@ -92,7 +96,7 @@ def test_cut_in_depends_on_relative_speed_only():
     dx0 = rng.uniform(0, 80, n)
     shift = rng.uniform(0, 50, n) * KMH
     for aeb in (False, True):
-        p = CCParams(aeb=aeb)
+        p = CCParams(aeb=aeb, contact="lane")
         a = evaluate_cut_in(vo + dv, vo, dx0, vy, p)
         b = evaluate_cut_in(vo + dv + shift, vo + shift, dx0, vy, p)
         assert np.array_equal(a.collision, b.collision)

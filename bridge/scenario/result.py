@@ -53,7 +53,9 @@ class TimeSeries:
     t: simulation time, s. ego_speed: m/s. ego_accel_cmd: the stack's command, m/s^2.
     gap: bumper to bumper to the scenario's target along the ego's heading, m (inf: no target).
     ttc_true: ground-truth TTC over all actors, s (inf: none within the horizon).
-    ttc_stack: the ego stack's own smallest TTC, s. aeb_stage: AEBStage as int.
+    ttc_stack: the ego stack's own smallest TTC, s. aeb_stage: AEBStage as int (decided this
+    step). aeb_decel: the AEB deceleration applied this step (after the actuation delay and
+    while latched), m/s^2 >= 0.
     conflict_distance: ego front to the conflict point along the ego's heading, m.
     """
 
@@ -64,6 +66,7 @@ class TimeSeries:
     ttc_true: list[float] = field(default_factory=list)
     ttc_stack: list[float] = field(default_factory=list)
     aeb_stage: list[int] = field(default_factory=list)
+    aeb_decel: list[float] = field(default_factory=list)
     conflict_distance: list[float] = field(default_factory=list)
 
     def __len__(self) -> int:

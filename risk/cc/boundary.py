@@ -1,24 +1,20 @@
 """Preventable boundaries of the C&C driver (JAMA Fig. 26, 28, 30) over grids of scenarios.
 
-- cut-in, per (Ve0, Vo0, Vy): the smallest dx0 (ego front to the other's rear) from which on
-  the C&C driver never collides; ``inf`` where it collides at every gap.
+- cut-in, per (Ve0, Vo0, Vy): every interval of dx0 (ego front to the other's rear) at which
+  the C&C driver collides (:mod:`hiyari.risk.cc.regions`), and the Preventable boundary: the
+  smallest dx0 from which on it never collides (``inf`` where it collides at every large
+  gap). Below the boundary the colliding gaps need not reach down to 0: at small gaps the
+  ego may pass before the other car enters its lane.
 - cut-out, per (Ve0, Vy): the smallest dx0_f (lead front to the stopped vehicle's rear) from
   which on it never collides, following at ``thw_s``; plus the gap below which the lead
   itself hits the stopped vehicle (Annex G excludes those).
 - deceleration, per (Ve0, Gx_max): Preventable or not at ``thw_s``, the minimum gap, and the
   smallest initial gap that would be Preventable.
 
-Driver-only boundaries are exact closed forms. Before braking the ego holds Ve0, so the gap
-is dx0 minus a relative displacement that does not depend on dx0, except through the cut-in
-TTC rule: when TTC is still >= ``ttc_brake_s`` at danger judgement the reaction waits for
-TTC to fall to it, and from then on the outcome no longer depends on dx0 at all (the gap at
-braking onset is (ttc_brake_s - reaction_delay_s) x (Ve0 - Vo0)). So the cut-in boundary is
-the relative displacement R of the ego reacting at danger judgement, provided that for gaps
-beyond the TTC threshold the driver still stops in time; where it does not (high relative
-speeds: about 52 km/h with the defaults) no gap is Preventable and the boundary is ``inf``.
-
-With the AEB variant the trigger depends on the gap, so boundaries are found by a scan of
-the gap (:class:`SearchOptions`) followed by bisection between the largest colliding scan
+Driver-only cut-out and deceleration boundaries are exact closed forms (before braking the
+ego holds Ve0, so the gap is dx0 minus a relative displacement that does not depend on dx0).
+With the AEB variant the trigger depends on the gap, so those boundaries are found by a scan
+of the gap (:class:`SearchOptions`) followed by bisection between the largest colliding scan
 point and the next; a collision window narrower than the scan step could be missed. AEB
 only ever adds braking, so the driver-only boundary bounds the search.
 """
@@ -36,13 +32,13 @@ import numpy as np
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.evaluator import (
-    cut_in_setup,
     cut_out_lead_clear_gap,
     cut_out_setup,
     decel_setup,
     run_chunked,
 )
 from hiyari.risk.cc.model import CCParams
+from hiyari.risk.cc.regions import Regions, RegionSearch, cut_in_regions
 from hiyari.units import KMH_PER_MPS
 
 _DEFAULT = CCParams()
@@ -152,17 +148,22 @@ def _scan_bisect(
 
 @dataclass(frozen=True)
 class SearchOptions:
-    """How AEB-variant boundaries are searched (driver-only boundaries are closed-form).
+    """How AEB-variant boundaries are searched (driver-only ones are closed-form).
 
     The gaps from 0 to the driver-only boundary (or ``cap_m``) are scanned at
-    max(``scan_step_m``, range / ``max_scans``), then the last colliding scan point and the
-    next are bisected to ``bisect_tol_m``.
+    max(``scan_step_m``, range / ``max_scans``), then each change of outcome between scan
+    points is bisected to ``bisect_tol_m``.
     """
 
     cap_m: float = 200.0
     scan_step_m: float = 0.5
     max_scans: int = 64
     bisect_tol_m: float = 1e-3
+
+    def region_search(self) -> RegionSearch:
+        """The AEB settings for :func:`~hiyari.risk.cc.regions.cut_in_regions`, which scans
+        ``max_scans`` points across each driver-only colliding interval instead."""
+        return RegionSearch(cap_m=self.cap_m, aeb_tol_m=self.bisect_tol_m)
 
 
 def cut_in_boundary(
@@ -172,40 +173,12 @@ def cut_in_boundary(
     params: CCParams = _DEFAULT,
     search: SearchOptions = SearchOptions(),
 ) -> np.ndarray:
-    """Cut-in Preventable boundary dx0 (m) per scenario; ``inf`` where no gap is Preventable.
+    """Cut-in Preventable boundary dx0 (m) per scenario: the upper end of the colliding gaps
+    (:func:`~hiyari.risk.cc.regions.cut_in_regions`); ``inf`` where every large gap collides.
 
     Inputs are assumed checked (Vo0 <= Ve0, Vy > 0 and feasible), as in the grid builders.
     """
-    ve0, vo0, vy = (np.asarray(a, dtype=float) for a in (ve0_mps, vo0_mps, vy_mps))
-    p = params
-    dv = ve0 - vo0
-    t_danger = p.danger_judgement_time(vy)
-    driver_only = replace(p, aeb=False)
-    zeros = np.zeros_like(ve0)
-    reach = run_chunked(
-        lambda a, b, c, d, t: cut_in_setup(a, b, c, d, driver_only, t_react=t),
-        [ve0, vo0, zeros, vy, t_danger],
-        driver_only,
-    )
-    relative = -reach.min_gap_m  # relative displacement of the ego reacting at danger
-    closing_after = relative - dv * (t_danger + p.reaction_delay_s)
-    finite = closing_after <= (p.ttc_brake_s - p.reaction_delay_s) * dv + 1e-9
-    driver = np.where(finite, np.maximum(relative, 0.0), np.inf)
-    if not p.aeb:
-        return driver
-    # the outcome depends on Ve0, Vo0 only through Ve0 - Vo0: search each (dv, Vy) once
-    key = np.stack([np.round(dv, 9), vy], axis=1)
-    uniq, inverse = np.unique(key, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    first = np.zeros(len(uniq), dtype=int)
-    first[inverse[::-1]] = np.arange(len(key))[::-1]
-    u_ve0, u_vo0, u_vy = ve0[first], vo0[first], vy[first]
-
-    def collides(d: np.ndarray) -> np.ndarray:
-        return run_chunked(lambda *a: cut_in_setup(*a, p), [u_ve0, u_vo0, d, u_vy], p).collision
-
-    found = _scan_bisect(collides, driver[first], search)
-    return found[inverse]
+    return cut_in_regions(ve0_mps, vo0_mps, vy_mps, params, search.region_search()).upper
 
 
 def cut_out_boundary(
@@ -270,9 +243,27 @@ def _write_csv(path: Path, header: list[str], columns: list[np.ndarray], fmt: li
     return path
 
 
+def floor_to_resolution(values: np.ndarray, resolution: float | None) -> np.ndarray:
+    """Round down to the resolution grid (nan and inf stay); small float noise is absorbed."""
+    if resolution is None:
+        return values
+    with np.errstate(invalid="ignore"):
+        steps = np.floor(values / resolution + 1e-9)
+    return np.where(np.isfinite(values), np.round(steps * resolution, 9) + 0.0, values)
+
+
+def format_regions(regions: Regions, i: int) -> str:
+    """``"lo:hi;lo:hi"`` of scenario ``i`` (empty when no gap collides)."""
+    return ";".join(f"{lo:.3f}:{hi:.3f}" for lo, hi in regions.intervals(i))
+
+
 @dataclass(frozen=True)
 class CutInDatasheet:
-    """Cut-in boundaries on a grid: one row per feasible (Ve0, Vo0, Vy)."""
+    """Cut-in regions and boundaries on a grid: one row per feasible (Ve0, Vo0, Vy).
+
+    ``regions``: the colliding dx0 intervals, exact; ``boundary_dx0_m``: their upper end
+    rounded up to ``resolution_m`` (the smallest Preventable gap on that grid above them).
+    """
 
     ve0_kmh: np.ndarray
     vo0_kmh: np.ndarray
@@ -280,20 +271,40 @@ class CutInDatasheet:
     boundary_dx0_m: np.ndarray
     resolution_m: float | None
     params: CCParams
+    regions: Regions
 
     @property
     def dv_kmh(self) -> np.ndarray:
         """Relative speed Ve0 - Vo0 (km/h)."""
         return np.round(self.ve0_kmh - self.vo0_kmh, 9)
 
-    def write_csv(self, path: str | Path) -> Path:
-        """One row per scenario; ``inf`` = no Preventable gap."""
-        return _write_csv(
-            Path(path),
-            ["ve0_kmh", "vo0_kmh", "dv_kmh", "vy_mps", "boundary_dx0_m"],
-            [self.ve0_kmh, self.vo0_kmh, self.dv_kmh, self.vy_mps, self.boundary_dx0_m],
-            ["{:g}", "{:g}", "{:g}", "{:g}", "{:.3f}"],
+    def grid_regions(self) -> Regions:
+        """The colliding intervals widened to ``resolution_m`` (lo down, hi up): the grid
+        gaps strictly inside collide, the ends are the nearest Preventable grid gaps."""
+        return Regions(
+            floor_to_resolution(self.regions.lo, self.resolution_m),
+            ceil_to_resolution(self.regions.hi, self.resolution_m),
         )
+
+    def write_csv(self, path: str | Path) -> Path:
+        """One row per scenario: ``boundary_dx0_m`` (``inf`` = no Preventable gap above the
+        colliding ones) and ``colliding_dx0_m``, every colliding interval as ``lo:hi``
+        separated by ``;`` (exact; empty = no gap collides; lo = 0 includes dx0 = 0)."""
+        path = Path(path)
+        columns = [self.ve0_kmh, self.vo0_kmh, self.dv_kmh, self.vy_mps, self.boundary_dx0_m]
+        fmt = ["{:g}", "{:g}", "{:g}", "{:g}", "{:.3f}"]
+        with atomic_path(path) as tmp, tmp.open("w", newline="") as fh:
+            writer = csv.writer(fh)
+            writer.writerow(
+                ["ve0_kmh", "vo0_kmh", "dv_kmh", "vy_mps", "boundary_dx0_m", "colliding_dx0_m"]
+            )
+            cells = [
+                [f.format(v) if np.isfinite(v) else str(v) for v in c.tolist()]
+                for c, f in zip(columns, fmt, strict=True)
+            ]
+            for i, row in enumerate(zip(*cells, strict=True)):
+                writer.writerow([*row, format_regions(self.regions, i)])
+        return path
 
 
 def cut_in_grid(
@@ -324,11 +335,12 @@ def cut_in_datasheet(
     resolution_m: float | None = 0.1,
     search: SearchOptions = SearchOptions(),
 ) -> CutInDatasheet:
-    """Cut-in boundaries over a grid. ``resolution_m`` rounds each boundary up to that grid
-    (the smallest Preventable gap on it); None keeps the exact value."""
+    """Cut-in regions and boundaries over a grid. ``resolution_m`` rounds each boundary up to
+    that grid (the smallest Preventable gap on it); None keeps the exact value."""
     ve, vo, vy = cut_in_grid(ve0_kmh, dv_kmh, vy_mps, params)
-    b = cut_in_boundary(ve / KMH_PER_MPS, vo / KMH_PER_MPS, vy, params, search)
-    return CutInDatasheet(ve, vo, vy, ceil_to_resolution(b, resolution_m), resolution_m, params)
+    regions = cut_in_regions(ve / KMH_PER_MPS, vo / KMH_PER_MPS, vy, params, search.region_search())
+    boundary = ceil_to_resolution(regions.upper, resolution_m)
+    return CutInDatasheet(ve, vo, vy, boundary, resolution_m, params, regions)
 
 
 @dataclass(frozen=True)

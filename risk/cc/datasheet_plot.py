@@ -13,6 +13,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
@@ -27,21 +28,17 @@ DPI = 110
 
 
 def _model_note(p: CCParams) -> str:
-    judge = (
-        f"danger = judgement + {p.perception_time_s:g} s"
-        if p.judgement == "time"
-        else f"danger at {p.wander_m + p.danger_lateral_m:g} m lateral"
-    )
+    """The model's parameters and conventions, two lines for a figure title."""
     aeb = (
         f"with AEB ({p.aeb_decel_g:g} g over {p.aeb_ramp_time_s:g} s at TTC < {p.aeb_ttc_s:g} s)"
         if p.aeb
         else "driver only (no AEB)"
     )
     return (
-        f"C&C driver: wander {p.wander_m:g} m, {judge}, reaction {p.reaction_delay_s:g} s, "
+        f"C&C driver: wander {p.wander_m:g} m, reaction {p.reaction_delay_s:g} s, "
         f"{p.max_decel_g:g} g reached in {p.ramp_time_s:g} s; {aeb}. Ego "
         f"{p.ego_length_m:g} x {p.ego_width_m:g} m, others {p.other_length_m:g} x "
-        f"{p.other_width_m:g} m, lanes {p.lane_width_m:g} m."
+        f"{p.other_width_m:g} m, lanes {p.lane_width_m:g} m.\n{p.convention_note()}"
     )
 
 
@@ -56,129 +53,119 @@ def _panel_grid(n: int) -> tuple[int, int]:
     return -(-n // cols), cols
 
 
-def plot_cut_in(
-    sheet: CutInDatasheet, path: str | Path, dv_panels_kmh: tuple[float, ...] | None = None
-) -> Path:
-    """Cut-in datasheet: one panel per relative speed Ve0 - Vo0, boundary dx0 against Vy.
+def cut_in_figure(
+    sheet: CutInDatasheet,
+    ve_rows_kmh: tuple[float, ...] | None = None,
+    dv_cols_kmh: tuple[float, ...] | None = None,
+) -> Figure:
+    """Cut-in datasheet: one panel per (Ve0, Ve0 - Vo0), every colliding interval of dx0 at
+    each Vy in red (Unpreventable), the rest Preventable, the boundary (upper end) in black.
 
-    In this model the outcome depends on Ve0 and Vo0 only through their difference, so each
-    panel's curve holds for every Ve0 of the sheet (the drawn curve is the largest boundary
-    over Ve0; the panel says if Ve0 changes it).
+    With the Annex G heading the other car's yaw depends on Vo0, so each ego speed has its
+    own panels (lane-aligned contact would make rows of equal relative speed identical).
     """
-    dv = sheet.dv_kmh
-    if dv_panels_kmh is None:
-        available = np.unique(dv[dv > 0])
-        wanted = [v for v in (10, 20, 30, 40, 50) if v in available]
-        dv_panels_kmh = tuple(wanted) if wanted else tuple(available[-5:])
-    rows, cols = _panel_grid(len(dv_panels_kmh) + 1)
-    fig = Figure(figsize=(4.6 * cols, 3.7 * rows + 0.9), layout="constrained")
-    axes = fig.subplots(rows, cols, squeeze=False, sharey=True)
-    finite = sheet.boundary_dx0_m[np.isfinite(sheet.boundary_dx0_m)]
-    y_top = max(10.0, 1.1 * float(finite.max()) if finite.size else 10.0)
+    ve_all, dv_all = np.unique(sheet.ve0_kmh), np.unique(sheet.dv_kmh)
+    if ve_rows_kmh is None:
+        wanted = [v for v in (30, 60, 90, 120) if v in ve_all]
+        ve_rows_kmh = tuple(wanted) if wanted else tuple(ve_all[-4:])
+    if dv_cols_kmh is None:
+        wanted = [v for v in (0, 10, 20, 30, 40, 50, 60) if v in dv_all]
+        dv_cols_kmh = tuple(wanted) if wanted else tuple(dv_all[-7:])
+    nr, nc = len(ve_rows_kmh), len(dv_cols_kmh)
+    fig = Figure(figsize=(2.75 * nc + 0.8, 2.35 * nr + 1.6), layout="constrained")
+    axes = fig.subplots(nr, nc, squeeze=False, sharex=True)
     vy_all = np.unique(sheet.vy_mps)
-    for ax, target in zip(axes.flat, dv_panels_kmh, strict=False):
-        sel = np.isclose(dv, target)
-        vys = np.unique(sheet.vy_mps[sel])
-        b = sheet.boundary_dx0_m[sel]
-        hi = np.array([b[sheet.vy_mps[sel] == v].max() for v in vys])
-        lo = np.array([b[sheet.vy_mps[sel] == v].min() for v in vys])
-        ve_range = sheet.ve0_kmh[sel]
-        top = np.where(np.isfinite(hi), hi, y_top)
-        ax.fill_between(vys, 0, top, color=UNPREVENTABLE, step=None, lw=0)
-        ax.fill_between(vys, np.minimum(top, y_top), y_top, color=PREVENTABLE, lw=0)
-        ax.plot(vys, np.where(np.isfinite(hi), hi, np.nan), color="k", lw=1.6)
-        both = np.isfinite(hi) & np.isfinite(lo)
-        spread = float(np.max(hi[both] - lo[both], initial=0.0))
-        if spread > 1e-6:
-            ax.fill_between(vys, lo, hi, color="0.3", alpha=0.35, lw=0)
-        note = (
-            f"Ve0 {ve_range.min():g}–{ve_range.max():g} km/h: same curve"
-            if spread <= 1e-6
-            else f"Ve0 {ve_range.min():g}–{ve_range.max():g} km/h: band = spread over Ve0"
-        )
-        if np.isinf(hi).any():
-            note += f"\nno Preventable gap at Vy ≤ {vys[np.isinf(hi)].max():g} m/s"
-            if np.isinf(hi).all():
-                note = (
-                    f"Ve0 {ve_range.min():g}–{ve_range.max():g} km/h\n"
-                    "no Preventable gap at any Vy:\nthe C&C driver collides at every dx0"
-                )
-        ax.text(
-            0.97,
-            0.96,
-            note,
-            transform=ax.transAxes,
-            ha="right",
-            va="top",
-            fontsize=8,
-            bbox={"fc": "white", "ec": "0.7", "alpha": 0.85},
-        )
-        ax.set_title(f"Ve0 − Vo0 = {target:g} km/h")
-        ax.set_xlim(0, float(vy_all.max()))
-        ax.set_ylim(0, y_top)
-        ax.grid(alpha=0.3)
-    _cut_in_summary(sheet, axes.flat[len(dv_panels_kmh)], y_top)
-    for ax in axes.flat[len(dv_panels_kmh) + 1 :]:
-        ax.set_visible(False)
-    for ax in axes.flat[: len(dv_panels_kmh)]:
-        ax.set_xlabel("cut-in lateral velocity Vy (m/s)")
-        ax.xaxis.set_tick_params(labelbottom=True)
-    for ax in axes[:, 0]:
-        ax.set_ylabel("initial gap dx0, ego front → other rear (m)")
+    width = float(np.min(np.diff(vy_all), initial=0.1)) if vy_all.size > 1 else 0.1
+    upper = sheet.regions.upper
+    for j, dv in enumerate(dv_cols_kmh):
+        col = np.isclose(sheet.dv_kmh, dv)
+        # one scale per relative speed, showing every finite end of the regions in it
+        ends = np.concatenate([upper[col], sheet.regions.lo[col].ravel()])
+        finite = ends[np.isfinite(ends)]
+        y_top = max(1.0, 1.15 * float(finite.max()) if finite.size else 1.0)
+        for i, ve in enumerate(ve_rows_kmh):
+            ax = axes[i][j]
+            sel = np.flatnonzero(col & np.isclose(sheet.ve0_kmh, ve))
+            if sel.size == 0:
+                ax.set_visible(False)
+                continue
+            _cut_in_panel(ax, sheet, sel, y_top, width)
+            ax.set_title(f"Ve0 {ve:g}, Ve0 − Vo0 {dv:g} km/h", fontsize=9)
+            ax.set_xlim(0, float(vy_all.max()) + width / 2)
+            ax.set_ylim(0, y_top)
+            ax.tick_params(labelsize=8, labelbottom=True)
+    for i in range(nr):
+        shown = [ax for ax in axes[i] if ax.get_visible()]
+        if shown:
+            shown[0].set_ylabel("dx0, ego front → other rear (m)", fontsize=8)
+    for j in range(nc):
+        shown = [axes[i][j] for i in range(nr) if axes[i][j].get_visible()]
+        if shown:
+            shown[-1].set_xlabel("cut-in lateral velocity Vy (m/s)", fontsize=8)
     fig.legend(
         handles=[
             Patch(color=PREVENTABLE, label="Preventable: collision not permitted"),
-            Patch(color=UNPREVENTABLE, label="Unpreventable"),
-            Patch(color="k", label="Preventable boundary"),
+            Patch(color=UNPREVENTABLE, label="Unpreventable: the C&C driver collides"),
+            Line2D([], [], color="k", lw=1.4, label="Preventable boundary (upper end)"),
+            Patch(color=EXCLUDED, label="Vy infeasible at Vo0"),
         ],
         loc="outside lower center",
-        ncol=3,
+        ncol=4,
     )
-    res = f", boundary rounded up to {sheet.resolution_m:g} m" if sheet.resolution_m else ""
+    pockets = int(np.sum(sheet.regions.lo[:, 0] > 0))
+    res = f"; boundary rounded up to {sheet.resolution_m:g} m" if sheet.resolution_m else ""
     fig.suptitle(
-        f"Cut-in Preventable boundary (cf. JAMA Fig. 26){res}\n{_model_note(sheet.params)}",
+        f"Cut-in Preventable regions (cf. JAMA Fig. 26): every colliding interval of dx0{res}. "
+        f"{pockets:,} of {upper.size:,} (Ve0, Vo0, Vy) have Preventable gaps below their "
+        f"colliding ones (the ego passes before the other car enters)\n"
+        + _model_note(sheet.params),
         fontsize=9.5,
     )
-    return _save(fig, Path(path))
+    return fig
 
 
-def _cut_in_summary(sheet: CutInDatasheet, ax: Axes, y_top: float) -> None:
-    """Boundary against relative speed, one curve per Vy: where the Preventable gap ends."""
-    dv = sheet.dv_kmh
-    vys = np.unique(sheet.vy_mps)
-    shown = [v for v in (0.5, 1.0, 2.0, 3.0) if np.isclose(vys, v).any()] or list(vys[-4:])
-    colors = ["#1b9e77", "#d95f02", "#7570b3", "#e7298a"]
-    none_from = []
-    for vy, color in zip(shown, colors, strict=False):
-        sel = np.isclose(sheet.vy_mps, vy)
-        dvs = np.unique(dv[sel])
-        b = np.array([sheet.boundary_dx0_m[sel & np.isclose(dv, d)].max() for d in dvs])
-        ax.plot(
-            dvs, np.where(np.isfinite(b), b, np.nan), color=color, lw=1.6, label=f"Vy = {vy:g} m/s"
-        )
-        if np.isinf(b).any():
-            none_from.append(dvs[np.isinf(b)].min())
-    if none_from:
-        start = min(none_from)
-        ax.axvspan(start, dv.max(), color=UNPREVENTABLE, lw=0)
+def _cut_in_panel(
+    ax: Axes, sheet: CutInDatasheet, sel: np.ndarray, y_top: float, width: float
+) -> None:
+    """Green background, red colliding intervals per Vy, black upper ends, grey infeasible."""
+    ax.set_facecolor(PREVENTABLE)
+    vys = sheet.vy_mps[sel]
+    for k, v in zip(sel, vys, strict=True):
+        for lo, hi in sheet.regions.intervals(int(k)):
+            ax.bar(v, min(hi, y_top) - lo, bottom=lo, width=width, color=UNPREVENTABLE, lw=0)
+    order = np.argsort(vys)
+    up = sheet.regions.upper[sel][order]
+    ax.plot(vys[order], np.where(np.isfinite(up), up, np.nan), color="k", lw=1.4)
+    vy_max = float(np.unique(sheet.vy_mps).max())
+    if vys.max() < vy_max - 1e-9:
+        ax.axvspan(vys.max() + width / 2, vy_max + width / 2, color=EXCLUDED, lw=0)
+    if np.isinf(up).any():
+        none = vys[order][np.isinf(up)]
         ax.text(
-            start - 0.5,
-            y_top * 0.75,
-            f"no Preventable gap\nat ≥ {start:g} km/h →",
-            fontsize=8,
+            0.97,
+            0.95,
+            f"no Preventable gap above the red\nat Vy {none.min():g}–{none.max():g} m/s",
+            transform=ax.transAxes,
             ha="right",
+            va="top",
+            fontsize=7,
+            bbox={"fc": "white", "ec": "0.7", "alpha": 0.85},
         )
-    ax.set_xlim(0, dv.max())
-    ax.set_ylim(0, y_top)
-    ax.set_xlabel("relative speed Ve0 − Vo0 (km/h)")
-    ax.set_title("boundary vs relative speed (Preventable above each curve)", fontsize=9.5)
-    ax.legend(fontsize=8, loc="upper left")
-    ax.grid(alpha=0.3)
 
 
-def plot_cut_out(
-    sheet: CutOutDatasheet, path: str | Path, vy_panels_mps: tuple[float, ...] | None = None
-) -> Path:
+def plot_cut_in(sheet: CutInDatasheet, path: str | Path) -> Path:
+    """Write :func:`cut_in_figure` as PNG."""
+    return _save(cut_in_figure(sheet), Path(path))
+
+
+def plot_cut_out(sheet: CutOutDatasheet, path: str | Path) -> Path:
+    """Write :func:`cut_out_figure` as PNG."""
+    return _save(cut_out_figure(sheet), Path(path))
+
+
+def cut_out_figure(
+    sheet: CutOutDatasheet, vy_panels_mps: tuple[float, ...] | None = None
+) -> Figure:
     """Cut-out datasheet: one panel per lateral velocity, boundary dx0_f against Ve0."""
     vys = np.unique(sheet.vy_mps)
     if vy_panels_mps is None:
@@ -236,10 +223,15 @@ def plot_cut_out(
         f"(dx0 = {p.thw_s:g} s x Ve0), stopped vehicle ahead of the lead\n{_model_note(p)}",
         fontsize=9.5,
     )
-    return _save(fig, Path(path))
+    return fig
 
 
 def plot_decel(sheet: DecelDatasheet, path: str | Path) -> Path:
+    """Write :func:`decel_figure` as PNG."""
+    return _save(decel_figure(sheet), Path(path))
+
+
+def decel_figure(sheet: DecelDatasheet) -> Figure:
     """Deceleration datasheet. Left: Preventable / Unpreventable over (Ve0, Gx_max) at the
     following THW, with contours of the C&C driver's minimum gap. Right: the smallest
     following time headway at which the scenario would be Preventable."""
@@ -265,11 +257,13 @@ def plot_decel(sheet: DecelDatasheet, path: str | Path) -> Path:
         vmax=1,
         shading="nearest",
     )
+    # contours need at least 2 x 2 grid points; a single row or column shows colours only
+    contoured = ve.size > 1 and gx.size > 1
     levels = [lv for lv in (1, 2, 5, 10, 20, 40) if np.nanmin(gap) < lv < np.nanmax(gap)]
-    if levels:
+    if contoured and levels:
         cs = ax.contour(ve, gx, gap, levels=levels, colors="0.25", linewidths=0.8)
         ax.clabel(cs, fmt="%g m", fontsize=8)
-    boundary_drawn = bool(np.nanmin(gap) < 0 < np.nanmax(gap))
+    boundary_drawn = contoured and bool(np.nanmin(gap) < 0 < np.nanmax(gap))
     if boundary_drawn:
         ax.contour(ve, gx, gap, levels=[0.0], colors="k", linewidths=2.0)
     all_ok = bool(np.all(sheet.preventable))
@@ -291,12 +285,15 @@ def plot_decel(sheet: DecelDatasheet, path: str | Path) -> Path:
     thw_levels = [
         lv for lv in (0.5, 1.0, 1.5, 2.0, 2.5, 3.0) if np.nanmin(thw) < lv < np.nanmax(thw)
     ]
-    if thw_levels:
+    if contoured and thw_levels:
         cs2 = ax2.contour(ve, gx, thw, levels=thw_levels, colors="0.25", linewidths=0.8)
         ax2.clabel(cs2, fmt="%g s", fontsize=8)
-    filled = ax2.contourf(ve, gx, thw, levels=12, cmap="viridis")
+    if contoured:
+        filled = ax2.contourf(ve, gx, thw, levels=12, cmap="viridis")
+    else:
+        filled = ax2.pcolormesh(ve, gx, thw, cmap="viridis", shading="nearest")
     fig.colorbar(filled, ax=ax2, label="smallest Preventable THW (s)")
-    if np.nanmin(thw) < p.thw_s < np.nanmax(thw):
+    if contoured and np.nanmin(thw) < p.thw_s < np.nanmax(thw):
         ax2.contour(ve, gx, thw, levels=[p.thw_s], colors="w", linewidths=2.0)
     ax2.set_title(f"smallest following THW that is Preventable (white: {p.thw_s:g} s)", fontsize=10)
     for a in (ax, ax2):
@@ -307,4 +304,4 @@ def plot_decel(sheet: DecelDatasheet, path: str | Path) -> Path:
         f"Deceleration Preventable map (cf. JAMA Fig. 30); dotted: 60 km/h\n{_model_note(p)}",
         fontsize=9.5,
     )
-    return _save(fig, Path(path))
+    return fig

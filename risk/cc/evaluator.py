@@ -9,23 +9,26 @@ Scenarios (t = 0 when the other vehicle starts its manoeuvre; geometry in
 :mod:`hiyari.risk.cc.model`):
 
 - cut-in: the other vehicle, in the adjacent lane dx0 ahead (ego front to its rear) at Vo0 <=
-  Ve0, moves laterally at Vy into the ego lane. The C&C driver judges the cut-in when its
-  displacement reaches ``wander_m`` and danger ``perception_time_s`` later (or at
-  ``wander_m + danger_lateral_m``); if TTC = gap / (Ve0 - Vo0) is still >= ``ttc_brake_s``
-  then, it reacts when TTC falls to it. Braking starts ``reaction_delay_s`` after, ramps to
-  ``max_decel_g`` and holds until the ego is down to Vo0.
+  Ve0, moves laterally at Vy into the ego lane. The C&C driver judges danger as
+  ``params.judgement`` says (default: ``perception_time_s`` after its displacement reaches
+  ``wander_m``). If the other car is then beside the ego (gap <= 0) it does not brake for it;
+  if TTC = gap / (Ve0 - Vo0) is still >= ``ttc_brake_s`` it reacts when TTC falls to it (or,
+  with ``above_ttc="end"``, the scenario ends there as not critical). Braking starts
+  ``reaction_delay_s`` after the reaction, ramps to ``max_decel_g`` and holds until the ego
+  is down to Vo0. The driver judges on the lane-aligned gap (Annex G's point mass); contact
+  is judged on the rectangles (:mod:`hiyari.risk.cc.contact`).
 - cut-out: the ego follows the lead (same speed) at ``thw_s``; a stopped vehicle stands
   dx0_f ahead of the lead's front. The lead moves laterally at Vy into the adjacent lane;
-  the C&C driver judges the cut-out at ``wander_m``, danger ``perception_time_s`` later, and
-  brakes to a stop ``reaction_delay_s`` after that (no TTC condition: the revealed vehicle is
-  stopped).
+  the C&C driver judges the cut-out at ``wander_m``, danger ``perception_time_s`` later
+  (``cut_out_perception``), and brakes to a stop ``reaction_delay_s`` after that (no TTC
+  condition: the revealed vehicle is stopped).
 - deceleration: the ego follows the lead at ``thw_s``; the lead brakes at Gx_max as a step
-  (infinite jerk) to a stop; danger judgement ``perception_time_s`` after its brake onset,
-  braking ``reaction_delay_s`` later, held to a stop.
+  (infinite jerk) to a stop; danger judgement ``perception_time_s`` after its brake onset
+  (``decel_perception``), braking ``reaction_delay_s`` later, held to a stop.
 
 With ``params.aeb`` the ego's deceleration is the larger of the driver's and the AEB's.
-Contact is judged on lane-aligned rectangles: a collision needs lateral overlap and a
-longitudinal overlap of more than ``contact_tol_m``.
+A collision needs the obstacle's rectangle, clipped to the ego's lateral band, to overlap the
+ego longitudinally by more than ``contact_tol_m``.
 """
 
 from __future__ import annotations
@@ -35,8 +38,10 @@ from dataclasses import dataclass
 from dataclasses import fields as dataclass_fields
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from hiyari.errors import HiyariError
+from hiyari.risk.cc.contact import CutInContact, cut_in_contact
 from hiyari.risk.cc.kinematics import Motion, PiecewiseCubic, max_of_profiles, ramp_knots
 from hiyari.risk.cc.model import CCParams
 
@@ -49,10 +54,12 @@ class CCResult:
     """Per-scenario outcome of the C&C driver, arrays of shape (N,).
 
     ``collision``: the rectangles overlapped. ``min_gap_m``: the smallest longitudinal gap
-    from the ego's front to the obstacle's rear while they overlap laterally; after a
-    contact the motions are continued as if the vehicles passed through each other, so for
-    a collision it is minus the extra gap the C&C driver would have needed (negative with no
-    collision only in a cut-in the ego had fully passed before the other entered its lane). ``t_collision_s``: first contact, s after the manoeuvre start (nan if none).
+    from the ego's front to the nearest point of the obstacle inside the ego's width while
+    they overlap laterally (the gap when the scenario ends if they never do); after a contact
+    the motions are continued as if the vehicles passed through each other, so for a
+    collision it is minus the extra gap the C&C driver would have needed (negative with no
+    collision only in a cut-in the ego had fully passed before the other entered its lane).
+    ``t_collision_s``: first contact, s after the manoeuvre start (nan if none).
     ``impact_speed_mps``: the ego's longitudinal speed relative to the obstacle at first
     contact (nan if none). ``t_brake_s``: onset of the ego's braking force (inf if it never
     brakes). ``valid``: False where Annex G excludes the scenario (cut-out: the lead itself
@@ -105,25 +112,53 @@ def _check_feasible_vy(vy: np.ndarray, vo: np.ndarray, params: CCParams) -> None
 class ScenarioSetup:
     """What the C&C response needs of N scenarios, before the ego's motion is known.
 
-    ``obstacle``: the motion of the obstacle's rear, with ``offset`` its initial distance
-    ahead of the ego's front (m); ``v0``/``v_end``: ego speed at t = 0 and the speed its
-    braking stops at (m/s); ``t_brake``: driver's braking onset (s); ``t_overlap``: when the
-    two start to overlap laterally (s); ``t_enable_aeb``: from when the AEB may trigger (s);
-    ``valid``: inside Annex G.
+    ``obstacle``: the motion of the obstacle's rear as the driver judges it (lane-aligned),
+    with ``offset`` its initial distance ahead of the ego's front (m); ``contact_rear`` /
+    ``contact_front``: the nearest / farthest x of the obstacle inside the ego's lateral band
+    (m, absolute, valid from ``t_overlap``); ``v0``/``v_end``: ego speed at t = 0 and the
+    speed its braking stops at (m/s); ``t_brake``: driver's braking onset (s); ``t_overlap``:
+    when the two start to overlap laterally (s); ``t_end``: when the scenario ends (s, inf =
+    never); ``t_enable_aeb``: from when the AEB may trigger (s); ``valid``: inside Annex G;
+    ``front_monotone``: ``contact_rear`` is never faster than the ego's slowest speed, except
+    for a jump forward at ``t_jump`` (s), so the front gap can only shrink between jumps.
     """
 
     obstacle: Motion
     offset: np.ndarray
+    contact_rear: Motion
+    contact_front: Motion
     v0: np.ndarray
     v_end: np.ndarray
     t_brake: np.ndarray
     t_overlap: np.ndarray
+    t_end: np.ndarray
     t_enable_aeb: np.ndarray
     valid: np.ndarray
+    front_monotone: np.ndarray
+    t_jump: np.ndarray
 
-    def gap(self, ego: Motion) -> PiecewiseCubic:
-        """Ego front to obstacle rear (m) under the ego motion ``ego``."""
-        return PiecewiseCubic.gap(self.offset, self.obstacle, ego)
+    def gap(self, ego: Motion, rows: np.ndarray | None = None) -> PiecewiseCubic:
+        """Ego front to obstacle rear (m, lane-aligned) under the ego motion ``ego`` (of the
+        given rows only)."""
+        if rows is None:
+            return PiecewiseCubic.gap(self.offset, self.obstacle, ego)
+        return PiecewiseCubic.gap(self.offset[rows], self.obstacle.rows(rows), ego.rows(rows))
+
+
+def _lane_aligned_setup(
+    obstacle: Motion, offset: np.ndarray, p: CCParams, **rest: np.ndarray
+) -> ScenarioSetup:
+    """A setup whose obstacle is a lane-aligned rectangle in the ego's lane."""
+    rear = obstacle.shifted(offset)
+    return ScenarioSetup(
+        obstacle=obstacle,
+        offset=offset,
+        contact_rear=rear,
+        contact_front=rear.shifted(np.full(offset.shape, p.other_length_m)),
+        front_monotone=np.zeros(offset.shape, bool),
+        t_jump=np.full(offset.shape, np.inf),
+        **rest,
+    )
 
 
 def _driver_motion(v0: np.ndarray, v_end: np.ndarray, t_brake: np.ndarray, p: CCParams) -> Motion:
@@ -136,15 +171,16 @@ def ego_response(setup: ScenarioSetup, p: CCParams) -> tuple[Motion, np.ndarray]
 
     Without AEB the ego brakes as the driver does from ``setup.t_brake``. With AEB, the
     trigger is the first time at or after ``t_enable_aeb`` that gap < ``aeb_ttc_s`` x closing
-    speed under the driver's motion (never for an obstacle the ego has already fully
-    passed); from then the ego decelerates at the larger of the two.
+    speed under the driver's motion, for an obstacle still ahead of the ego's front then (an
+    AEB does not brake for a car beside the ego); from then the ego decelerates at the
+    larger of the two.
     """
     ego = _driver_motion(setup.v0, setup.v_end, setup.t_brake, p)
     if not p.aeb:
         return ego, setup.t_brake
     gap = setup.gap(ego)
     trigger = gap.plus_derivative(p.aeb_ttc_s).first_negative(setup.t_enable_aeb)
-    ahead = gap.value(setup.t_enable_aeb) > -_pass_length(p)
+    ahead = (gap.value(setup.t_enable_aeb) >= 0) & (trigger <= setup.t_end)
     onset = np.where(ahead, trigger + p.aeb_delay_s, np.inf)
     t_drv, d_drv = ramp_knots(setup.t_brake, p.ramp_time_s, p.max_decel_mps2)
     t_aeb, d_aeb = ramp_knots(onset, p.aeb_ramp_time_s, p.aeb_decel_mps2)
@@ -152,32 +188,82 @@ def ego_response(setup: ScenarioSetup, p: CCParams) -> tuple[Motion, np.ndarray]
     return Motion.braking(setup.v0, knots_t, knots_d, setup.v_end), np.minimum(setup.t_brake, onset)
 
 
-def _pass_length(p: CCParams) -> float:
-    """Gap at or below which the ego front is past the obstacle's front: fully passed."""
-    return p.ego_length_m + p.other_length_m
-
-
 def outcome(setup: ScenarioSetup, p: CCParams) -> CCResult:
-    """Contact between the C&C ego and the obstacle from the overlap time on.
+    """Contact between the C&C ego and the obstacle within [t_overlap, t_end].
 
-    Contact happens iff the gap goes below ``-contact_tol_m`` after ``t_overlap``, unless the
-    ego had already fully passed (gap <= -(ego length + other length)) when the overlap
-    began. That is possible only in a cut-in, where the ego never gets slower than the other,
-    so a passed ego stays past.
+    With ``front`` = obstacle's nearest point in the ego's band - ego front and ``back`` =
+    ego rear - its farthest point, contact at t means both are below ``-contact_tol_m``; as
+    front + back <= -ego length, one of them is. So an ego not yet past the nearest point at
+    ``t_overlap`` collides iff ``front`` falls below the tolerance later; an ego already past
+    the farthest one (it passed before the other entered its band) collides iff ``back``
+    does (the other's corner sweeping into the ego's side); one that is neither is hit at once.
     """
     ego, t_brake = ego_response(setup, p)
-    gap = setup.gap(ego)
-    gap_in = gap.value(setup.t_overlap)
-    min_gap = gap.minimum_after(setup.t_overlap)
-    collision = (gap_in > -_pass_length(p)) & (min_gap < -p.contact_tol_m)
-    t_hit = np.full(collision.shape, np.nan)
-    impact = np.full(collision.shape, np.nan)
+    tol = p.contact_tol_m
+    t0, t1 = setup.t_overlap, setup.t_end
+    n = t0.size
+    in_time = t0 <= t1
+    t0q = np.where(in_time, t0, 0.0)
+    min_gap = np.empty(n)
+    never = ~in_time
+    if never.any():
+        min_gap[never] = setup.gap(ego, never).value(t1[never])
+    fast = in_time & setup.front_monotone
+    if fast.any():
+        min_gap[fast] = _monotone_front_minimum(setup, ego, fast)
+    slow = np.flatnonzero(in_time & ~fast)
+    if slow.size:
+        front = _front_gap(setup, ego, slow)
+        min_gap[slow] = front.minimum_between(t0[slow], t1[slow])
+    front0 = setup.contact_rear.state_at(t0q)[0] - ego.state_at(t0q)[0]
+    beside = in_time & (front0 < -tol)
+    collision = ~beside & in_time & (min_gap < -tol)
+    t_hit = np.full(n, np.nan)
     if collision.any():
         rows = np.flatnonzero(collision)
-        sub = gap.rows(rows).shifted(p.contact_tol_m)
-        t_hit[rows] = sub.first_negative(setup.t_overlap[rows])
-        impact[rows] = -sub.derivative_value(t_hit[rows])
+        t_hit[rows] = _front_gap(setup, ego, rows).shifted(tol).first_negative(t0[rows])
+    if beside.any():
+        rows = np.flatnonzero(beside)
+        back = PiecewiseCubic.gap(
+            np.full(rows.size, -p.ego_length_m), ego.rows(rows), setup.contact_front.rows(rows)
+        )
+        at_once = back.value(t0[rows]) < -tol
+        later = ~at_once & (back.minimum_between(t0[rows], t1[rows]) < -tol)
+        collision[rows] = at_once | later
+        t_hit[rows[at_once]] = t0[rows[at_once]]
+        if later.any():
+            sub = back.rows(np.flatnonzero(later)).shifted(tol)
+            t_hit[rows[later]] = sub.first_negative(t0[rows[later]])
+    impact = np.full(n, np.nan)
+    if collision.any():
+        rows = np.flatnonzero(collision)
+        impact[rows] = -setup.gap(ego, rows).derivative_value(t_hit[rows])
     return CCResult(collision, min_gap, t_hit, impact, t_brake, setup.valid)
+
+
+def _front_gap(setup: ScenarioSetup, ego: Motion, rows: np.ndarray) -> PiecewiseCubic:
+    """Obstacle's nearest point in the ego's band - ego front (m), of the given rows."""
+    return PiecewiseCubic.gap(np.zeros(rows.size), setup.contact_rear.rows(rows), ego.rows(rows))
+
+
+def _monotone_front_minimum(setup: ScenarioSetup, ego: Motion, rows: np.ndarray) -> np.ndarray:
+    """min over [t_overlap, t_end] of the front gap where it only shrinks between its jumps
+    (``front_monotone``): the left limit before the jump, or the end of the scenario, or
+    -inf when the ego stays faster than the obstacle for ever."""
+    rear, mine = setup.contact_rear.rows(rows), ego.rows(rows)
+    t_jump, t_end = setup.t_jump[rows], setup.t_end[rows]
+    t_a = np.minimum(t_jump, t_end)
+    before = np.maximum(np.sum(rear.t < t_a[:, None], axis=1) - 1, 0)
+    x_rear_a = rear.state_in_segment(before[:, None], t_a[:, None])[0][:, 0]
+    first = x_rear_a - mine.state_at(t_a)[0]
+    # after the jump: to the end, or to when neither changes speed any more
+    last_knot = np.max(np.where(np.isfinite(mine.t), mine.t, 0.0), axis=1)
+    t_b = np.where(np.isfinite(t_end), t_end, np.maximum(t_jump, last_knot))
+    t_bq = np.where(np.isfinite(t_b), t_b, 0.0)
+    second = rear.state_at(t_bq)[0] - mine.state_at(t_bq)[0]
+    running_away = np.isinf(t_end) & (mine.v[:, -1] > rear.v[:, -1])
+    second = np.where(running_away, -np.inf, second)
+    return np.where(t_jump <= t_end, np.minimum(first, second), first)
 
 
 def run_chunked(
@@ -196,18 +282,33 @@ def run_chunked(
     )
 
 
-def cut_in_reaction_time(
-    ve0: np.ndarray, vo0: np.ndarray, dx0: np.ndarray, vy: np.ndarray, p: CCParams
-) -> np.ndarray:
-    """When the C&C driver's reaction delay starts in a cut-in (s), inf if never.
+def cut_in_reaction(
+    ve0: np.ndarray,
+    vo0: np.ndarray,
+    dx0: np.ndarray,
+    vy: np.ndarray,
+    t_overlap: np.ndarray,
+    p: CCParams,
+) -> tuple[np.ndarray, np.ndarray]:
+    """When the C&C driver's reaction delay starts in a cut-in and when the scenario ends (s,
+    inf = never), before any braking (the ego still at Ve0).
 
-    Danger judgement, or later the instant TTC = dx0 / (Ve0 - Vo0) - t falls to
-    ``ttc_brake_s`` (the ego has not braked before, so its speed is still Ve0).
+    At danger judgement the gap is dx0 - (Ve0 - Vo0) t: at or below 0 the other car is beside
+    the ego and the driver does not brake for it. Else TTC below ``ttc_brake_s`` means react
+    now; above it, react when TTC falls to it (``above_ttc="wait"``) or end the scenario
+    (``"end"``).
     """
     dv = ve0 - vo0
+    t_danger = p.danger_judgement_time(vy, t_overlap)
+    ahead = dx0 - dv * t_danger > 0
     with np.errstate(divide="ignore", invalid="ignore"):
         t_ttc = np.where(dv > 0, dx0 / dv - p.ttc_brake_s, np.inf)
-    return np.maximum(p.danger_judgement_time(vy), t_ttc)
+    above = t_ttc > t_danger
+    never = np.full(ve0.shape, np.inf)
+    if p.above_ttc == "end":
+        t_react = np.where(ahead & ~above, t_danger, np.inf)
+        return t_react, np.where(ahead & above, t_danger, never)
+    return np.where(ahead, np.maximum(t_danger, t_ttc), np.inf), never
 
 
 def cut_in_setup(
@@ -216,25 +317,40 @@ def cut_in_setup(
     dx0: np.ndarray,
     vy: np.ndarray,
     p: CCParams,
-    t_react: np.ndarray | None = None,
+    reaction: tuple[np.ndarray, np.ndarray] | None = None,
+    contact: CutInContact | None = None,
 ) -> ScenarioSetup:
-    """Cut-in scenarios (no input checks); ``t_react`` overrides the reaction start."""
-    if t_react is None:
-        t_react = cut_in_reaction_time(ve0, vo0, dx0, vy, p)
-    t_overlap = p.cut_in_dy0_m / vy
+    """Cut-in scenarios (no input checks); ``reaction`` = (reaction start, scenario end)
+    overrides :func:`cut_in_reaction`, ``contact`` (of these scenarios, at this dx0) saves
+    computing it."""
+    if contact is None:
+        contact = cut_in_contact(vo0, dx0, vy, p)
+    t_react, t_end = reaction or cut_in_reaction(ve0, vo0, dx0, vy, contact.t_overlap, p)
     return ScenarioSetup(
         obstacle=Motion.constant_speed(vo0),
         offset=dx0,
+        contact_rear=contact.rear,
+        contact_front=contact.front,
         v0=ve0,
         v_end=vo0,
         t_brake=t_react + p.reaction_delay_s,
-        t_overlap=t_overlap,
-        t_enable_aeb=t_overlap,
+        t_overlap=contact.t_overlap,
+        t_end=t_end,
+        t_enable_aeb=contact.t_overlap,
         valid=np.ones(ve0.shape, bool),
+        # the ego never brakes below Vo0 and the rear only recedes while entering the band
+        front_monotone=contact.rear_receding,
+        t_jump=contact.t_settle,
     )
 
 
-def evaluate_cut_in(ve0_mps, vo0_mps, dx0_m, vy_mps, params: CCParams = _DEFAULT) -> CCResult:
+def evaluate_cut_in(
+    ve0_mps: ArrayLike,
+    vo0_mps: ArrayLike,
+    dx0_m: ArrayLike,
+    vy_mps: ArrayLike,
+    params: CCParams = _DEFAULT,
+) -> CCResult:
     """C&C driver in cut-in scenarios (arrays or scalars, broadcast).
 
     ``ve0_mps``: ego speed, ``vo0_mps``: cut-in vehicle's speed (<= ego's, Annex G),
@@ -260,19 +376,23 @@ def cut_out_lead_clear_gap(ve0: np.ndarray, vy: np.ndarray, p: CCParams) -> np.n
 def cut_out_setup(ve0: np.ndarray, vy: np.ndarray, dx0_f: np.ndarray, p: CCParams) -> ScenarioSetup:
     """Cut-out scenarios (no input checks): the obstacle is the stopped vehicle."""
     zeros = np.zeros_like(ve0)
-    return ScenarioSetup(
-        obstacle=Motion.constant_speed(zeros),
-        offset=p.thw_s * ve0 + p.other_length_m + dx0_f,
+    return _lane_aligned_setup(
+        Motion.constant_speed(zeros),
+        p.thw_s * ve0 + p.other_length_m + dx0_f,
+        p,
         v0=ve0,
         v_end=zeros,
-        t_brake=p.danger_judgement_time(vy) + p.reaction_delay_s,
+        t_brake=p.cut_out_danger_time(vy) + p.reaction_delay_s,
         t_overlap=zeros,
+        t_end=np.full(ve0.shape, np.inf),
         t_enable_aeb=0.5 * (p.ego_width_m + p.other_width_m) / vy,
         valid=dx0_f >= cut_out_lead_clear_gap(ve0, vy, p) - 1e-9,
     )
 
 
-def evaluate_cut_out(ve0_mps, vy_mps, dx0_f_m, params: CCParams = _DEFAULT) -> CCResult:
+def evaluate_cut_out(
+    ve0_mps: ArrayLike, vy_mps: ArrayLike, dx0_f_m: ArrayLike, params: CCParams = _DEFAULT
+) -> CCResult:
     """C&C driver in cut-out scenarios (arrays or scalars, broadcast).
 
     ``ve0_mps``: ego and lead speed (> 0), ``vy_mps``: the lead's lateral speed (> 0,
@@ -290,19 +410,27 @@ def evaluate_cut_out(ve0_mps, vy_mps, dx0_f_m, params: CCParams = _DEFAULT) -> C
 def decel_setup(ve0: np.ndarray, gx: np.ndarray, dx0: np.ndarray, p: CCParams) -> ScenarioSetup:
     """Deceleration scenarios (no input checks): the obstacle is the braking lead."""
     zeros = np.zeros_like(ve0)
-    return ScenarioSetup(
-        obstacle=Motion.step_deceleration(ve0, gx * p.g_mps2),
-        offset=dx0,
+    decel = gx * p.g_mps2
+    return _lane_aligned_setup(
+        Motion.step_deceleration(ve0, decel),
+        dx0,
+        p,
         v0=ve0,
         v_end=zeros,
-        t_brake=np.full(ve0.shape, p.perception_time_s + p.reaction_delay_s),
+        t_brake=p.decel_danger_time(decel) + p.reaction_delay_s,
         t_overlap=zeros,
+        t_end=np.full(ve0.shape, np.inf),
         t_enable_aeb=zeros,
         valid=np.ones(ve0.shape, bool),
     )
 
 
-def evaluate_decel(ve0_mps, gx_max_g, params: CCParams = _DEFAULT, dx0_m=None) -> CCResult:
+def evaluate_decel(
+    ve0_mps: ArrayLike,
+    gx_max_g: ArrayLike,
+    params: CCParams = _DEFAULT,
+    dx0_m: ArrayLike | None = None,
+) -> CCResult:
     """C&C driver in deceleration scenarios (arrays or scalars, broadcast).
 
     ``ve0_mps``: ego and lead speed (> 0), ``gx_max_g``: the lead's deceleration in g

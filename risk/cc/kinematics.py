@@ -31,7 +31,9 @@ def _gather(arr: np.ndarray, idx: np.ndarray) -> np.ndarray:
     return arr.ravel()[_flat_index(arr.shape, idx)]
 
 
-def _poly(c0, c1, c2, c3, s):
+def _poly(
+    c0: np.ndarray, c1: np.ndarray, c2: np.ndarray, c3: np.ndarray, s: np.ndarray
+) -> np.ndarray:
     return c0 + s * (c1 + s * (c2 + s * c3))
 
 
@@ -65,6 +67,25 @@ class Motion:
             a = a0 + s * j
         out = (x, v, a, j)
         return tuple(o[:, 0] for o in out) if flat else out
+
+    def state_in_segment(self, idx: np.ndarray, tq: np.ndarray) -> tuple[np.ndarray, ...]:
+        """Position, speed, acceleration and jerk at times ``tq`` (N, Q) continuing segment
+        ``idx`` (N, Q) of each row."""
+        flat_idx = _flat_index(self.t.shape, idx)
+        t0 = self.t.ravel()[flat_idx]
+        s = np.where(np.isfinite(t0), tq - t0, 0.0)
+        x0, v0, a0, j = (arr.ravel()[flat_idx] for arr in (self.x, self.v, self.a, self.j))
+        x = x0 + s * (v0 + s * (a0 / 2 + s * j / 6))
+        v = v0 + s * (a0 + s * j / 2)
+        return x, v, a0 + s * j, j
+
+    def rows(self, index: np.ndarray) -> Motion:
+        """The motions of the given rows."""
+        return Motion(*(arr[index] for arr in (self.t, self.x, self.v, self.a, self.j)))
+
+    def shifted(self, dx: np.ndarray) -> Motion:
+        """The same motions moved ``dx`` (N,) metres forward."""
+        return Motion(self.t, self.x + np.asarray(dx, dtype=float)[:, None], self.v, self.a, self.j)
 
     @classmethod
     def constant_speed(cls, v: np.ndarray, x0: np.ndarray | float = 0.0) -> Motion:
@@ -252,11 +273,19 @@ class PiecewiseCubic:
             al = lead.a + tq * lead.j
             jl = lead.j
         else:
-            starts = np.sort(np.concatenate([lead.t, follower.t], axis=1), axis=1)
+            # merge the two knot lists; each motion's segment at a merged knot is the number
+            # of its own knots up to there (a knot repeated within one motion keeps the
+            # earlier segment's end: the left limit at a jump)
+            both = np.concatenate([lead.t, follower.t], axis=1)
+            order = np.argsort(both, axis=1, kind="stable")
+            starts = np.take_along_axis(both, order, axis=1)
             finite = np.isfinite(starts)
             tq = np.where(finite, starts, 0.0)
-            xl, vl, al, jl = lead.state_at(tq)
-            xf, vf, af, jf = follower.state_at(tq)
+            from_lead = order < lead.t.shape[1]
+            idx_l = np.maximum(np.cumsum(from_lead, axis=1) - 1, 0)
+            idx_f = np.maximum(np.cumsum(~from_lead, axis=1) - 1, 0)
+            xl, vl, al, jl = lead.state_in_segment(idx_l, tq)
+            xf, vf, af, jf = follower.state_in_segment(idx_f, tq)
         offset = np.asarray(offset, dtype=float)[:, None]
         return cls(
             t=starts,
@@ -300,17 +329,26 @@ class PiecewiseCubic:
             self.c3,
         )
 
-    def _window(self, ts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Per segment: local [s0, s1] of its part at or after ts, and whether it exists."""
+    def _window(
+        self, ts: np.ndarray, te: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per segment: local [s0, s1] of its part within [ts, te] (te None: no end), and
+        whether it exists."""
         finite = np.isfinite(self.t)
         t0 = np.where(finite, self.t, 0.0)
         lengths = np.empty_like(t0)
         lengths[:, :-1] = np.diff(t0, axis=1)
-        lengths[:, :-1] = np.where(finite[:, 1:], lengths[:, :-1], 0.0)
+        # a segment followed only by never-reached ones lasts for ever
+        lengths[:, :-1] = np.where(finite[:, 1:], lengths[:, :-1], np.inf)
         lengths[:, -1] = np.inf
         s0 = np.maximum(ts[:, None] - t0, 0.0)
         active = finite & ((t0 + lengths > ts[:, None]) | (t0 >= ts[:, None]))
-        return s0, lengths, active
+        if te is None:
+            return s0, lengths, active
+        s1 = np.minimum(lengths, te[:, None] - t0)
+        # a segment starting at te is excluded: at a jump the window takes the left limit
+        starts_before = (t0 < te[:, None]) | (t0 <= ts[:, None])
+        return s0, s1, active & (s1 >= s0) & starts_before
 
     def _critical_points(self) -> tuple[np.ndarray, np.ndarray]:
         """Both roots of dp/ds per segment (nan where absent)."""
@@ -323,9 +361,9 @@ class PiecewiseCubic:
             r2 = np.where(cubic, qc / q, np.nan)
         return r1, r2
 
-    def _segment_minima(self, ts: np.ndarray) -> np.ndarray:
-        """(N, K) minimum of each segment over its part at or after ts (+inf if none)."""
-        s0, s1, active = self._window(ts)
+    def _segment_minima(self, ts: np.ndarray, te: np.ndarray | None = None) -> np.ndarray:
+        """(N, K) minimum of each segment over its part within [ts, te] (+inf if none)."""
+        s0, s1, active = self._window(ts, te)
         c0, c1, c2, c3 = self.c0, self.c1, self.c2, self.c3
         s1_finite = np.isfinite(s1)
         best = np.minimum(
@@ -343,6 +381,13 @@ class PiecewiseCubic:
         """min over t >= ts of p(t), (N,); -inf if p decreases without bound."""
         with np.errstate(invalid="ignore"):
             return self._segment_minima(np.asarray(ts, dtype=float)).min(axis=1)
+
+    def minimum_between(self, ts: np.ndarray, te: np.ndarray) -> np.ndarray:
+        """inf over ts <= t < te of p(t), closed at te by the left limit, (N,); +inf where
+        te < ts. A jump at te is not part of the window."""
+        ts, te = np.asarray(ts, dtype=float), np.asarray(te, dtype=float)
+        with np.errstate(invalid="ignore"):
+            return self._segment_minima(ts, te).min(axis=1)
 
     def first_negative(self, ts: np.ndarray) -> np.ndarray:
         """First time t >= ts at which p becomes negative (the root where it crosses 0), (N,);

@@ -10,15 +10,32 @@ Frames and geometry (Annex G, G.5.6):
 - x along the road (m, forward), y lateral (m, left positive), the ego lane centre at y = 0
   and the adjacent lane centre at y = +lane_width_m (SUMO lane index 0 is the ego lane,
   index 1 the lane to its left);
-- every vehicle is a ground rectangle aligned with the lane: the ego ``ego_length_m`` x
-  ``ego_width_m`` (default 4.8 m x 1.9 m, our choice: Annex G leaves it to the applicant),
-  the others ``other_length_m`` x ``other_width_m`` = 5.3 m x 1.9 m (Annex G);
+- every vehicle is a ground rectangle: the ego ``ego_length_m`` x ``ego_width_m`` (default
+  4.8 m x 1.9 m, our choice: Annex G leaves it to the applicant), the others
+  ``other_length_m`` x ``other_width_m`` = 5.3 m x 1.9 m (Annex G);
 - all vehicles start centred in their lanes; the other vehicle's lateral motion is a step in
   lateral velocity at t = 0 and ends when it is centred in its target lane; its longitudinal
-  speed stays at Vo0 (Annex G attachment 3). Its heading follows the velocity vector for the
-  SUMO trajectories (:mod:`hiyari.risk.cc.trajectory`), but contact is judged on
-  lane-aligned rectangles: the C&C evaluation, like the Annex G point-mass model, ignores the
-  few centimetres a yawed rectangle's corners move.
+  speed stays at Vo0 and its heading follows its velocity vector (Annex G attachment 3): a
+  step to atan2(Vy, Vo0) at t = 0 and back to the lane heading when the lateral motion ends.
+  With ``contact="heading"`` (default) contact is judged on the rectangles at those headings,
+  as the closed loop moves them; ``contact="lane"`` keeps them aligned with the lane (the
+  point-mass reading of Annex G, used by some public implementations).
+
+Driver-model conventions (where the JAMA / R157 text leaves room; the defaults are
+MODELS.md's and every alternative is a named value of a field below):
+
+- ``judgement``: when the cut-in danger judgement fires: ``"time"`` (wander-zone exit +
+  ``perception_time_s``), ``"position"`` (lateral displacement ``wander_m +
+  danger_lateral_m``) or ``"overlap"`` (first lateral overlap with the ego);
+- ``above_ttc``: when TTC at danger judgement is at or above ``ttc_brake_s``: ``"wait"``
+  (react when TTC falls to it) or ``"end"`` (not a critical cut-in: the scenario ends there);
+- ``cut_out_perception``: whether the cut-out danger judgement adds ``perception_time_s``;
+- ``decel_perception``: ``"always"``, ``"never"`` or ``"hard-braking"`` (only when the lead
+  brakes harder than ``hard_braking_mps2``).
+
+In every convention a C&C driver whose danger judgement finds the other car already beside
+it (longitudinal gap <= 0) does not brake for it: braking into a car alongside turns a pass
+into a side collision.
 """
 
 from __future__ import annotations
@@ -30,6 +47,15 @@ import numpy as np
 
 from hiyari.errors import HiyariError
 from hiyari.units import G
+
+CONVENTIONS: dict[str, tuple] = {
+    "judgement": ("time", "position", "overlap"),
+    "above_ttc": ("wait", "end"),
+    "cut_out_perception": (True, False),
+    "decel_perception": ("always", "never", "hard-braking"),
+    "contact": ("heading", "lane"),
+}
+"""The driver-model and geometry conventions and their allowed values (first = MODELS.md)."""
 
 
 @dataclass(frozen=True)
@@ -54,9 +80,29 @@ class CCParams:
     """Extra lateral travel beyond ``wander_m`` that marks danger in the position-based
     judgement: maximum lateral velocity 1.8 m/s x 0.4 s (JAMA)."""
     judgement: str = "time"
-    """``"time"``: danger judgement = lane-change judgement + ``perception_time_s``;
-    ``"position"``: when the lateral displacement reaches ``wander_m + danger_lateral_m``.
-    The two agree at Vy = 1.8 m/s (MODELS.md default: time-based)."""
+    """Cut-in danger judgement. ``"time"``: lane-change judgement + ``perception_time_s``;
+    ``"position"``: when the lateral displacement reaches ``wander_m + danger_lateral_m`` (the
+    two agree at Vy = 1.8 m/s); ``"overlap"``: at the first lateral overlap with the ego. In
+    the cut-out, ``"overlap"`` reads as ``"time"`` (the stopped vehicle overlaps from the
+    start). MODELS.md default: time-based."""
+    above_ttc: str = "wait"
+    """Cut-in with TTC >= ``ttc_brake_s`` at danger judgement. ``"wait"``: the reaction starts
+    when TTC falls to it (MODELS.md); ``"end"``: the cut-in is not critical and the scenario
+    ends at the danger judgement (contact before that still counts)."""
+    cut_out_perception: bool = True
+    """Cut-out: danger judgement = cut-out judgement + ``perception_time_s`` (MODELS.md);
+    False: at the cut-out judgement itself (``"position"``: at ``wander_m``)."""
+    decel_perception: str = "always"
+    """Deceleration: ``"always"``: danger judgement ``perception_time_s`` after the lead's
+    brake onset (MODELS.md); ``"never"``: at the onset; ``"hard-braking"``: the delay only
+    when the lead decelerates harder than ``hard_braking_mps2`` (a public R157 reference
+    driver's choice)."""
+    hard_braking_mps2: float = 5.0
+    """Threshold of ``decel_perception="hard-braking"``, m/s²."""
+    contact: str = "heading"
+    """Contact geometry of the cut-in: ``"heading"``: the other vehicle's rectangle turned
+    along its velocity (Annex G attachment 3, as the closed loop moves it); ``"lane"``:
+    aligned with the lane."""
     ttc_brake_s: float = 2.0
     """Cut-in only: braking is needed while TTC = gap / (Ve - Vo) < this; when TTC is larger
     at danger judgement the reaction starts when TTC first falls to it (JAMA: 2.0 s, UN
@@ -131,6 +177,7 @@ class CCParams:
             "aeb_ramp_time_s",
             "thw_s",
             "contact_tol_m",
+            "hard_braking_mps2",
         ]
         for name in positive + non_negative:
             value = getattr(self, name)
@@ -140,10 +187,12 @@ class CCParams:
                 raise HiyariError(f"CCParams.{name} must be positive, got {value}")
             if value < 0:
                 raise HiyariError(f"CCParams.{name} must not be negative, got {value}")
-        if self.judgement not in ("time", "position"):
-            raise HiyariError(
-                f"CCParams.judgement must be 'time' or 'position', got {self.judgement!r}"
-            )
+        for name, allowed in CONVENTIONS.items():
+            if getattr(self, name) not in allowed:
+                choices = ", ".join(repr(a) for a in allowed)
+                raise HiyariError(
+                    f"CCParams.{name} must be one of {choices}, got {getattr(self, name)!r}"
+                )
         if not 0 < self.max_heading_deg < 90:
             raise HiyariError(
                 f"CCParams.max_heading_deg must be in (0, 90), got {self.max_heading_deg}"
@@ -174,11 +223,70 @@ class CCParams:
         """Initial lateral clearance dy0 between ego and the adjacent-lane vehicle (m)."""
         return self.lane_width_m - 0.5 * (self.ego_width_m + self.other_width_m)
 
-    def danger_judgement_time(self, vy_mps: float | np.ndarray) -> float | np.ndarray:
-        """Time (s) from the start of the lateral motion to danger judgement (array-friendly)."""
+    def lane_change_judgement_time(self, vy_mps: float | np.ndarray) -> float | np.ndarray:
+        """Time (s) from the start of the lateral motion to the cut-in / cut-out judgement
+        (displacement ``wander_m``), array-friendly."""
+        return self.wander_m / vy_mps
+
+    def danger_judgement_time(
+        self, vy_mps: float | np.ndarray, t_overlap: float | np.ndarray | None = None
+    ) -> float | np.ndarray:
+        """Cut-in: time (s) from the start of the lateral motion to danger judgement
+        (array-friendly); ``t_overlap`` (first lateral overlap, s) is needed for
+        ``judgement="overlap"``."""
         if self.judgement == "time":
             return self.wander_m / vy_mps + self.perception_time_s
-        return (self.wander_m + self.danger_lateral_m) / vy_mps
+        if self.judgement == "position":
+            return (self.wander_m + self.danger_lateral_m) / vy_mps
+        if t_overlap is None:
+            raise HiyariError("CCParams: judgement='overlap' needs the lateral overlap time")
+        return t_overlap
+
+    def cut_out_danger_time(self, vy_mps: float | np.ndarray) -> float | np.ndarray:
+        """Cut-out: time (s) from the start of the lateral motion to danger judgement."""
+        if not self.cut_out_perception:
+            return self.wander_m / vy_mps
+        if self.judgement == "position":
+            return (self.wander_m + self.danger_lateral_m) / vy_mps
+        return self.wander_m / vy_mps + self.perception_time_s
+
+    def decel_danger_time(self, decel_mps2: float | np.ndarray) -> np.ndarray:
+        """Deceleration: time (s) from the lead's brake onset to danger judgement."""
+        decel = np.asarray(decel_mps2, dtype=float)
+        if self.decel_perception == "always":
+            return np.full(decel.shape, self.perception_time_s)
+        if self.decel_perception == "never":
+            return np.zeros(decel.shape)
+        return np.where(decel > self.hard_braking_mps2, self.perception_time_s, 0.0)
+
+    def conventions(self) -> dict[str, object]:
+        """The convention fields by name (see :data:`CONVENTIONS`)."""
+        return {name: getattr(self, name) for name in CONVENTIONS}
+
+    def convention_note(self) -> str:
+        """One line naming the conventions, for figure captions and reports."""
+        danger = {
+            "time": f"wander exit + {self.perception_time_s:g} s",
+            "position": f"{self.wander_m + self.danger_lateral_m:g} m lateral",
+            "overlap": "first lateral overlap",
+        }[self.judgement]
+        ttc = {"wait": "react when it falls", "end": "scenario ends"}[self.above_ttc]
+        decel = {
+            "always": f"+{self.perception_time_s:g} s",
+            "never": "none",
+            "hard-braking": f"+{self.perception_time_s:g} s above {self.hard_braking_mps2:g} m/s²",
+        }[self.decel_perception]
+        cut_out = f"+{self.perception_time_s:g} s" if self.cut_out_perception else "none"
+        contact = {"heading": "along Annex G heading", "lane": "lane-aligned"}[self.contact]
+        return (
+            f"conventions: danger at {danger}; TTC ≥ {self.ttc_brake_s:g} s at danger: {ttc}; "
+            f"perception delay cut-out {cut_out}, deceleration {decel}; contact {contact}"
+            + ("" if self.is_models_default() else " (not MODELS.md default)")
+        )
+
+    def is_models_default(self) -> bool:
+        """True when every convention is MODELS.md's."""
+        return all(getattr(self, n) == allowed[0] for n, allowed in CONVENTIONS.items())
 
     def as_dict(self) -> dict[str, float | str | bool]:
         """All fields by name, for writing next to results."""

@@ -10,14 +10,20 @@ Per ODD ego speed (and, for cut-in, relative speed):
 
 The boundary is the gap the offsets are added to: dx0 for cut-in, dx0_f for cut-out. It is
 rounded up to ``resolution_m`` (0.1 m), so the "boundary" point is the smallest gap on that
-grid that is Preventable. Each point's ``expected`` verdict is the C&C driver's own outcome
-there, computed exactly: ``"preventable"`` (the automated system must not collide) or
-``"unpreventable"`` (collision allowed; Annex G asks only that the system keeps braking).
+grid that is Preventable. For the cut-in it is the upper end of the exact colliding regions
+(:mod:`hiyari.risk.cc.regions`): the gaps below it need not all collide (the ego may pass
+before the other car enters), so the Unpreventable point goes 5 m below the boundary when
+that gap collides, else to the middle of the highest colliding interval. Each point's
+``expected`` verdict is the C&C driver's own outcome there, exact: for the cut-in whether the
+gap lies in a colliding region (:func:`cut_in_expected`), else the evaluator's verdict:
+``"preventable"`` (the automated system must not collide) or ``"unpreventable"`` (collision
+allowed; Annex G asks only that the system keeps braking).
 
 Dropped, and counted in :class:`PointSet.skipped`: infeasible Vy at low speed (Vy above
 Vo0 x tan(max_heading_deg)), cut-ins with Vo0 <= 0, combinations with no Preventable gap at
-all (boundary ``inf``), points with a negative gap, and cut-out points where the lead itself
-would hit the stopped vehicle (Annex G excludes them).
+all (boundary ``inf``), Unpreventable points where no gap collides, points with a negative
+gap, and cut-out points where the lead itself would hit the stopped vehicle (Annex G
+excludes them).
 
 Files: CSV (one row per point, empty cell = not applicable) and JSON (``{"format":
 "hiyari-r157-points", "version": 1, "params": {...}, "config": {...}, "points": [...]}``).
@@ -42,7 +48,6 @@ from hiyari.risk.cc.boundary import (
     ceil_to_resolution,
     check_speed_grid,
     check_vy_grid,
-    cut_in_boundary,
     cut_out_boundary,
 )
 from hiyari.risk.cc.evaluator import (
@@ -53,6 +58,7 @@ from hiyari.risk.cc.evaluator import (
     run_chunked,
 )
 from hiyari.risk.cc.model import CCParams
+from hiyari.risk.cc.regions import Regions, cut_in_regions
 from hiyari.risk.cc.trajectory import cut_in_tracks, cut_out_tracks, decel_tracks
 from hiyari.units import KMH_PER_MPS
 
@@ -182,15 +188,24 @@ def _cut_in_points(config: R157Config, p: CCParams, skipped: Counter) -> list[R1
     skipped["cut-in: Vy infeasible at Vo0"] += int((moving & ~feasible).sum())
     ve, vo, vy, off = ve[feasible], vo[feasible], vy[feasible], off[feasible]
     v_e, v_o = ve / KMH_PER_MPS, vo / KMH_PER_MPS
-    boundary = ceil_to_resolution(cut_in_boundary(v_e, v_o, vy, p), config.resolution_m)
+    regions = cut_in_regions(v_e, v_o, vy, p)
+    boundary = ceil_to_resolution(regions.upper, config.resolution_m)
     finite = np.isfinite(boundary)
     skipped["cut-in: no Preventable gap (boundary inf)"] += int((~finite).sum())
     dx0 = np.round(boundary + off, 9)
+    inside = off < 0
+    if inside.any():
+        dx0[inside] = _unpreventable_gap(regions.rows(inside), dx0[inside], config.resolution_m)
+        with np.errstate(invalid="ignore"):  # inf - inf where there is no boundary
+            off = np.where(inside, np.round(dx0 - boundary, 9), off)
+    nothing = finite & np.isnan(dx0)
+    skipped["cut-in: no colliding gap for the Unpreventable point"] += int(nothing.sum())
     ok = finite & (dx0 >= 0)
     skipped["cut-in: negative gap"] += int((finite & (dx0 < 0)).sum())
     ve, vo, vy, off, v_e, v_o, boundary, dx0 = (
         a[ok] for a in (ve, vo, vy, off, v_e, v_o, boundary, dx0)
     )
+    expected = regions.rows(ok).contains(dx0)
     result = run_chunked(lambda *a: cut_in_setup(*a, p), [v_e, v_o, dx0, vy], p)
     return [
         R157Point(
@@ -207,11 +222,63 @@ def _cut_in_points(config: R157Config, p: CCParams, skipped: Counter) -> list[R1
             dx0_f_m=None,
             boundary_m=float(boundary[i]),
             offset_m=float(off[i]),
-            expected=UNPREVENTABLE if result.collision[i] else PREVENTABLE,
+            expected=UNPREVENTABLE if expected[i] else PREVENTABLE,
             cc_min_gap_m=float(result.min_gap_m[i]),
         )
         for i in range(ve.size)
     ]
+
+
+def _unpreventable_gap(regions: Regions, wanted: np.ndarray, resolution: float) -> np.ndarray:
+    """``wanted`` where it collides, else the middle of the highest colliding interval (on
+    the ``resolution`` grid when one of its gaps is strictly inside; nan if none)."""
+    last = np.maximum(regions.count - 1, 0)[:, None]
+    lo = np.take_along_axis(regions.lo, last, 1)[:, 0]
+    hi = np.take_along_axis(regions.hi, last, 1)[:, 0]
+    mid = np.round(np.round(0.5 * (lo + hi) / resolution) * resolution, 9)
+    mid = np.where(regions.contains(mid), mid, 0.5 * (lo + hi))
+    return np.where(regions.contains(wanted), wanted, mid)
+
+
+def cut_in_expected(points: list[R157Point], params: CCParams = _DEFAULT) -> list[str]:
+    """The C&C verdict of cut-in points from the exact colliding regions of their (Ve0,
+    Vo0, Vy): "unpreventable" where the gap lies in one, else "preventable"."""
+    if not points:
+        return []
+    ve, vo, dx0, vy = (
+        np.array([getattr(q, name) for q in points], dtype=float)
+        for name in ("ve0_mps", "vo0_mps", "dx0_m", "vy_mps")
+    )
+    hit = cut_in_regions(ve, vo, vy, params).contains(dx0)
+    return [UNPREVENTABLE if h else PREVENTABLE for h in hit]
+
+
+def expected_verdicts(points: list[R157Point], params: CCParams = _DEFAULT) -> list[str]:
+    """The C&C verdict of each point under ``params``: cut-in from the exact colliding
+    regions (:func:`cut_in_expected`), cut-out and deceleration from the evaluator."""
+    out: list[str | None] = [None] * len(points)
+    for scenario in SCENARIOS:
+        index = [i for i, q in enumerate(points) if q.scenario == scenario]
+        if not index:
+            continue
+        chosen = [points[i] for i in index]
+        if scenario == "cut-in":
+            verdicts = cut_in_expected(chosen, params)
+        else:
+            col = {
+                name: np.array([getattr(q, name) for q in chosen], dtype=float)
+                for name in ("ve0_mps", "vy_mps", "dx0_f_m", "gx_max_g", "dx0_m")
+                if all(getattr(q, name) is not None for q in chosen)
+            }
+            if scenario == "cut-out":
+                setup = (cut_out_setup, [col["ve0_mps"], col["vy_mps"], col["dx0_f_m"]])
+            else:
+                setup = (decel_setup, [col["ve0_mps"], col["gx_max_g"], col["dx0_m"]])
+            hit = run_chunked(lambda *a, f=setup[0]: f(*a, params), setup[1], params).collision
+            verdicts = [UNPREVENTABLE if h else PREVENTABLE for h in hit]
+        for i, verdict in zip(index, verdicts, strict=True):
+            out[i] = verdict
+    return out
 
 
 def _cut_out_points(config: R157Config, p: CCParams, skipped: Counter) -> list[R157Point]:
@@ -392,6 +459,18 @@ def _point_from_mapping(row: dict, where: str) -> R157Point:
         if getattr(point, name) is None:
             raise HiyariError(f"{where}: {point.scenario} point without {name}")
     return point
+
+
+def load_point_params(path: str | Path) -> CCParams | None:
+    """The C&C model stored in a JSON points file (None for CSV, which carries none)."""
+    path = Path(path)
+    if path.suffix.lower() != ".json":
+        return None
+    doc = json.loads(path.read_text())  # load_points has refused broken files already
+    try:
+        return CCParams.from_dict(doc.get("params", {}))
+    except (TypeError, HiyariError) as exc:
+        raise HiyariError(f"{path}: bad 'params': {exc}") from None
 
 
 def load_points(path: str | Path) -> list[R157Point]:

@@ -13,6 +13,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
+from hiyari.kinematics import footprint_corners, overlap_depth
 from hiyari.risk.cc.model import CCParams
 
 
@@ -67,8 +70,77 @@ class _Ego:
             self.v = v_new
 
 
-def _overlap_1d(a_lo: float, a_hi: float, b_lo: float, b_hi: float) -> float:
-    return min(a_hi, b_hi) - max(a_lo, b_lo)
+def _x_extent_in_band(poly: list, half_width: float) -> tuple[float, float]:
+    """Smallest and largest x of the polygon's part inside |y| <= half_width ((inf, -inf) if
+    none), by clipping each edge to the band."""
+    lo_x, hi_x = math.inf, -math.inf
+    for (xa, ya), (xb, yb) in zip(poly, poly[1:] + poly[:1], strict=True):
+        if ya == yb:
+            if abs(ya) <= half_width:
+                lo_x, hi_x = min(lo_x, xa, xb), max(hi_x, xa, xb)
+            continue
+        u1, u2 = (-half_width - ya) / (yb - ya), (half_width - ya) / (yb - ya)
+        lo, hi = max(0.0, min(u1, u2)), min(1.0, max(u1, u2))
+        if lo <= hi:
+            xl, xh = xa + lo * (xb - xa), xa + hi * (xb - xa)
+            lo_x, hi_x = min(lo_x, xl, xh), max(hi_x, xl, xh)
+    return lo_x, hi_x
+
+
+class _OtherShape:
+    """The cut-in vehicle's corners relative to its centre: turned by ``yaw`` while it moves
+    laterally, along the lane once centred in the ego lane (from the kinematics kernel, once;
+    the loop only translates them)."""
+
+    def __init__(self, yaw: float, p: CCParams) -> None:
+        self.p = p
+        shape = [
+            footprint_corners(np.zeros(2), h, p.other_length_m, p.other_width_m) for h in (yaw, 0.0)
+        ]
+        self.moving, self.settled = (k.tolist() for k in shape)
+        self.lowest = min(b for _, b in self.moving)  # its lowest corner below its centre
+
+    def corners(self, x_rear: float, y: float) -> list[tuple[float, float]]:
+        """Its corners with the rear (lane-aligned) at ``x_rear`` and the centre at ``y``."""
+        cx = x_rear + 0.5 * self.p.other_length_m
+        return [(cx + a, y + b) for a, b in (self.moving if y > 0 else self.settled)]
+
+    def in_band(self, x_rear: float, y: float) -> tuple[float, float]:
+        """Nearest and farthest x of its part inside the ego's band (nan when none)."""
+        p = self.p
+        half_w = 0.5 * p.ego_width_m
+        if y <= 0:  # centred in the ego lane and along it: all of it is in the band
+            return x_rear, x_rear + p.other_length_m
+        if y + self.lowest > half_w:  # all of it still to the side of the band
+            return math.nan, math.nan
+        nearest, farthest = _x_extent_in_band(self.corners(x_rear, y), half_w)
+        if not math.isfinite(nearest):
+            return math.nan, math.nan
+        return nearest, farthest
+
+
+@dataclass
+class _Judgement:
+    """The C&C driver's online cut-in judgements: lane-change judgement at ``wander_m``,
+    danger as ``p.judgement`` says, the decision taken once at danger."""
+
+    p: CCParams
+    judged_at: float = math.inf
+    overlap_at: float = math.inf
+    decided: bool = False
+    watching: bool = False  # waiting for TTC to fall below ttc_brake_s
+
+    def danger(self, t: float, shift: float, overlapping: bool) -> bool:
+        p = self.p
+        if shift >= p.wander_m and self.judged_at == math.inf:
+            self.judged_at = t
+        if overlapping and self.overlap_at == math.inf:
+            self.overlap_at = t
+        if p.judgement == "time":
+            return t >= self.judged_at + p.perception_time_s - 1e-12
+        if p.judgement == "position":
+            return shift >= p.wander_m + p.danger_lateral_m - 1e-12
+        return t >= self.overlap_at
 
 
 def simulate_cut_in(
@@ -80,47 +152,65 @@ def simulate_cut_in(
     dt: float = 0.01,
     t_max: float = 60.0,
 ) -> SteppedResult:
-    """Cut-in (SI units, as :func:`~hiyari.risk.cc.evaluator.evaluate_cut_in`) by stepping."""
+    """Cut-in (SI units, as :func:`~hiyari.risk.cc.evaluator.evaluate_cut_in`) by stepping.
+
+    The other vehicle's rectangle is turned along its velocity while it moves laterally
+    (``contact="heading"``) or kept along the lane; contact is the two rectangles overlapping
+    (separating axes, :func:`hiyari.kinematics.overlap_depth`) by more than
+    ``contact_tol_m``. ``min_gap_m``: the smallest distance from the ego's front to the
+    other's nearest point inside the ego's width while they overlap laterally (the
+    lane-aligned gap when the scenario ends before they do).
+    """
     ego = _Ego(ve0, vo0, p)
-    half_w = 0.5 * p.ego_width_m
+    shape = _OtherShape(-math.atan2(vy, vo0) if p.contact == "heading" else 0.0, p)
     y_other = p.lane_width_m
+    driver = _Judgement(p)
     t = 0.0
-    judged_at = math.inf
-    danger = False
-    reacting = False
     min_gap = math.inf
     while t < t_max:
         x_rear = dx0 + vo0 * t
         gap = x_rear - ego.x_front
-        shift = p.lane_width_m - y_other
-        if p.judgement == "time":
-            if shift >= p.wander_m and judged_at == math.inf:
-                judged_at = t
-            danger = t >= judged_at + p.perception_time_s - 1e-12
-        else:
-            danger = shift >= p.wander_m + p.danger_lateral_m - 1e-12
+        nearest, farthest = shape.in_band(x_rear, y_other)
+        inside = math.isfinite(nearest)
         closing = ego.v - vo0
-        if danger and not reacting and closing > 0 and gap < p.ttc_brake_s * closing + 1e-12:
-            reacting = True
+        if driver.danger(t, p.lane_width_m - y_other, inside) and not driver.decided:
+            driver.decided = True
+            # at danger judgement: beside the ego (gap <= 0) it does not brake for it at all
+            driver.watching = gap > 0
+            above = closing <= 0 or gap >= p.ttc_brake_s * closing
+            if driver.watching and above and p.above_ttc == "end":
+                return SteppedResult(False, min(min_gap, gap), math.nan, math.nan)
+        if driver.watching and closing > 0 and gap < p.ttc_brake_s * closing + 1e-12:
+            driver.watching = False
             ego.brake_at = t + p.reaction_delay_s
-        lateral = _overlap_1d(
-            -half_w, half_w, y_other - 0.5 * p.other_width_m, y_other + 0.5 * p.other_width_m
-        )
-        passed = gap <= -(p.ego_length_m + p.other_length_m)
-        if lateral > 0 and not passed:
-            min_gap = min(min_gap, gap)
-            if p.aeb and ego.aeb_at == math.inf and gap < p.aeb_ttc_s * closing:
+        if inside:
+            min_gap = min(min_gap, nearest - ego.x_front)
+            if p.aeb and ego.aeb_at == math.inf and 0 <= gap < p.aeb_ttc_s * closing:
                 ego.aeb_at = t + p.aeb_delay_s
-            if gap < -p.contact_tol_m:
-                return SteppedResult(True, gap, t, closing)
-        if lateral > 0 and passed:
-            return SteppedResult(False, min(min_gap, gap), math.nan, math.nan)
-        if ego.done and y_other <= 0 and lateral > 0:
-            break
+            if _touching(ego, shape, x_rear, y_other, (nearest, farthest)):
+                return SteppedResult(True, min_gap, t, closing)
+            past = ego.x_front - p.ego_length_m >= x_rear + p.other_length_m
+            if y_other <= 0 and (ego.done or past):
+                break  # nothing changes any more: at Vo0 behind it, or past it and not slower
         ego.step(t, dt)
         y_other = max(0.0, y_other - vy * dt)
         t += dt
     return SteppedResult(False, min_gap, math.nan, math.nan)
+
+
+def _touching(
+    ego: _Ego, shape: _OtherShape, x_rear: float, y: float, extent: tuple[float, float]
+) -> bool:
+    """The two rectangles overlap by more than ``contact_tol_m``: only tested (separating
+    axes on the corners) when the other's ``extent`` in the ego's band reaches into it."""
+    p = shape.p
+    if not (extent[0] < ego.x_front and extent[1] > ego.x_front - p.ego_length_m):
+        return False
+    mine = footprint_corners(
+        np.array([ego.x_front - 0.5 * p.ego_length_m, 0.0]), 0.0, p.ego_length_m, p.ego_width_m
+    )
+    depth = overlap_depth(mine[None], np.array(shape.corners(x_rear, y))[None])
+    return float(depth[0]) > p.contact_tol_m
 
 
 def simulate_cut_out(
@@ -141,12 +231,14 @@ def simulate_cut_out(
             return SteppedResult(True, gap, t, ego.v)
         if ego.done:
             break
-        if p.judgement == "time":
-            if shift >= p.wander_m and judged_at == math.inf:
-                judged_at = t
-            danger = t >= judged_at + p.perception_time_s - 1e-12
-        else:
+        if shift >= p.wander_m and judged_at == math.inf:
+            judged_at = t
+        if not p.cut_out_perception:
+            danger = t >= judged_at
+        elif p.judgement == "position":
             danger = shift >= p.wander_m + p.danger_lateral_m - 1e-12
+        else:
+            danger = t >= judged_at + p.perception_time_s - 1e-12
         if danger and ego.brake_at == math.inf:
             ego.brake_at = t + p.reaction_delay_s
         revealed = shift >= half_w - 1e-12
@@ -168,10 +260,15 @@ def simulate_decel(
 ) -> SteppedResult:
     """Deceleration (as :func:`~hiyari.risk.cc.evaluator.evaluate_decel`) by stepping."""
     ego = _Ego(ve0, 0.0, p)
-    ego.brake_at = p.perception_time_s + p.reaction_delay_s
+    a_lead = gx * p.g_mps2
+    perceive = {
+        "always": True,
+        "never": False,
+        "hard-braking": a_lead > p.hard_braking_mps2,
+    }[p.decel_perception]
+    ego.brake_at = (p.perception_time_s if perceive else 0.0) + p.reaction_delay_s
     x_lead = p.thw_s * ve0 if dx0 is None else dx0
     v_lead = ve0
-    a_lead = gx * p.g_mps2
     t = 0.0
     min_gap = math.inf
     while t < t_max:

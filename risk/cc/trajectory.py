@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.evaluator import (
@@ -61,7 +62,7 @@ class Track:
         return np.hypot(self.vx_mps, self.vy_mps)
 
 
-def _times(t_s) -> np.ndarray:
+def _times(t_s: ArrayLike) -> np.ndarray:
     t = np.asarray(t_s, dtype=float).reshape(-1)
     if t.size == 0 or not np.all(np.isfinite(t)) or np.any(t < 0):
         raise HiyariError("t_s: sample times must be finite and >= 0")
@@ -90,7 +91,17 @@ def _lane_change(
     return y, np.where(moving, direction * vy, 0.0)
 
 
-def _track(name, t, x_front, y, vx, vy, ax, length, width) -> Track:
+def _track(
+    name: str,
+    t: np.ndarray,
+    x_front: np.ndarray,
+    y: np.ndarray,
+    vx: np.ndarray,
+    vy: np.ndarray,
+    ax: np.ndarray,
+    length: float,
+    width: float,
+) -> Track:
     heading = np.where((vx != 0) | (vy != 0), np.arctan2(vy, vx), 0.0)
     return Track(name, t, x_front, y, vx, vy, ax, heading, length, width)
 
@@ -107,7 +118,7 @@ def cut_in_tracks(
     vo0_mps: float,
     dx0_m: float,
     vy_mps: float,
-    t_s,
+    t_s: ArrayLike,
     params: CCParams = _DEFAULT,
     side: int = 1,
 ) -> dict[str, Track]:
@@ -131,7 +142,7 @@ def cut_out_tracks(
     ve0_mps: float,
     vy_mps: float,
     dx0_f_m: float,
-    t_s,
+    t_s: ArrayLike,
     params: CCParams = _DEFAULT,
     side: int = 1,
 ) -> dict[str, Track]:
@@ -175,7 +186,7 @@ def cut_out_tracks(
 def decel_tracks(
     ve0_mps: float,
     gx_max_g: float,
-    t_s,
+    t_s: ArrayLike,
     params: CCParams = _DEFAULT,
     dx0_m: float | None = None,
 ) -> dict[str, Track]:

@@ -13,12 +13,49 @@ from hiyari.risk.cc.boundary import (
     decel_datasheet,
 )
 from hiyari.risk.cc.datasheet_plot import plot_cut_in, plot_cut_out, plot_decel
-from hiyari.risk.cc.model import CCParams
+from hiyari.risk.cc.model import CONVENTIONS, CCParams
 
 
 def add_model_options(parser: argparse.ArgumentParser) -> None:
-    """``--aeb`` and ``--param NAME=VALUE`` (any CCParams field), shared with ``hiyari r157``."""
+    """``--aeb``, the driver-model conventions and ``--param NAME=VALUE`` (any CCParams
+    field), shared with ``hiyari r157``. Convention defaults are MODELS.md's."""
     parser.add_argument("--aeb", action="store_true", help="AEB-equipped C&C driver")
+    conv = parser.add_argument_group(
+        "driver-model conventions (defaults: MODELS.md; shown on every datasheet)"
+    )
+    conv.add_argument(
+        "--danger-at",
+        choices=CONVENTIONS["judgement"],
+        default=None,
+        help="cut-in danger judgement: wander exit + 0.4 s (time), at wander + 0.72 m "
+        "(position), or at the first lateral overlap with the ego (overlap)",
+    )
+    conv.add_argument(
+        "--above-ttc",
+        choices=CONVENTIONS["above_ttc"],
+        default=None,
+        help="cut-in with TTC >= 2 s at danger judgement: react when it falls to 2 s (wait) "
+        "or treat the cut-in as not critical and end the scenario (end)",
+    )
+    conv.add_argument(
+        "--cut-out-perception",
+        choices=["yes", "no"],
+        default=None,
+        help="cut-out: add the 0.4 s perception delay after the cut-out judgement",
+    )
+    conv.add_argument(
+        "--decel-perception",
+        choices=CONVENTIONS["decel_perception"],
+        default=None,
+        help="deceleration: 0.4 s perception delay after the lead's brake onset always, "
+        "never, or only above hard_braking_mps2 (5 m/s²)",
+    )
+    conv.add_argument(
+        "--contact",
+        choices=CONVENTIONS["contact"],
+        default=None,
+        help="cut-in contact: rectangles along the Annex G heading (heading) or the lane (lane)",
+    )
     parser.add_argument(
         "--param",
         action="append",
@@ -28,9 +65,24 @@ def add_model_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+_CONVENTION_OPTIONS = {
+    "danger_at": "judgement",
+    "above_ttc": "above_ttc",
+    "cut_out_perception": "cut_out_perception",
+    "decel_perception": "decel_perception",
+    "contact": "contact",
+}
+
+
 def model_params(args: argparse.Namespace) -> CCParams:
-    """CCParams from ``--aeb`` and ``--param`` options."""
+    """CCParams from ``--aeb``, the convention options and ``--param`` overrides."""
     overrides = list(args.param) + (["aeb=true"] if args.aeb else [])
+    for option, field in _CONVENTION_OPTIONS.items():
+        value = getattr(args, option, None)
+        if value is not None:
+            overrides.append(
+                f"{field}={'true' if value == 'yes' else 'false' if value == 'no' else value}"
+            )
     return CCParams().with_overrides(overrides)
 
 
@@ -73,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
         rows = sheet.ve0_kmh.size
     print(
         f"{args.scenario}: {rows} scenarios in {time.perf_counter() - started:.2f} s "
-        f"({'with' if params.aeb else 'without'} AEB)"
+        f"({'with' if params.aeb else 'without'} AEB)\n   {params.convention_note()}"
     )
     for path in paths:
         print(f"   {path}")

@@ -13,6 +13,7 @@ from pathlib import Path
 from hiyari.bridge.cli.commands.boundary import add_model_options, model_params
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import Grid
+from hiyari.risk.cc.model import CCParams
 from hiyari.risk.cc.r157_points import (
     SCENARIOS,
     R157Config,
@@ -39,7 +40,7 @@ def run_points(args: argparse.Namespace) -> int:
     out = Path(args.out)
     csv_path = write_points_csv(point_set.points, out / "r157_points.csv")
     json_path = write_points_json(point_set, out / "r157_points.json")
-    print(f"{len(point_set.points)} R157 test points:")
+    print(f"{len(point_set.points)} R157 test points ({point_set.params.convention_note()}):")
     for key, count in sorted(point_set.counts().items()):
         print(f"   {key}: {count}")
     for reason, count in sorted(point_set.skipped.items()):
@@ -70,9 +71,17 @@ def add_points(sub: argparse._SubParsersAction) -> None:
 
 def run_judge(args: argparse.Namespace) -> int:
     from hiyari.bridge.campaign.r157_judge import JudgeOptions, judge, write_report
-    from hiyari.risk.cc.r157_points import load_points
+    from hiyari.risk.cc.r157_points import load_point_params, load_points
 
     points = load_points(args.points)
+    stored, given = load_point_params(args.points), model_params(args)
+    if stored is not None and given != CCParams() and given != stored:
+        raise HiyariError(
+            f"{args.points}: its points were made with another C&C model "
+            f"({stored.convention_note()}, aeb={stored.aeb}) than the model options given: "
+            "drop the options (the file's model is used) or regenerate the points"
+        )
+    params = stored or given
     if args.scenarios:
         wanted = {s.strip() for s in args.scenarios.split(",")}
         points = [p for p in points if p.scenario in wanted]
@@ -87,6 +96,7 @@ def run_judge(args: argparse.Namespace) -> int:
         workers=args.workers,
         sample=args.sample,
         seed=args.seed,
+        params=params,
     )
     report = judge(points, options, progress=not args.quiet)
     paths = write_report(report, Path(args.out))
@@ -109,7 +119,10 @@ def add_judge(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "judge",
         help="run test points through the closed loop and judge pass / fail",
-        description="Every Preventable point must be passed without a collision.",
+        description="Every Preventable point must be passed without a collision. The points' "
+        "expected verdicts are checked against the C&C model: the one stored in a JSON points "
+        "file (model options that differ from it are refused), else the model options given "
+        "here.",
     )
     p.add_argument("points", help="points file from 'hiyari r157 points' (CSV or JSON)")
     p.add_argument("-o", "--out", default="out/r157_judge", help="output folder")
@@ -125,6 +138,7 @@ def add_judge(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--aeb-delay", type=float, default=0.2, help="brake actuation delay, s")
     p.add_argument("--workers", "-j", type=int, default=os.cpu_count() or 1)
     p.add_argument("-q", "--quiet", action="store_true")
+    add_model_options(p)
     p.set_defaults(func=run_judge)
 
 
