@@ -136,6 +136,7 @@ def _metrics(
     s.ttc_true.append(ttc_true)
     s.ttc_stack.append(cmd.ttc)
     s.aeb_stage.append(int(cmd.aeb_stage))
+    s.aeb_decel.append(cmd.aeb_decel)
     if hooks.conflict_point is not None:
         rel = ego.world_to_vehicle(np.array(hooks.conflict_point, dtype=float))
         s.conflict_distance.append(float(rel[0] - ego.length / 2))

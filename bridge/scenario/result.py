@@ -14,6 +14,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
+from hiyari.risk.metrics.false_braking import FalseBraking, false_braking
 from hiyari.units import mps_to_kmh
 
 
@@ -54,6 +55,7 @@ class TimeSeries:
     gap: bumper to bumper to the scenario's target along the ego's heading, m (inf: no target).
     ttc_true: ground-truth TTC over all actors, s (inf: none within the horizon).
     ttc_stack: the ego stack's own smallest TTC, s. aeb_stage: AEBStage as int.
+    aeb_decel: the deceleration the AEB applied, m/s^2 (positive; 0: none).
     conflict_distance: ego front to the conflict point along the ego's heading, m.
     """
 
@@ -64,6 +66,7 @@ class TimeSeries:
     ttc_true: list[float] = field(default_factory=list)
     ttc_stack: list[float] = field(default_factory=list)
     aeb_stage: list[int] = field(default_factory=list)
+    aeb_decel: list[float] = field(default_factory=list)
     conflict_distance: list[float] = field(default_factory=list)
 
     def __len__(self) -> int:
@@ -101,6 +104,12 @@ class RunResult:
     )
     series: TimeSeries = field(default_factory=TimeSeries)
 
+    def false_braking(self) -> dict[str, FalseBraking]:
+        """AEB and ACC decelerations without a ground-truth hazard (risk.metrics.false_braking)."""
+        s = self.series
+        aeb = s.aeb_decel if len(s.aeb_decel) == len(s) else np.zeros(len(s))
+        return false_braking(s.t, s.ego_accel_cmd, s.ttc_true, aeb)
+
     def verdict(self) -> str:
         """'collision' or 'no collision'."""
         return "collision" if self.collision else "no collision"
@@ -122,6 +131,14 @@ def _num(x: float) -> float | None:
 
 def _kmh(v: float) -> float:
     return round(float(mps_to_kmh(v)), 2)
+
+
+def _false_braking(source: str, attr: str, digits: int | None) -> Callable[[RunResult], object]:
+    def value(r: RunResult) -> object:
+        x = getattr(r.false_braking()[source], attr)
+        return x if digits is None else round(x, digits)
+
+    return value
 
 
 @dataclass(frozen=True)
@@ -150,6 +167,15 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
     ResultField("aeb_first_time_s", lambda r: _num(r.aeb_first_time)),
     ResultField("aeb_max_stage", lambda r: r.aeb_max_stage),
     ResultField("final_speed_kmh", lambda r: _kmh(r.final_speed)),
+    *(
+        ResultField(f"false_{src}_{key}", _false_braking(src, attr, digits))
+        for src in ("aeb", "acc")
+        for key, attr, digits in (
+            ("brakings", "events", None),
+            ("braking_s", "duration", 2),
+            ("peak_decel_mps2", "peak_decel", 2),
+        )
+    ),
     ResultField("sim_seconds", lambda r: round(r.sim_seconds, 3), in_table=False),
     ResultField("wall_seconds", lambda r: round(r.wall_seconds, 3), in_table=False),
 )
