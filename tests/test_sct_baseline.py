@@ -44,3 +44,34 @@ def test_baseline_drivers_yield_at_zebra_crossings(tmp_path):
         out[name] = sum(e.collision for e in run_arm(base).encounters)
     assert out["minor"] > 0
     assert out["zebra"] == 0
+
+
+def test_sensitivity_points_and_files(tmp_path):
+    """Every grid value plus the main one per parameter; SCT_safe and penetration points share
+    their demand's baseline; the CSV and the PNG are written."""
+    import csv
+
+    import matplotlib.image
+
+    from hiyari.bridge.campaign.sct_sensitivity import (
+        SensitivityGrid,
+        run_sensitivity,
+        write_sensitivity,
+    )
+
+    grid = SensitivityGrid(sct_safe=(2.0,), penetration=(0.5,), persons_per_hour=(600.0,))
+    pts = run_sensitivity(StudyConfig(seed=5), tmp_path, 0.02, grid, jobs=1)
+    assert [(p.parameter, p.value) for p in pts] == [
+        ("sct_safe", 2.0),
+        ("sct_safe", 4.0),
+        ("penetration", 0.5),
+        ("penetration", 1.0),
+        ("persons_per_hour", 300.0),
+        ("persons_per_hour", 600.0),
+    ]
+    assert len({p.baseline_incidents for p in pts[:5]}) == 1  # one baseline at 300 ped/h
+    # the main configuration is one SCT arm, whichever parameter lists it
+    assert pts[1].sct_incidents == pts[3].sct_incidents == pts[4].sct_incidents
+    png = write_sensitivity(tmp_path, pts, 0.02)
+    assert matplotlib.image.imread(png).shape[1] > 600
+    assert len(list(csv.DictReader((tmp_path / "sensitivity.csv").open()))) == len(pts)

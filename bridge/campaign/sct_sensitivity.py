@@ -79,12 +79,15 @@ def run_sensitivity(
         if pph not in demands:
             demands[pph] = build_inputs(replace(short, persons_per_hour=pph), root / f"pph{pph:g}")
     tasks: list[ArmTask] = [t for ts in demands.values() for t in ts if t.arm == "baseline"]
-    keys: list[tuple[str, float]] = []
+    # the main configuration appears once per parameter: run each distinct SCT arm once
+    arm_of: dict[tuple[float, float, float], int] = {}
     for p, v in points:
-        pph = v if p == "persons_per_hour" else short.persons_per_hour
-        sct = next(t for t in demands[pph] if t.arm == "sct")
-        tasks.append(replace(sct, study=_with(short, p, v)))
-        keys.append((p, v))
+        study = _with(short, p, v)
+        key = (study.persons_per_hour, study.controller.sct_safe, study.penetration)
+        if key not in arm_of:
+            sct = next(t for t in demands[key[0]] if t.arm == "sct")
+            arm_of[key] = len(tasks)
+            tasks.append(replace(sct, study=study))
     results = run_tasks(tasks, jobs)
     base = {
         t.study.persons_per_hour: r
@@ -92,9 +95,11 @@ def run_sensitivity(
         if t.arm == "baseline"
     }
     out = []
-    for (p, v), task, res in zip(keys, tasks[len(demands) :], results[len(demands) :], strict=True):
-        b = base[task.study.persons_per_hour]
-        sb, ss = (summarise(task.study, [r])[k] for k, r in ((0, b), (1, res)))
+    for p, v in points:
+        study = _with(short, p, v)
+        k = arm_of[(study.persons_per_hour, study.controller.sct_safe, study.penetration)]
+        sb = summarise(study, [base[study.persons_per_hour]])[0]
+        ss = summarise(study, [results[k]])[1]
         out.append(
             SensitivityPoint(
                 p,
@@ -144,7 +149,8 @@ def write_sensitivity(folder: str | Path, points: list[SensitivityPoint], hours:
         ax.set_xlabel(label)
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("incident change, SCT vs baseline, %")
-    axes[0].set_ylim(-100, 0)
+    top = max([0.0, *(-100 * p.reduction for p in points if not math.isnan(p.reduction))])
+    axes[0].set_ylim(-100, top + 10)
     axes[0].legend(loc="lower right", fontsize=8)
     fig.suptitle(
         f"Sensitivity of the incident reduction ({hours:g} simulated h per arm and point; "
