@@ -101,8 +101,10 @@ def write_report(
     config: StudyConfig,
     results: list[ArmResult],
     wall_seconds: float,
+    sensitivity: tuple[float, list] | None = None,
 ) -> Path:
-    """Write the study report into ``folder``; return the Markdown file's path."""
+    """Write the study report into ``folder``; return the Markdown file's path.
+    ``sensitivity``: (simulated hours per point, SensitivityPoint list) to include."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     summaries = summarise(config, results)
@@ -122,7 +124,33 @@ def write_report(
     }
     write_text_atomic(folder / "summary.json", json.dumps(summary, indent=2, default=str))
     text = _markdown(config, summaries, wall_seconds, facts)
+    if sensitivity is not None and sensitivity[1]:
+        from hiyari.bridge.campaign.sct_sensitivity import write_sensitivity
+
+        write_sensitivity(folder, sensitivity[1], sensitivity[0])
+        text += _sensitivity_markdown(*sensitivity)
     return write_text_atomic(folder / "report.md", text)
+
+
+def _sensitivity_markdown(hours: float, points: list) -> str:
+    lines = [
+        "",
+        "## Sensitivity",
+        "",
+        f"One parameter at a time around the main configuration, {hours:g} simulated hours per "
+        "arm and point (unsignalised, same seed); SCT_safe and penetration points share their "
+        "baseline. The seed's −68 % is the dashed line.",
+        "",
+        "| parameter | value | baseline incidents | SCT incidents | change | travel-time cost, s |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    for p in points:
+        lines.append(
+            f"| {p.parameter} | {p.value:g} | {p.baseline_incidents} | {p.sct_incidents} | "
+            f"{-p.reduction:+.0%} | {p.travel_time_cost:+.1f} |"
+        )
+    lines += ["", "![sensitivity](sensitivity.png)", ""]
+    return "\n".join(lines)
 
 
 def _config_dict(config: StudyConfig) -> dict:
@@ -231,9 +259,20 @@ def _by_hour(path: Path, config: StudyConfig, results: list[ArmResult]) -> None:
 
 
 def _residual_facts(config: StudyConfig, results: list[ArmResult], variant: str) -> list[str]:
-    """Measured facts behind the closing note: where the remaining incidents happen."""
+    """Measured facts behind the closing note: where the remaining incidents happen and
+    what the contacts were."""
     walkingareas = ("_w",)  # SUMO walking-area lane ids look like ':C_w0_0'
     out = []
+    if config.crossing_priority and variant == "unsignalised":
+        out.append(
+            "Baseline drivers: SUMO's, at zebra crossings (crossings have priority, so drivers "
+            "yield to pedestrians on them or stepping onto them, as the traffic rules require)."
+        )
+    elif variant == "unsignalised":
+        out.append(
+            "Baseline drivers: SUMO's at crossings without priority (--minor-crossings): "
+            "pedestrians wait for gaps and drivers keep the right of way."
+        )
     for arm in ARMS:
         inc = [e for r in results if r.variant == variant and r.arm == arm for e in r.incidents]
         if not inc:
@@ -249,9 +288,12 @@ def _residual_facts(config: StudyConfig, results: list[ArmResult], variant: str)
         if coll:
             speeds = np.array([e.vehicle_speed for e in coll])
             on_crossing = sum(":" in e.pedestrian_lane and "_c" in e.pedestrian_lane for e in coll)
+            on_corner = sum(any(w in e.pedestrian_lane for w in walkingareas) for e in coll)
             line += (
-                f"; {len(coll)} contacts, {on_crossing} of them on a crossing, vehicle speed "
-                f"median {np.nanmedian(speeds):.1f} m/s"
+                f"; {len(coll)} contacts: {on_crossing} with the pedestrian on a crossing, "
+                f"{on_corner} on a corner walking area (a turning car's corner over the kerb "
+                f"line of SUMO's corner geometry), {len(coll) - on_crossing - on_corner} "
+                f"elsewhere; vehicle speed median {np.nanmedian(speeds):.1f} m/s"
             )
         out.append(line + ".")
     return out
@@ -328,14 +370,12 @@ def _markdown(
             "foresee (constant velocity, or stepping in from the kerb when facing the road or "
             "a crossing). What remains are pedestrians who become a threat when the car is "
             "already close: SUMO's pedestrians walk round the junction corner and turn onto a "
-            "crossing, or start to cross, within a second or two of a car that has right of "
-            "way at this unsignalised junction; the minimum SCT of these encounters (above) "
-            "shows the driver had well under SCT_safe of warning, and braking is bounded to "
-            "0.4 g with a 3 m/s^3 jerk. The baseline also counts contacts that SUMO's own "
-            "junction model produces (turning cars sweeping through pedestrians on the "
-            "crossings of this tight junction), which the SCT driver mostly avoids by being "
-            "slower. The seed's Vissim drivers, pedestrian model and incident criterion are "
-            "not published, so its baseline count and what can be removed differ.",
+            "crossing, or start to cross, within a second or two of an approaching car; the "
+            "minimum SCT of these encounters (above) shows the driver had well under SCT_safe "
+            "of warning, and braking is bounded to 0.4 g with a 3 m/s^3 jerk. The seed's "
+            "Vissim drivers, pedestrian model and incident criterion are not published, so its "
+            "baseline count and what can be removed differ: the sensitivity section shows the "
+            "range the model gives.",
             "",
             "What would change it: anticipating pedestrians who approach a crossing end "
             "(a dart-out zone that follows the walking direction, not only the heading within "

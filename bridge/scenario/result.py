@@ -14,6 +14,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
+from hiyari.risk.metrics.false_braking import FalseBraking, false_braking
 from hiyari.units import mps_to_kmh
 
 
@@ -104,6 +105,12 @@ class RunResult:
     )
     series: TimeSeries = field(default_factory=TimeSeries)
 
+    def false_braking(self) -> dict[str, FalseBraking]:
+        """AEB and ACC decelerations without a ground-truth hazard (risk.metrics.false_braking)."""
+        s = self.series
+        aeb = s.aeb_decel if len(s.aeb_decel) == len(s) else np.zeros(len(s))
+        return false_braking(s.t, s.ego_accel_cmd, s.ttc_true, aeb)
+
     def verdict(self) -> str:
         """'collision' or 'no collision'."""
         return "collision" if self.collision else "no collision"
@@ -125,6 +132,14 @@ def _num(x: float) -> float | None:
 
 def _kmh(v: float) -> float:
     return round(float(mps_to_kmh(v)), 2)
+
+
+def _false_braking(source: str, attr: str, digits: int | None) -> Callable[[RunResult], object]:
+    def value(r: RunResult) -> object:
+        x = getattr(r.false_braking()[source], attr)
+        return x if digits is None else round(x, digits)
+
+    return value
 
 
 @dataclass(frozen=True)
@@ -153,6 +168,15 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
     ResultField("aeb_first_time_s", lambda r: _num(r.aeb_first_time)),
     ResultField("aeb_max_stage", lambda r: r.aeb_max_stage),
     ResultField("final_speed_kmh", lambda r: _kmh(r.final_speed)),
+    *(
+        ResultField(f"false_{src}_{key}", _false_braking(src, attr, digits))
+        for src in ("aeb", "acc")
+        for key, attr, digits in (
+            ("brakings", "events", None),
+            ("braking_s", "duration", 2),
+            ("peak_decel_mps2", "peak_decel", 2),
+        )
+    ),
     ResultField("sim_seconds", lambda r: round(r.sim_seconds, 3), in_table=False),
     ResultField("wall_seconds", lambda r: round(r.wall_seconds, 3), in_table=False),
 )

@@ -193,16 +193,19 @@ class AEBPlanner:
                 np.abs(tracks.position[:, 1]) < ext_y + ego.width / 2
             )
             if ahead.any():
-                i = np.flatnonzero(ahead)[np.argmin(tracks.position[ahead, 0])]
-                gap = tracks.position[i, 0] - ext_x[i] - ego.length / 2
-                v_lead = ego.speed + float(np.nan_to_num(tracks.velocity[i, 0]))
+                # every object in the path constrains, not only the nearest: a near one
+                # driving off must not release the ego towards a farther one standing
+                gap = tracks.position[ahead, 0] - ext_x[ahead] - ego.length / 2
+                v_lead = ego.speed + np.nan_to_num(tracks.velocity[ahead, 0])
                 desired = max(c.standstill_gap, c.thw * ego.speed)
                 follow = c.k_gap * (gap - desired) + c.k_speed * (v_lead - ego.speed)
-                if v_lead < c.stopped_speed:
-                    # a proportional law only creeps up to a stopped car: brake to a standstill
-                    room = gap - c.standstill_gap
-                    follow = -(ego.speed**2) / (2 * room) if room > 0.1 else -c.max_decel
-                accel = min(accel, follow)
+                # a proportional law only creeps up to a stopped object: brake to a standstill
+                room = gap - c.standstill_gap
+                stop = np.where(
+                    room > 0.1, -(ego.speed**2) / (2 * np.maximum(room, 0.1)), -c.max_decel
+                )
+                follow = np.where(v_lead < c.stopped_speed, stop, follow)
+                accel = min(accel, float(follow.min()))
         if accel < 0 and ego.speed < 1e-3:
             return 0.0
         return float(np.clip(accel, -c.max_decel, c.max_accel))

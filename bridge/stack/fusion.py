@@ -195,9 +195,13 @@ class KalmanFusion:
         for i, tr in enumerate(self._tracks):
             for j, (xy, cov, _) in enumerate(world):
                 d = xy - tr.x[:2]
-                maha = float(d @ np.linalg.solve(tr.p[:2, :2] + cov, d))
+                s = tr.p[:2, :2] + cov
+                maha = float(d @ np.linalg.solve(s, d))
                 if maha <= self.config.gate_chi2:
-                    cost[i, j] = maha
+                    # negative log-likelihood, not the bare distance: with the distance alone
+                    # a vague track (e.g. fed by radar bearings) wins every observation it
+                    # can reach from a precise track of the same object
+                    cost[i, j] = maha + float(np.log(np.linalg.det(s)))
         used: set[int] = set()
         if nt:
             for i, j in zip(*linear_sum_assignment(cost), strict=True):

@@ -25,6 +25,7 @@ def study_config(args: argparse.Namespace) -> StudyConfig:
         vehicles_per_hour=args.vph,
         persons_per_hour=args.pph,
         variants=variants,
+        crossing_priority=not args.minor_crossings,
         runs=args.runs,
         seed=args.seed,
         penetration=args.penetration,
@@ -44,7 +45,15 @@ def run_sct(args: argparse.Namespace) -> int:
         raise HiyariError(f"--jobs must be >= 1, got {args.jobs}")
     out = Path(args.out)
     results, wall = run_study(config, out, args.jobs, progress=not args.quiet)
-    report = write_report(out, config, results, wall)
+    sensitivity = None
+    if args.sensitivity:
+        from hiyari.bridge.campaign.sct_sensitivity import run_sensitivity
+
+        sensitivity = (
+            args.sensitivity,
+            run_sensitivity(config, out, args.sensitivity, jobs=args.jobs),
+        )
+    report = write_report(out, config, results, wall, sensitivity)
     for s in summarise(config, results):
         print(
             f"{s.variant:13s} {s.arm:9s} incidents {s.incidents:5d} (collisions {s.collisions}), "
@@ -93,6 +102,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="comma-separated intersection variants: unsignalised, signalised (or 'both')",
     )
     s.add_argument(
+        "--minor-crossings",
+        action="store_true",
+        help="unsignalised crossings without priority (netconvert's default: pedestrians wait "
+        "for gaps) instead of zebra crossings where drivers yield",
+    )
+    s.add_argument(
         "--runs",
         type=numbers.count(1, 100_000),
         default=d.runs,
@@ -125,6 +140,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     s.add_argument(
         "--jobs", "-j", type=numbers.count(1, 4096), help="parallel processes (default: CPU count)"
+    )
+    s.add_argument(
+        "--sensitivity",
+        type=numbers.number(0, 24 * 3660, unit="h"),
+        default=0.0,
+        metavar="HOURS",
+        help="also run the sensitivity points (SCT_safe, penetration, pedestrian demand), "
+        "HOURS simulated hours per arm and point (0: none)",
     )
     s.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     s.set_defaults(func=run_sct)

@@ -1,0 +1,63 @@
+"""False-positive braking: braking episodes of the ego stack with no hazard in ground truth.
+
+A step brakes when the commanded acceleration is at or below ``-min_decel``; an episode is a
+maximal run of braking steps. It is false when the ground-truth time to collision with every
+actor (hiyari.risk.metrics.ground_truth, 10 s horizon by default) stays infinite over the whole
+episode: braking that starts early for a hazard that then materialises, or that holds on to
+standstill after one, is not false. An episode is the AEB's when the AEB applied a deceleration
+in it, else the ACC's (following or speed keeping).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class FalseBraking:
+    """False-positive braking of one source over a run: events, total duration (s) and the
+    largest deceleration (m/s^2, positive; 0 without events)."""
+
+    events: int = 0
+    duration: float = 0.0
+    peak_decel: float = 0.0
+
+
+def false_braking(
+    t: np.ndarray,
+    accel: np.ndarray,
+    ttc_true: np.ndarray,
+    aeb_decel: np.ndarray,
+    min_decel: float = 0.5,
+) -> dict[str, FalseBraking]:
+    """{"aeb": ..., "acc": ...} from per-step series: time ``t`` (s), commanded acceleration
+    ``accel`` (m/s^2), ground-truth TTC ``ttc_true`` (s, inf: no hazard) and the AEB's applied
+    deceleration ``aeb_decel`` (m/s^2, positive; 0 when it does not brake).
+
+    Each step lasts until the next one (the last one as long as its predecessor)."""
+    t = np.asarray(t, float)
+    accel = np.asarray(accel, float)
+    n = len(t)
+    if n == 0:
+        return {"aeb": FalseBraking(), "acc": FalseBraking()}
+    dt = np.diff(t, append=t[-1] + (t[-1] - t[-2] if n > 1 else 0.0))
+    brake = accel <= -min_decel
+    start = brake & ~np.concatenate([[False], brake[:-1]])
+    episode = np.cumsum(start) - 1  # episode index per braking step
+    k = int(start.sum())
+    hazard = np.bincount(episode[brake], np.isfinite(np.asarray(ttc_true, float))[brake], k) > 0
+    by_aeb = np.bincount(episode[brake], (np.asarray(aeb_decel, float) > 0)[brake], k) > 0
+    length = np.bincount(episode[brake], dt[brake], k)
+    peak = np.zeros(k)
+    np.maximum.at(peak, episode[brake], -accel[brake])
+    out = {}
+    for name, mine in (("aeb", by_aeb), ("acc", ~by_aeb)):
+        hit = mine & ~hazard
+        out[name] = FalseBraking(
+            events=int(hit.sum()),
+            duration=float(length[hit].sum()),
+            peak_decel=float(peak[hit].max()) if hit.any() else 0.0,
+        )
+    return out
