@@ -73,7 +73,7 @@ def hud_label(info: FrameInfo, lidar_every: int = 1) -> str:
     if info.collisions:
         text += f" · collisions {len(info.collisions)}"
     if lidar_every > 1:
-        text += f" · LiDAR: every {lidar_every}th point shown (recording has all)"
+        text += f" · LiDAR: 1 in {lidar_every} points shown (the recording has all)"
     return text
 
 
