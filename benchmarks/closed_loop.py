@@ -28,6 +28,7 @@ from embreex.mesh_construction import TriangleMesh
 from hiyari.bridge.scenario.presets import build_scenario
 from hiyari.bridge.scenario.run import RunOptions, run_concrete
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.bridge.stack.interfaces import EgoStep
 from hiyari.net.mesh.road_mesh import build_scene_mesh
 from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.net.road.network import RoadNetwork
@@ -133,7 +134,7 @@ def main() -> None:
         base_rt, nveh, nper = bare(cs, Path(tmp) / "bare")
         counts: dict = {}
 
-        def on_step(world, step, collisions):
+        def on_step(world: WorldState, step: EgoStep, collisions: list) -> None:
             counts["world"] = world
             counts["veh"] = int(world.is_vehicle.sum())
             counts["ped"] = int(world.is_pedestrian.sum())

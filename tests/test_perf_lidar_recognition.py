@@ -83,7 +83,7 @@ def reference(cloud: PointCloud, cfg: LidarRecognitionConfig) -> dict[str, np.nd
 
 
 @pytest.mark.parametrize("rain", [0.0, 80.0])
-def test_fast_recogniser_equals_reference_on_street_scans(rain):
+def test_fast_recogniser_equals_reference_on_street_scans(rain: float) -> None:
     world = street_scenario(occluder=True)
     scene = RayScene(StraightRoad().mesh())
     lidar = Lidar(LidarConfig.preset("64ch"), Mount(x=0.0, z=1.9))

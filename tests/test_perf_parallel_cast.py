@@ -12,7 +12,7 @@ from hiyari.sensors.scene.ray_scene import CAST_CHUNK, RayScene
 from hiyari.sensors.scene.synthetic import StraightRoad, street_scenario
 
 
-def test_parallel_chunks_equal_sequential_cast_and_scan():
+def test_parallel_chunks_equal_sequential_cast_and_scan() -> None:
     world = street_scenario(occluder=True)
     mesh = StraightRoad().mesh()
     one, two = RayScene(mesh), RayScene(mesh, workers=2)

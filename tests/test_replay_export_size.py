@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from test_recording_data import record_run
 
@@ -11,7 +13,9 @@ from hiyari.bridge.replay.scene import FrameInfo
 from hiyari.errors import HiyariError
 
 
-def test_thinned_lidar_page_is_smaller_and_says_so(intersection_net, intersection_demand, tmp_path):
+def test_thinned_lidar_page_is_smaller_and_says_so(
+    intersection_net: Path, intersection_demand: Path, tmp_path: Path
+) -> None:
     run = record_run(intersection_net, intersection_demand, tmp_path / "run.mcap", 6.0)
     rec = Recording.open(run.path)
     full = export_html(rec, tmp_path / "all.html", progress=False, lidar_every=1)
