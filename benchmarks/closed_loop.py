@@ -5,6 +5,11 @@ without the ego stack (same network, demand, seed and step), in the same process
 SUMO steps at 0.025 s so that every sensor can fire at its own rate. Both runs warm up the
 same number of simulated seconds untimed (traffic fills the network), then time the window.
 
+Next to it, the physical limit of this machine: 1 / (SUMO step + raw Embree cast of the same
+rays) per simulated second, the raw cast being one Embree query per LiDAR scan (10 Hz) and
+radar cycle (20 Hz) of the rig's rays into one prebuilt scene holding the road and the actors
+of the last step (nothing else); on one thread, and with the rays in two threads.
+
 Run: .venv/bin/python benchmarks/closed_loop.py [--seconds 30]
 """
 
@@ -13,13 +18,26 @@ from __future__ import annotations
 import argparse
 import tempfile
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+
+import numpy as np
+from embreex import rtcore_scene
+from embreex.mesh_construction import TriangleMesh
 
 from hiyari.bridge.scenario.presets import build_scenario
 from hiyari.bridge.scenario.run import RunOptions, run_concrete
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.bridge.stack.interfaces import EgoStep
+from hiyari.net.mesh.road_mesh import build_scene_mesh
+from hiyari.net.mesh.scene_mesh import SceneMesh
+from hiyari.net.road.network import RoadNetwork
+from hiyari.sensors.rig import SensorRig
+from hiyari.sensors.scene.actor_shapes import ActorAppearance, build_actor_mesh
+from hiyari.sensors.scene.ray_scene import CAST_CHUNK
 from hiyari.traffic.commands import SPEED_MODE_DEFAULT
 from hiyari.traffic.simulation import SimConfig, Simulation
+from hiyari.traffic.world_state import WorldState
 
 PARAMS = {
     "vehicles_per_hour": 2400.0,
@@ -45,6 +63,58 @@ def bare(cs: ConcreteScenario, work: Path) -> tuple[float, int, int]:
     return cs.duration / wall, int(state.is_vehicle.sum()), int(state.is_pedestrian.sum())
 
 
+def raw_cast_seconds(
+    net: Path, world: WorldState, ego_id: str, repeats: int = 5
+) -> tuple[float, float]:
+    """Wall seconds of the raw Embree casts of one simulated second of the rig's LiDAR and
+    radar rays (fastest of ``repeats``), on one thread and in two threads."""
+    mesh = build_scene_mesh(RoadNetwork(net).geometry, buildings=False)
+    actors = build_actor_mesh(world, ActorAppearance(), world.ids == ego_id)
+    both = SceneMesh.concatenate(
+        [mesh, SceneMesh(actors.vertices.astype(np.float64), actors.faces, actors.material)]
+    )
+    scene = rtcore_scene.EmbreeScene()
+    TriangleMesh(scene, both.vertices.astype(np.float32), both.faces.astype(np.int32))
+    ego = world.pose_of(ego_id)
+    rig = SensorRig.default()
+    bundles = []
+    for sensor in rig.sensors:
+        if hasattr(sensor, "index") and sensor.name in ("lidar", "radar"):
+            s2w = sensor.sensor_to_world(ego)
+            d = (sensor.index.directions.astype(np.float64) @ s2w[:3, :3].T).astype(np.float32)
+            o = np.empty_like(d)
+            o[:] = s2w[:3, 3].astype(np.float32)
+            bundles.append((o, d, np.float32(sensor.config.max_range_m), sensor.rate_hz))
+    pool = ThreadPoolExecutor(2)
+
+    def one(o: np.ndarray, d: np.ndarray, r: np.float32) -> None:
+        scene.run(o, d, dists=r, output=1)
+
+    def two(o: np.ndarray, d: np.ndarray, r: np.float32) -> None:
+        n = len(d)
+        fs = [
+            pool.submit(scene.run, o[a : a + CAST_CHUNK], d[a : a + CAST_CHUNK], dists=r, output=1)
+            for a in range(0, n, CAST_CHUNK)
+        ]
+        for f in fs:
+            f.result()
+
+    out = []
+    for cast in (one, two):
+        best = []
+        for o, d, r, rate in bundles:
+            cast(o, d, r)
+            t = []
+            for _ in range(repeats):
+                t0 = time.perf_counter()
+                cast(o, d, r)
+                t.append(time.perf_counter() - t0)
+            best.append(min(t) * rate)
+        out.append(sum(best))
+    pool.shutdown()
+    return out[0], out[1]
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seconds", type=float, default=30.0, help="timed simulated seconds")
@@ -62,16 +132,20 @@ def main() -> None:
     )
     with tempfile.TemporaryDirectory(prefix="hiyari-bench-") as tmp:
         base_rt, nveh, nper = bare(cs, Path(tmp) / "bare")
-        counts = {}
+        counts: dict = {}
 
-        def on_step(world, step, collisions):
+        def on_step(world: WorldState, step: EgoStep, collisions: list) -> None:
+            counts["world"] = world
             counts["veh"] = int(world.is_vehicle.sum())
             counts["ped"] = int(world.is_pedestrian.sum())
             for ol in step.object_lists:
                 counts[ol.source] = counts.get(ol.source, 0) + 1
 
         res = run_concrete(cs, RunOptions(), on_step=on_step)
+        net = build_scenario(cs, Path(tmp) / "limit").net
+        raw1, raw2 = raw_cast_seconds(net, counts["world"], "ego")
     loop_rt = res.sim_seconds / res.wall_seconds
+    sumo_s = 1.0 / base_rt  # wall seconds of SUMO + WorldState per simulated second
     print(
         f"city grid, {nveh} vehicles and {nper} pedestrians in the network (bare run end); "
         f"{args.seconds:.0f} s simulated, step {STEP} s"
@@ -84,8 +158,18 @@ def main() -> None:
     print(f"{'SUMO + WorldState, no ego stack':44s} {base_rt:15.2f}")
     print(f"{'closed loop: LiDAR + radar + camera + fusion':44s} {loop_rt:15.2f}")
     print(
-        f"closed loop runs {loop_rt:.2f}x real time (target >= 2); "
-        f"{base_rt / loop_rt:.1f}x the cost of SUMO alone"
+        f"{'physical limit 1 / (SUMO + raw Embree cast), 1 thread':44s} {1 / (sumo_s + raw1):15.2f}"
+    )
+    print(f"{'physical limit, raw cast in 2 threads':44s} {1 / (sumo_s + raw2):15.2f}")
+    print(
+        f"raw Embree cast per simulated second (LiDAR 10 Hz + radar 20 Hz rays): "
+        f"{raw1 * 1e3:.0f} ms on 1 thread, {raw2 * 1e3:.0f} ms in 2 threads; "
+        f"SUMO + WorldState {sumo_s * 1e3:.0f} ms"
+    )
+    print(
+        f"closed loop runs {loop_rt:.2f}x real time (target >= 5; baseline 1.9-2.5); "
+        f"{base_rt / loop_rt:.1f}x the cost of SUMO alone; "
+        f"{loop_rt * (sumo_s + raw1):.2f} of the 1-thread physical limit"
     )
 
 

@@ -11,7 +11,9 @@
    reading every message of the same file with the mcap library's own reader.
 
 3. The closed-loop demo (dart-out with camera, radar and LiDAR) with and without recording
-   everything (ground truth, raw sensor outputs, object lists, tracks, ego status).
+   everything (ground truth, raw sensor outputs, object lists, tracks, ego status), and the
+   size of its static replay page (bridge/replay/export.py) with 1 in 8 LiDAR points (the
+   default) next to the page with every point.
 
 Run: .venv/bin/python benchmarks/recording.py [--warm 120] [--measure 60] [--replay-minutes 5]
 """
@@ -31,6 +33,7 @@ from mcap.reader import make_reader
 from hiyari.bridge.record.reader import Recording
 from hiyari.bridge.record.recorder import Recorder
 from hiyari.bridge.record.traffic import record_traffic
+from hiyari.bridge.replay.export import export_html
 from hiyari.bridge.scenario.run import RunOptions, run_concrete
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
 from hiyari.net.road.geometry import RoadGeometry
@@ -132,12 +135,23 @@ def closed_loop_overhead(d: Path) -> str:
     rec = run_concrete(cs, RunOptions(out_dir=d / "cl_rec", plot=False, record=True))
     size = (d / "cl_rec" / "run.mcap").stat().st_size
     mb_min = size / 2**20 / (rec.sim_seconds / 60.0)
+    recording = Recording.open(d / "cl_rec" / "run.mcap")
+    pages = {
+        every: export_html(recording, d / f"replay_{every}.html", progress=False, lidar_every=every)
+        .stat()
+        .st_size
+        / 2**20
+        for every in (1, 8)
+    }
     return (
         f"\nclosed-loop demo (dart-out, LiDAR 10 Hz + radar 20 Hz + camera, images every 10th "
         f"frame), {rec.sim_seconds:.1f} s simulated\n"
         f"{'closed loop, no recording (baseline)':44s} {plain.wall_seconds:7.2f} {1.0:6.2f}\n"
         f"{'closed loop, everything recorded':44s} {rec.wall_seconds:7.2f} "
-        f"{rec.wall_seconds / plain.wall_seconds:6.2f} {mb_min:13.2f}"
+        f"{rec.wall_seconds / plain.wall_seconds:6.2f} {mb_min:13.2f}\n"
+        f"static replay page: {pages[8]:.1f} MB with 1 in 8 LiDAR points, "
+        f"{pages[1]:.1f} MB with every point (ratio {pages[8] / pages[1]:.2f}; "
+        f"target <= 15 MB for the demo's 15 s dart-out, baseline 137 MB)"
     )
 
 

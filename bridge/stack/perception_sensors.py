@@ -58,10 +58,12 @@ class SensorPerception:
         seed: int,
         ego_id: str = "ego",
         buildings: bool = False,
+        workers: int = 2,
     ) -> SensorPerception:
         """The default rig, only the sensors named in ``sensors``, on the road of ``network``
-        under the disturbance preset ``environment``; the simulation steps every ``step`` s."""
-        scene = RayScene(build_scene_mesh(network.geometry, buildings=buildings))
+        under the disturbance preset ``environment``; the simulation steps every ``step`` s;
+        ray casts split over ``workers`` threads (same results for any number)."""
+        scene = RayScene(build_scene_mesh(network.geometry, buildings=buildings), workers=workers)
         rig = SensorRig.default()
         rig.sensors = [s for s in rig.sensors if s.name in sensors]
         preset = disturbance_preset(environment)

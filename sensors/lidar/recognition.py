@@ -89,6 +89,55 @@ def _ground_reference(
     return np.where(zmin < plane + cfg.ground_plane_tolerance_m, zmin, plane).astype(np.float32)
 
 
+def _dilate_3x3(occ: np.ndarray) -> np.ndarray:
+    """Binary dilation by a 3 x 3 square (zero border), as two shifted ORs per axis: the
+    square is separable, and shifting is ~20x faster than ndimage.binary_dilation."""
+    rows = occ.copy()
+    rows[1:] |= occ[:-1]
+    rows[:-1] |= occ[1:]
+    out = rows.copy()
+    out[:, 1:] |= rows[:, :-1]
+    out[:, :-1] |= rows[:, 1:]
+    return out
+
+
+def _label_cells(occ: np.ndarray) -> tuple[np.ndarray, int]:
+    """8-connected components of the occupied cells grown by one cell: labels (0 = empty) on
+    the full grid and their count. Labelling runs only on the bounding box of the occupied
+    cells plus the one-cell growth (outside it the grid is empty, so dilating the crop with a
+    zero border is exact); ndimage numbers components in raster order, which the crop keeps,
+    so the labels equal those of the full grid."""
+    rows, cols = np.flatnonzero(occ.any(1)), np.flatnonzero(occ.any(0))
+    labels = np.zeros(occ.shape, np.int32)
+    if not len(rows):
+        return labels, 0
+    r0, r1 = max(rows[0] - 1, 0), min(rows[-1] + 2, occ.shape[0])
+    c0, c1 = max(cols[0] - 1, 0), min(cols[-1] + 2, occ.shape[1])
+    sub, count = ndimage.label(_dilate_3x3(occ[r0:r1, c0:c1]), structure=np.ones((3, 3), bool))
+    labels[r0:r1, c0:c1] = sub
+    return labels, int(count)
+
+
+def _extents(
+    xyz: np.ndarray, above: np.ndarray, lab: np.ndarray, count: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Per object label 0..count-1 of the points: point count, low and high corners (count, 3)
+    of the sensor-frame points ``xyz`` and the greatest height ``above`` ground.
+
+    Points are grouped by a stable counting sort of their labels and reduced segment by
+    segment: ufunc.at into few targets (one object holding a whole building) is up to ~100x
+    slower. A label without points gets a meaningless box and a count of 0.
+    """
+    order = np.argsort(lab.astype(np.uint16 if count < 2**16 else np.int64), kind="stable")
+    start = np.searchsorted(lab[order], np.arange(count))
+    n_pts = np.diff(np.append(start, len(lab)))
+    values = np.concatenate([xyz, above[:, None]], 1)[order]
+    start = np.minimum(start, len(lab) - 1)
+    lo = np.minimum.reduceat(values, start, axis=0)
+    hi = np.maximum.reduceat(values, start, axis=0)
+    return n_pts, lo[:, :3].astype(np.float64), hi[:, :3].astype(np.float64), hi[:, 3]
+
+
 def recognise_lidar(cloud: PointCloud, config: LidarRecognitionConfig | None = None) -> ObjectList:
     """Objects in ``cloud`` (positions and sizes in the sensor frame; no velocity)."""
     cfg = config or LidarRecognitionConfig()
@@ -99,23 +148,26 @@ def recognise_lidar(cloud: PointCloud, config: LidarRecognitionConfig | None = N
     x, y, z = (cloud.xyz[:, k] for k in range(3))
     wx = rot[0, 0] * x + rot[0, 1] * y + rot[0, 2] * z  # offsets from the sensor, network axes
     wy = rot[1, 0] * x + rot[1, 1] * y + rot[1, 2] * z
-    wz = rot[2, 0] * x + rot[2, 1] * y + rot[2, 2] * z + t[2]
+    wz = (rot[2, 0] * x + rot[2, 1] * y + rot[2, 2] * z + t[2]).astype(np.float32)
     h = cfg.roi_half_size_m
     inside = (np.abs(wx) < h) & (np.abs(wy) < h)
-    idx = np.flatnonzero(inside)
-    wx, wy, wz = wx[idx], wy[idx], wz[idx]
+    if not inside.all():
+        idx = np.flatnonzero(inside)
+        wx, wy, wz = wx[idx], wy[idx], wz[idx]
+    else:
+        idx = np.arange(len(wx))
 
     ng = int(np.ceil(2 * h / cfg.ground_cell_m))
     gi = ((wx + h) / cfg.ground_cell_m).astype(np.int64).clip(0, ng - 1)
     gj = ((wy + h) / cfg.ground_cell_m).astype(np.int64).clip(0, ng - 1)
-    wz = wz.astype(np.float32)
+    cell = gi * ng + gj
     zmin = np.full(ng * ng, np.inf, np.float32)
-    np.minimum.at(zmin, gi * ng + gj, wz)
+    np.minimum.at(zmin, cell, wz)
     # a car can fill a whole cell: the ground is the lowest point in the 3 x 3 neighbourhood
     zmin = ndimage.minimum_filter(zmin.reshape(ng, ng), size=3, mode="nearest").ravel()
     ground = _ground_reference(zmin, ng, h, cfg)
-    above = wz - ground[gi * ng + gj]
-    obj = (above > cfg.ground_tolerance_m) & (above < cfg.max_height_m)
+    above = wz - ground[cell]
+    obj = np.flatnonzero((above > cfg.ground_tolerance_m) & (above < cfg.max_height_m))
     idx, wx, wy, above = idx[obj], wx[obj], wy[obj], above[obj]
     if len(idx) < cfg.min_points:
         return empty
@@ -126,26 +178,15 @@ def recognise_lidar(cloud: PointCloud, config: LidarRecognitionConfig | None = N
     # isolated returns (rain drops, dust) leave single points in a cell: drop such cells
     cell_count = np.bincount(ci * nc + cj, minlength=nc * nc).reshape(nc, nc)
     occ = cell_count >= cfg.min_cell_points
-    solid = occ[ci, cj]
+    solid = np.flatnonzero(occ[ci, cj])
     idx, ci, cj, above = idx[solid], ci[solid], cj[solid], above[solid]
     if len(idx) < cfg.min_points:
         return empty
     # one cell of dilation bridges the gaps a sparse scan leaves on one object (trunk lids)
-    grown = ndimage.binary_dilation(occ, structure=np.ones((3, 3), bool))
-    labels, count = ndimage.label(grown, structure=np.ones((3, 3), bool))
+    labels, count = _label_cells(occ)
     lab = labels[ci, cj] - 1
 
-    n_pts = np.bincount(lab, minlength=count)
-    px, py, pz = (cloud.xyz[idx, k] for k in range(3))
-    # ufunc.at is fast only on contiguous arrays of the values' own dtype
-    lo = np.full((3, count), np.inf, np.float32)
-    hi = np.full((3, count), -np.inf, np.float32)
-    for k, v in enumerate((px, py, pz)):
-        np.minimum.at(lo[k], lab, v)
-        np.maximum.at(hi[k], lab, v)
-    lo, hi = lo.T.astype(np.float64), hi.T.astype(np.float64)
-    top = np.full(count, -np.inf, np.float32)
-    np.maximum.at(top, lab, above.astype(np.float32))
+    n_pts, lo, hi, top = _extents(cloud.xyz[idx], above.astype(np.float32), lab, count)
     ext = hi - lo
     length = np.maximum(ext[:, 0], ext[:, 1])
     width = np.minimum(ext[:, 0], ext[:, 1])

@@ -9,6 +9,8 @@ the nearer hit. Frames: network coordinates (metres); directions unit vectors.
 
 from __future__ import annotations
 
+import weakref
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,6 +30,9 @@ NO_MATERIAL = 255
 
 AZIMUTH_BINS = 1440
 """Azimuth bins (0.25 deg) used to find which rays may reach an actor."""
+
+CAST_CHUNK = 8192
+"""Rays per chunk of a parallel static cast (16 chunks per 64 x 2048 scan)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -75,7 +80,7 @@ class Hits:
 class RayScene:
     """Static mesh plus per-step actor shapes, ray-cast with Embree.
 
-    Build once per network: ``scene = RayScene(mesh)``; then per step
+    Build once per network: ``scene = RayScene(mesh, workers=2)``; then per step
     ``scene.update(world, ego_id)`` (the ego is left out so that sensors do not see their own
     vehicle), and sensors call ``scene.cast``.
     """
@@ -85,8 +90,15 @@ class RayScene:
         static: SceneMesh,
         appearance: ActorAppearance | None = None,
         actor_radius_m: float = 250.0,
+        workers: int = 1,
     ) -> None:
         self.appearance = appearance or ActorAppearance()
+        # static casts split over ``workers`` threads: hits are per ray, so the result is the
+        # same bit for bit whatever the split
+        self._pool = None
+        if workers > 1:
+            self._pool = ThreadPoolExecutor(workers, thread_name_prefix="hiyari-cast")
+            weakref.finalize(self, self._pool.shutdown, wait=False)
         self.actor_radius_m = actor_radius_m
         self._device = EmbreeDevice()
         self.static_mesh = static
@@ -211,6 +223,37 @@ class RayScene:
         x, y = rotate_xy(fwd / half2[:, 0], left / half2[:, 1], heading)
         return np.stack([x, y, d[:, 2] / half2[:, 2]], 1).astype(np.float32)
 
+    def _cast_static(
+        self, origins: np.ndarray, directions: np.ndarray, max_range: float, out: Hits
+    ) -> None:
+        """Static-scene hits into ``out`` (filled with misses), in chunks spread over the
+        worker threads: Embree and the numpy passes over a chunk release the GIL."""
+        n = len(directions)
+
+        def chunk(a: int, b: int) -> None:
+            d = directions[a:b]
+            rs = self._static.run(origins[a:b], d, dists=np.float32(max_range), output=1)
+            prim = rs["primID"]
+            found = prim >= 0
+            out.distance[a:b] = np.where(found, rs["tfar"], np.float32(np.inf))
+            out.hit[a:b] = np.where(found, np.int32(HIT_STATIC), np.int32(HIT_NONE))
+            # index -1 (a miss) picks the sentinel last row of each table (zero normal)
+            out.material[a:b] = np.take(self._static_material_ext, prim)
+            nrm = np.take(self._static_normal_ext, prim, axis=0)
+            dot = nrm[:, 0] * d[:, 0] + nrm[:, 1] * d[:, 1] + nrm[:, 2] * d[:, 2]
+            out.cos_incidence[a:b] = np.abs(dot)
+            if out.normal is not None:
+                out.normal[a:b] = nrm * np.where(dot > 0, np.float32(-1), np.float32(1))[:, None]
+
+        if self._pool is None or n < 2 * CAST_CHUNK:
+            chunk(0, n)
+            return
+        # many chunks, fetched by whichever thread is free: rays into the sky cost less than
+        # rays onto the road, and a scan's rows are ordered by elevation
+        bounds = range(0, n, CAST_CHUNK)
+        for f in [self._pool.submit(chunk, a, min(a + CAST_CHUNK, n)) for a in bounds]:
+            f.result()
+
     def cast(
         self,
         origins: np.ndarray,
@@ -229,58 +272,63 @@ class RayScene:
         static scene only. ``normals`` also returns unit shading normals.
         """
         n = len(directions)
-        if self._static is not None:
-            rs = self._static.run(origins, directions, dists=np.float32(max_range), output=1)
-            prim = rs["primID"]
-            found = prim >= 0
-            dist = np.where(found, rs["tfar"], np.float32(np.inf))
-            hit = np.where(found, np.int32(HIT_STATIC), np.int32(HIT_NONE))
-            # index -1 (a miss) picks the sentinel last row of each table
-            material = np.take(self._static_material_ext, prim)
-            normal = np.take(self._static_normal_ext, prim, axis=0)
-        else:
-            dist = np.full(n, np.inf, np.float32)
-            hit = np.full(n, HIT_NONE, np.int32)
-            material = np.full(n, NO_MATERIAL, np.uint8)
-            normal = np.zeros((n, 3), np.float32)
-        if actors and self._dynamic is not None:
-            if rays is None:
-                idx = np.arange(n)
-            else:
-                near, low, high = self.actor_bins(rays, max_range)
-                b, el = rays.index.bin, rays.index.elevation
-                idx = np.flatnonzero(
-                    (dist > np.take(near, b)) & (el >= np.take(low, b)) & (el <= np.take(high, b))
-                )
-            if len(idx):
-                limit = np.minimum(dist[idx], np.float32(max_range))
-                rd = self._dynamic.run(
-                    np.ascontiguousarray(origins[idx]),
-                    np.ascontiguousarray(directions[idx]),
-                    dists=limit,
-                    output=1,
-                )
-                dh = rd["primID"] >= 0
-                j = idx[dh]
-                prim = rd["primID"][dh]
-                dist[j] = rd["tfar"][dh]
-                hit[j] = self.actors.actor_row[prim]
-                material[j] = self.actors.material[prim]
-                ng = rd["Ng"][dh]
-                rnd = self.actors.rounded[prim]
-                if rnd.any():
-                    ng[rnd] = self._ellipsoid_normal(
-                        prim[rnd], origins[j[rnd]] + directions[j[rnd]] * dist[j[rnd], None]
-                    )
-                length = np.linalg.norm(ng, axis=1, keepdims=True)
-                normal[j] = ng / np.maximum(length, np.float32(1e-9))
-        dot = (
-            normal[:, 0] * directions[:, 0]
-            + normal[:, 1] * directions[:, 1]
-            + normal[:, 2] * directions[:, 2]
+        out = Hits(
+            np.full(n, np.inf, np.float32),
+            np.full(n, HIT_NONE, np.int32),
+            np.full(n, NO_MATERIAL, np.uint8),
+            np.zeros(n, np.float32),
+            np.zeros((n, 3), np.float32) if normals else None,
         )
-        cos_inc = np.abs(dot)
-        unit = None
-        if normals:
-            unit = normal * np.where(dot > 0, np.float32(-1.0), np.float32(1.0))[:, None]
-        return Hits(dist, hit, material, cos_inc, unit)
+        if self._static is not None:
+            self._cast_static(origins, directions, max_range, out)
+        if actors and self._dynamic is not None:
+            self._cast_actors(origins, directions, max_range, rays, out)
+        return out
+
+    def _cast_actors(
+        self,
+        origins: np.ndarray,
+        directions: np.ndarray,
+        max_range: float,
+        rays: SensorRays | None,
+        out: Hits,
+    ) -> None:
+        """Cast the rays that may reach an actor into the actor scene; nearer hits replace
+        the static ones in ``out``."""
+        if rays is None:
+            idx = np.arange(len(directions))
+        else:
+            near, low, high = self.actor_bins(rays, max_range)
+            b, el = rays.index.bin, rays.index.elevation
+            idx = np.flatnonzero(
+                (out.distance > np.take(near, b))
+                & (el >= np.take(low, b))
+                & (el <= np.take(high, b))
+            )
+        if not len(idx):
+            return
+        limit = np.minimum(out.distance[idx], np.float32(max_range))
+        rd = self._dynamic.run(
+            np.ascontiguousarray(origins[idx]),
+            np.ascontiguousarray(directions[idx]),
+            dists=limit,
+            output=1,
+        )
+        dh = rd["primID"] >= 0
+        j = idx[dh]
+        prim = rd["primID"][dh]
+        out.distance[j] = rd["tfar"][dh]
+        out.hit[j] = self.actors.actor_row[prim]
+        out.material[j] = self.actors.material[prim]
+        ng = rd["Ng"][dh]
+        rnd = self.actors.rounded[prim]
+        if rnd.any():
+            ng[rnd] = self._ellipsoid_normal(
+                prim[rnd], origins[j[rnd]] + directions[j[rnd]] * out.distance[j[rnd], None]
+            )
+        nrm = ng / np.maximum(np.linalg.norm(ng, axis=1, keepdims=True), np.float32(1e-9))
+        d = directions[j]
+        dot = nrm[:, 0] * d[:, 0] + nrm[:, 1] * d[:, 1] + nrm[:, 2] * d[:, 2]
+        out.cos_incidence[j] = np.abs(dot)
+        if out.normal is not None:
+            out.normal[j] = nrm * np.where(dot > 0, np.float32(-1), np.float32(1))[:, None]
