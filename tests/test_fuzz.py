@@ -709,14 +709,15 @@ def corpus(tmp_path_factory) -> Corpus:
 
 def test_seed_inputs_run_cleanly(corpus, tmp_path):
     """The unmutated seeds pass: the harness would otherwise only ever see errors."""
-    out = tmp_path / "out"
+    # one output folder per case: the cases run concurrently and each checks its own folder
+    o = [tmp_path / f"out{i}" for i in range(4)]
     cases = [
-        Case("seed", 0, ["sim", "-n", str(corpus.net), "-r", str(corpus.routes), "-d", "2", "-q"], (), out, "net + routes"),
-        Case("seed", 1, ["sim", "-c", str(corpus.config), "-d", "2", "-q"], (), out, "config"),
-        Case("seed", 2, ["net", "mesh", str(corpus.net), "-o", str(out / "a.glb")], (), out, "mesh"),
-        Case("seed", 3, ["replay", str(corpus.recording), "--recover", str(out / "b.mcap")], (), out, "mcap"),
-        *[Case("seed", 4, ["sweep", str(t), "-o", str(out / t.stem), "--dry-run"], (), out, t.name) for t in corpus.tomls],
-        *[Case("seed", 5, ["net", "import", str(x), "-o", str(out / "x.net.xml")], (), out, x.name) for x in corpus.xodr],
+        Case("seed", 0, ["sim", "-n", str(corpus.net), "-r", str(corpus.routes), "-d", "2", "-q"], (), o[0], "net + routes"),
+        Case("seed", 1, ["sim", "-c", str(corpus.config), "-d", "2", "-q"], (), o[1], "config"),
+        Case("seed", 2, ["net", "mesh", str(corpus.net), "-o", str(o[2] / "a.glb")], (), o[2], "mesh"),
+        Case("seed", 3, ["replay", str(corpus.recording), "--recover", str(o[3] / "b.mcap")], (), o[3], "mcap"),
+        *[Case("seed", 4, ["sweep", str(t), "-o", str(tmp_path / t.stem / "o"), "--dry-run"], (), tmp_path / t.stem, t.name) for t in corpus.tomls],
+        *[Case("seed", 5, ["net", "import", str(x), "-o", str(tmp_path / x.stem / "x.net.xml")], (), tmp_path / x.stem, x.name) for x in corpus.xodr],
     ]  # fmt: skip
     for r in run_cases(cases):
         assert r.status == 0 and not r.problems, (r.case.what, r.problems, r.stderr)

@@ -21,7 +21,9 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import shutil
 import signal
+import tempfile
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -103,11 +105,15 @@ def _run_here(
         yield i, result
 
 
-def _init_worker(queue: Any) -> None:
+def _init_worker(queue: Any, temp_root: str) -> None:
     global _progress_sink
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent decides what Ctrl-C does
     signal.signal(signal.SIGTERM, _exit_worker)
     _progress_sink = queue.put if queue is not None else None
+    # A SIGTERM can land between mkdtemp and the ``with`` that would remove the folder, or
+    # inside rmtree: workers' temporary files go under one root the parent removes at the end.
+    tempfile.tempdir = temp_root
+    os.environ["TMPDIR"] = temp_root
 
 
 def _exit_worker(signum: int, frame: object) -> None:
@@ -124,11 +130,12 @@ def _run_local(
     # fork: workers start at once with everything imported; no simulation is open here
     ctx = multiprocessing.get_context("fork")
     queue = ctx.SimpleQueue() if on_progress is not None else None
+    temp_root = tempfile.mkdtemp(prefix="hiyari-pool-")
     pool = ProcessPoolExecutor(
         max_workers=min(workers, len(tasks)),
         mp_context=ctx,
         initializer=_init_worker,
-        initargs=(queue,),
+        initargs=(queue, temp_root),
     )
 
     def drain() -> None:
@@ -153,7 +160,10 @@ def _run_local(
     except BaseException:
         _stop(pool)
         raise
-    pool.shutdown(wait=True)
+    else:
+        pool.shutdown(wait=True)
+    finally:
+        shutil.rmtree(temp_root, ignore_errors=True)
 
 
 def _stop(pool: ProcessPoolExecutor) -> None:
