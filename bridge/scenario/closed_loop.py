@@ -51,6 +51,10 @@ class ScenarioHooks:
         """Whether the ego stack's command moves the ego now (else the scenario does)."""
         return True
 
+    def is_contact(self, collision: Collision) -> bool:
+        """Whether a collision the simulation reports counts as contact for the verdict."""
+        return True
+
     def gap_target(self, world: WorldState, row: int) -> int:
         """Row of the actor whose bumper gap is scored (-1: none): the scenario's target."""
         if self.target_id and self.target_id in world.ids:
@@ -100,7 +104,7 @@ def run_closed_loop(
             _metrics(res, world, row, ego, step, hooks, truth)
             if on_step is not None:
                 on_step(world, step, sim.collisions)
-            hit = [c for c in sim.collisions if ego_id in (c.a, c.b)]
+            hit = [c for c in sim.collisions if ego_id in (c.a, c.b) and hooks.is_contact(c)]
             if hit:
                 other = hit[0].b if hit[0].a == ego_id else hit[0].a
                 res.collision, res.collided_with, res.collision_time = True, other, world.time

@@ -34,6 +34,7 @@ from hiyari.errors import HiyariError
 from hiyari.kinematics import bumper_gap, unrotate
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.road.opendrive_lanes import RoadLanes
+from hiyari.traffic.collision import Collision
 from hiyari.traffic.simulation import SimConfig, Simulation
 from hiyari.traffic.world_state import WorldState
 
@@ -122,6 +123,12 @@ class EngineHooks(ScenarioHooks):
 
     def stack_drives_ego(self) -> bool:
         return not self.report.ego_storyboard_driven
+
+    def is_contact(self, collision: Collision) -> bool:
+        # SUMO's own check is longitudinal per lane (no sublanes): a scripted actor placed
+        # beside the ego on the ego's SUMO lane (a pedestrian on the lane edge, a car at a
+        # lateral offset) would count as hit. Only overlapping footprints are contact.
+        return collision.depth > 0.0
 
     def gap_target(self, world: WorldState, row: int) -> int:
         xy = world.xyz[:, :2]

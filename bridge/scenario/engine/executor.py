@@ -411,6 +411,8 @@ class ScenarioEngine:
         contacts: set[frozenset[int]] = set()
         contact_any = np.zeros(len(rows), dtype=bool)
         for col in sim.collisions:
+            if col.depth <= 0.0:
+                continue  # SUMO's per-lane check alone: no sublanes, beside counts as hit
             ia, ib = self.index.get(col.a, -1), self.index.get(col.b, -1)
             for x in (ia, ib):
                 if x >= 0:
