@@ -5,13 +5,15 @@ each recorded (run.mcap) with a static replay (replay.html), and the verdicts ta
 
     python -m hiyari.bridge.scenario.alks_results ../shared/data/openscenario/alks -o out/alks
 
-Runs go to worker processes (one libsumo simulation each).
+Runs go to worker processes (one libsumo simulation each); a re-run keeps the runs already
+done (their result.json and replay.html), so an interrupted table resumes.
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
+import json
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -62,20 +64,34 @@ def run_task(task: AlksTask) -> dict:
         frames=range(0, len(rec), max(1, task.replay_every)),
         progress=False,
     )
-    d = res.as_dict()
+    return row_of(task, res.as_dict(), time.perf_counter() - t0)
+
+
+def row_of(task: AlksTask, d: dict, wall: float) -> dict:
+    """The results.csv row of a run from its result summary (RunResult.as_dict())."""
+    collision = bool(d["collision"])
     return {
         "scenario": task.path.stem.removesuffix("_template"),
         "perception": task.perception,
-        "verdict": res.verdict(),
-        "collided_with": res.collided_with,
-        "impact_speed_kmh": d["impact_speed_kmh"] if res.collision else "",
+        "verdict": "collision" if collision else "no collision",
+        "collided_with": d["collided_with"],
+        "impact_speed_kmh": d["impact_speed_kmh"] if collision else "",
         "min_ttc_s": "" if d["min_ttc_s"] is None else d["min_ttc_s"],
         "min_gap_m": "" if d["min_gap_m"] is None else d["min_gap_m"],
-        "aeb_max_stage": res.aeb_max_stage,
-        "stop_trigger": res.stop_trigger,
-        "sim_seconds": round(res.sim_seconds, 2),
-        "wall_seconds": round(time.perf_counter() - t0, 1),
+        "aeb_max_stage": d["aeb_max_stage"],
+        "stop_trigger": d["stop_trigger"],
+        "sim_seconds": round(d["sim_seconds"], 2),
+        "wall_seconds": round(wall, 1),
     }
+
+
+def finished_row(task: AlksTask) -> dict | None:
+    """The row of a task whose outputs (result.json, replay.html) are already there."""
+    result = task.out / "result.json"
+    if not (result.is_file() and (task.out / "replay.html").is_file()):
+        return None
+    d = json.loads(result.read_text())["result"]
+    return row_of(task, d, d["wall_seconds"])
 
 
 def markdown(rows: list[dict]) -> str:
@@ -104,18 +120,27 @@ def markdown(rows: list[dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def run_table(folder: Path, out: Path, perceptions: list[str], workers: int) -> list[dict]:
-    """Run every .xosc in ``folder`` per perception mode; write results.csv / results.md."""
+def run_table(
+    folder: Path,
+    out: Path,
+    perceptions: list[str],
+    workers: int,
+    only: str = "",
+    run: bool = True,
+) -> list[dict]:
+    """Run every .xosc in ``folder`` per perception mode (runs whose outputs are already in
+    ``out`` are kept; ``run`` False: only those); write results.csv / results.md."""
     from tqdm import tqdm
 
     from hiyari.bridge.campaign.pool import PoolOptions, run_all
 
-    files = sorted(folder.glob("*.xosc"))
+    files = sorted(p for p in folder.glob("*.xosc") if only in p.name)
     tasks = [AlksTask(p, m, out / p.stem / m) for m in perceptions for p in files]
-    rows: list[dict | None] = [None] * len(tasks)
-    with tqdm(total=len(tasks), unit="run", desc="alks") as bar:
-        for i, row in run_all(run_task, tasks, PoolOptions(workers=workers)):
-            rows[i] = row
+    rows = [finished_row(t) for t in tasks]  # a re-run keeps the runs already done
+    todo = [i for i, r in enumerate(rows) if r is None] if run else []
+    with tqdm(total=len(tasks), initial=len(tasks) - len(todo), unit="run", desc="alks") as bar:
+        for k, row in run_all(run_task, [tasks[i] for i in todo], PoolOptions(workers=workers)):
+            rows[todo[k]] = row
             bar.update(1)
     done = [r for r in rows if r is not None]
     with atomic_path(out / "results.csv") as tmp, tmp.open("w", newline="") as f:
@@ -135,8 +160,13 @@ def main(argv: list[str] | None = None) -> int:
         "--perception", action="append", choices=["perfect", "sensors", "none"], default=None
     )
     ap.add_argument("-j", "--workers", type=int, default=2)
+    ap.add_argument("--only", default="", help="only files whose name contains this")
+    ap.add_argument(
+        "--no-run", action="store_true", help="tabulate the runs already in --out; run nothing"
+    )
     args = ap.parse_args(argv)
-    rows = run_table(args.folder, args.out, args.perception or ["perfect", "sensors"], args.workers)
+    modes = args.perception or ["perfect", "sensors"]
+    rows = run_table(args.folder, args.out, modes, args.workers, args.only, not args.no_run)
     print(markdown(rows))
     return 0
 
