@@ -2,7 +2,7 @@
 
 A seeded mutation harness (not hypothesis): each input kind starts from real, valid seed files
 (a SUMO net, routes and config, an OpenDRIVE road, scenario TOML files, a recording, the ALKS
-OpenSCENARIO files once ``hiyari run`` reads them) and applies structure-aware mutations
+OpenSCENARIO files: checked with ``--dry-run``, and mutants that pass run for a few seconds) and applies structure-aware mutations
 (drop / duplicate / retag an XML element, set an attribute or a TOML value to nan, inf, a
 negative, a huge or a malformed value, truncate the file, flip bytes in an MCAP chunk ...).
 Why not hypothesis: the inputs are whole files whose interesting defects are structural, each
@@ -468,8 +468,30 @@ def _xosc_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -> li
     return [Case("openscenario", seed, ["run", str(target), "-o", str(out), "--dry-run", "-q"], (str(target),), out, f"{source.name}: {what}")]  # fmt: skip
 
 
+def _xosc_run_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -> list[Case]:
+    """ALKS mutants that pass the reader, run on SUMO for 3 s of scenario time."""
+    from hiyari.bridge.scenario.xosc_runs import load_plan
+
+    for attempt in range(50):
+        source = rng.choice(corpus.xosc)
+        data, what = mutate_xml(source.read_bytes(), rng)
+        target = source.with_name(f"mutant_run_{seed}_{attempt}_{source.name}")
+        target.write_bytes(data)
+        try:
+            if load_plan(target).count() == 1:
+                break
+        except Exception:  # noqa: BLE001 - rejected files are the other kind's job
+            pass
+        target.unlink()
+    else:
+        return []
+    out = work / "out"
+    argv = ["run", str(target), "-o", str(out), "-q", "--no-record", "--max-duration", "3"]
+    return [Case("openscenario-run", seed, argv, (str(target),), out, f"{source.name}: {what}")]
+
+
 def _xosc_skip(corpus: Corpus) -> str | None:
-    """OpenSCENARIO joins the fuzz once `hiyari run` reads an unmutated ALKS file."""
+    """OpenSCENARIO joins the fuzz when `hiyari run` reads an unmutated ALKS file."""
     if not corpus.xosc:
         return "no OpenSCENARIO seed files"
     result = run_cases([Case("openscenario", -1, ["run", str(corpus.xosc[0]), "--dry-run", "-q"], (), corpus.root / "probe", "seed")])  # fmt: skip
@@ -488,6 +510,7 @@ KINDS = [
     Kind("mcap", 48, _mcap_cases),
     Kind("cli-numbers", 80, _number_cases),
     Kind("openscenario", 20, _xosc_cases, _xosc_skip),
+    Kind("openscenario-run", 2, _xosc_run_cases, _xosc_skip),
 ]
 
 

@@ -14,6 +14,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from hiyari.kinematics import point_ahead
 
 #: SUMO speed mode bits: 0 = no checks at all (scripted actors follow the script exactly);
@@ -219,6 +221,34 @@ class Commands:
         )
         if speed is not None:
             s.vehicle.setSpeed(vehicle_id, speed)
+
+    def move_vehicles(
+        self,
+        vehicle_ids: Sequence[str],
+        centres: np.ndarray,
+        heading: np.ndarray,
+        length: np.ndarray,
+        speed: np.ndarray,
+        edges: Sequence[str],
+        lanes: Sequence[int],
+    ) -> None:
+        """``move_vehicle`` for many vehicles: rectangle centres (N, 2) m, headings (N,) rad,
+        lengths (N,) m, reported speeds (N,) m/s, edge ('' = any) and lane index (-1) each.
+        The front points and SUMO angles are computed in one numpy pass."""
+        if not len(vehicle_ids):
+            return
+        v = self._api().vehicle
+        move, set_speed = v.moveToXY, v.setSpeed
+        h = np.asarray(heading, float)
+        front = point_ahead(np.asarray(centres, float), h, 0.5 * np.asarray(length, float))
+        angle = np.mod(90.0 - np.degrees(h), 360.0)
+        rows = zip(
+            vehicle_ids, edges, lanes, front[:, 0].tolist(), front[:, 1].tolist(),
+            angle.tolist(), np.asarray(speed, float).tolist(), strict=True,
+        )  # fmt: skip
+        for vid, edge, lane, fx, fy, a, sp in rows:
+            move(vid, edge, lane, fx, fy, angle=a, keepRoute=6)
+            set_speed(vid, sp)
 
     def move_person(
         self, person_id: str, x: float, y: float, heading: float, edge: str = ""

@@ -27,7 +27,11 @@ from hiyari.atomic import atomic_path
 from hiyari.bridge.campaign.pool import PoolOptions, run_all
 from hiyari.bridge.scenario.result import RESULT_KEYS
 from hiyari.bridge.scenario.toml_file import ConcreteScenario, LogicalScenario
+from hiyari.bridge.scenario.xosc_runs import XoscPlan, XoscRun
 from hiyari.errors import HiyariError
+
+#: What a sweep runs: a TOML logical scenario, or the runs of an OpenSCENARIO file.
+Plan = LogicalScenario | XoscPlan
 
 
 @dataclass(frozen=True)
@@ -60,32 +64,44 @@ class SweepSummary:
     table: Path
 
 
-def run_one(cs: ConcreteScenario) -> tuple[dict, float]:
+def run_one(cs: ConcreteScenario | XoscRun) -> tuple[dict, float]:
     """Run one concrete scenario; never raises: failures become a row with the error."""
     from hiyari.bridge.scenario.run import run_concrete
+    from hiyari.bridge.scenario.xosc_runs import run_xosc
 
     t0 = time.perf_counter()
     row: dict = {"index": cs.index, "seed": cs.seed, **cs.params}
     try:
-        row.update(status="ok", error="", **run_concrete(cs).row())
+        res = run_xosc(cs) if isinstance(cs, XoscRun) else run_concrete(cs)
+        row.update(status="ok", error="", **res.row())
     except Exception as exc:  # one failing run must not stop the sweep
         msg = " ".join(f"{type(exc).__name__}: {exc}".split())
         row.update(status="failed", error=msg, **dict.fromkeys(RESULT_KEYS, ""))
     return row, time.perf_counter() - t0
 
 
-def count_runs(logical: LogicalScenario) -> int:
+def count_runs(logical: Plan) -> int:
     """How many concrete runs ``logical`` expands to, computed from the axis lengths (nothing
     is expanded)."""
+    if isinstance(logical, XoscPlan):
+        return logical.count()
     if logical.sampling.get("mode", "grid") == "random":
         return int(logical.sampling.get("n", 0))
     return math.prod(len(v) for v in logical.ranges.values())
 
 
-def _columns(logical: LogicalScenario) -> list[str]:
+def _columns(logical: Plan) -> list[str]:
     from hiyari.bridge.scenario.toml_file import PARAMETERS
 
-    return ["index", "seed", *PARAMETERS[logical.type], "status", "error", *RESULT_KEYS]
+    names = logical.parameter_names if isinstance(logical, XoscPlan) else PARAMETERS[logical.type]
+    return ["index", "seed", *names, "status", "error", *RESULT_KEYS]
+
+
+def _varied(logical: Plan) -> list[str]:
+    """The parameters that change between runs (the plot's axes)."""
+    if isinstance(logical, XoscPlan):
+        return logical.varied
+    return [*logical.ranges, *logical.random]
 
 
 def read_table(path: Path) -> dict[int, dict]:
@@ -108,8 +124,9 @@ def _fmt(v: object) -> str:
     return "" if v is None else str(v)
 
 
-def run_sweep(logical: LogicalScenario, options: SweepOptions) -> SweepSummary:
-    """Run every concrete scenario not yet in ``out_dir/results.csv``; return counts."""
+def run_sweep(logical: Plan, options: SweepOptions) -> SweepSummary:
+    """Run every concrete scenario not yet in ``out_dir/results.csv``; return counts. An
+    OpenSCENARIO plan's road is imported once into ``out_dir/roads`` for all its runs."""
     from tqdm import tqdm
 
     options.pool().validate()
@@ -119,6 +136,8 @@ def run_sweep(logical: LogicalScenario, options: SweepOptions) -> SweepSummary:
             f"{logical.path}: the parameter ranges give {n:,} runs, more than --max-runs "
             f"{options.max_runs:,} (use coarser steps, or raise --max-runs)"
         )
+    if isinstance(logical, XoscPlan):
+        logical = logical.with_road_imported(options.out_dir / "roads")
     runs = logical.expand()
     if not runs:
         raise HiyariError(f"{logical.path}: the parameters expand to no run")
@@ -180,11 +199,11 @@ def _write_rows(path: Path, cols: list[str], rows: list[dict]) -> None:
             w.writerow({k: r.get(k, "") for k in cols})
 
 
-def plot_sweep(logical: LogicalScenario, rows: list[dict], out: Path) -> Path | None:
+def plot_sweep(logical: Plan, rows: list[dict], out: Path) -> Path | None:
     """Outcome over the first two varied parameters (or one), collision vs no collision."""
     from matplotlib.figure import Figure
 
-    varied = [k for k in (*logical.ranges, *logical.random)]
+    varied = _varied(logical)
     ok = [r for r in rows if r["status"] == "ok"]
     if not ok or not varied:
         return None

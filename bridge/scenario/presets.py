@@ -2,8 +2,10 @@
 (other vehicles moved exactly as Annex G defines), the DIVP / Euro NCAP CPNC-50 pedestrian
 dart-out from behind a parked car, a car-to-stationary-car approach, and free city driving.
 
-Each builder returns a ``Scenario``: the files SUMO loads, and hooks that insert the ego and
-the scripted actors and move them every step. Road coordinates: ``s`` along the ego lane's
+A concrete scenario's file parameters (km/h, g as written) become its type's frozen dataclass
+of SI parameters once (``typed_parameters``); ``BUILDERS`` maps each parameter class to its
+builder (the one registry). Each builder returns a ``Scenario``: the files SUMO loads, and
+hooks that insert the ego and the scripted actors and move them every step. Road coordinates: ``s`` along the ego lane's
 centre line, ``d`` to its left (metres). Script time 0 is the start of the manoeuvre; the run
 starts ``lead_in`` seconds earlier so that tracks are established.
 """
@@ -166,6 +168,272 @@ def _const_speed(s0: float, v: float, d: float = 0.0):
     return lambda t: (s0 + v * t, d, v, 0.0)
 
 
+@dataclass(frozen=True)
+class CutIn:
+    """Annex G cut-in: ego speed ``ve0`` and the other car's ``vo0`` (m/s), its front gap
+    ``dx0`` ahead of the ego's front at the start of the manoeuvre (m), lateral speed ``vy``
+    (m/s)."""
+
+    ve0: float
+    vo0: float
+    dx0: float
+    vy: float
+
+
+@dataclass(frozen=True)
+class CutOut:
+    """Annex G cut-out: ego and lead at ``ve0`` (m/s), the lead leaves at lateral speed
+    ``vy`` (m/s) revealing a stopped car ``dx0_f`` m ahead of it."""
+
+    ve0: float
+    vy: float
+    dx0_f: float
+
+
+@dataclass(frozen=True)
+class Decel:
+    """Annex G deceleration: ego and lead at ``ve0`` (m/s), the lead brakes at ``decel``
+    (m/s^2) to a standstill."""
+
+    ve0: float
+    decel: float
+
+
+@dataclass(frozen=True)
+class Stationary:
+    """Approach at ``ve0`` (m/s) to a car standing ``gap`` m ahead of the ego's front."""
+
+    ve0: float
+    gap: float
+
+
+@dataclass(frozen=True)
+class DartOut:
+    """CPNC dart-out: ego at ``ve0``, child at ``ped_speed`` (m/s), timed to meet the ego's
+    front at ``impact_fraction`` of its width from the right; ``parked_car``: it steps out
+    from behind one."""
+
+    ve0: float
+    ped_speed: float
+    impact_fraction: float
+    parked_car: bool
+
+
+@dataclass(frozen=True)
+class City:
+    """Free driving at ``ve0`` (m/s) in a generated city with SUMO traffic (vehicles and
+    persons per hour) after ``warmup`` s."""
+
+    ve0: float
+    vehicles_per_hour: float
+    persons_per_hour: float
+    warmup: float
+
+
+def _ve0(p: dict[str, float]) -> float:
+    return kmh_to_mps(p.get("ve0_kmh", 0.0))
+
+
+#: File parameters (the names in PARAMETERS, km/h and g as written) -> the typed SI parameters.
+_TYPED = {
+    "cut-in": lambda p: CutIn(_ve0(p), kmh_to_mps(p["vo0_kmh"]), p["dx0_m"], p["vy_ms"]),
+    "cut-out": lambda p: CutOut(_ve0(p), p["vy_ms"], p["dx0_f_m"]),
+    "decel": lambda p: Decel(_ve0(p), p["gx_max_g"] * G),
+    "stationary": lambda p: Stationary(_ve0(p), p["gap_m"]),
+    "dart-out": lambda p: DartOut(
+        _ve0(p),
+        kmh_to_mps(p["ped_speed_kmh"]),
+        p["impact_fraction"],
+        p.get("parked_car", 1.0) >= 0.5,
+    ),
+    "city": lambda p: City(_ve0(p), p["vehicles_per_hour"], p["persons_per_hour"], p["warmup_s"]),
+}
+
+
+def typed_parameters(cs: ConcreteScenario) -> object:
+    """The concrete scenario's parameters as its type's SI dataclass (converted once)."""
+    if cs.type not in _TYPED:
+        raise HiyariError(f"no scenario script for type {cs.type!r}")
+    return _TYPED[cs.type](cs.params)
+
+
+@dataclass(frozen=True)
+class _Build:
+    """What every builder gets: the run's folder, constants, sizes and seed / duration."""
+
+    workdir: Path
+    k: ScenarioConstants
+    z: ActorSizes
+    seed: int
+    duration: float
+
+    def base(self, ve0: float) -> dict:
+        k = self.k
+        return dict(
+            ego_speed=ve0, lead_in=k.lead_in, settle_after_stop=k.settle_after_stop, sizes=self.z
+        )
+
+    def s_front0(self, ve0: float) -> float:
+        """Ego front at script time 0 if it holds ``ve0`` through the lead-in."""
+        return self.k.ego_start_s + ve0 * self.k.lead_in
+
+
+def _r157(b: _Build, ve0: float) -> tuple[Scenario, RoadFrame]:
+    """The R157 road's Scenario with the ego in the right lane; the right lane's frame."""
+    net = build_r157_road(b.workdir / "r157.net.xml", R157RoadParams())
+    network = RoadNetwork(net)
+    right, _, route = _road_lanes(network)
+    sc = Scenario(
+        net=net,
+        network=network,
+        ego_route=route,
+        ego_lane=right.lane_index,
+        ego_start_s=b.k.ego_start_s,
+        target_id="other",
+        **b.base(ve0),
+    )
+    return sc, right
+
+
+def _cut_in(p: CutIn, b: _Build) -> Scenario:
+    sc, right = _r157(b, p.ve0)
+    w, vy, vo0 = b.k.lane_width, p.vy, p.vo0
+    s_c0 = b.s_front0(p.ve0) + p.dx0 + b.z.other_length / 2
+
+    def cut_in(t: float) -> tuple[float, float, float, float]:
+        d = w if t < 0 else max(0.0, w - vy * t)
+        vd = -vy if 0 <= t < w / vy else 0.0
+        return s_c0 + vo0 * t, d, vo0, vd
+
+    sc.scripted = [ScriptedVehicle("other", right, cut_in, b.z.other_length)]
+    return sc
+
+
+def _cut_out(p: CutOut, b: _Build) -> Scenario:
+    sc, right = _r157(b, p.ve0)
+    w, vy, ve0, length = b.k.lane_width, p.vy, p.ve0, b.z.other_length
+    s_lead0 = b.s_front0(ve0) + b.k.follow_thw * ve0 + length / 2
+    s_stop = s_lead0 + length / 2 + p.dx0_f + length / 2
+
+    def cut_out(t: float) -> tuple[float, float, float, float]:
+        d = 0.0 if t < 0 else min(w, vy * t)
+        vd = vy if 0 <= t < w / vy else 0.0
+        return s_lead0 + ve0 * t, d, ve0, vd
+
+    sc.scripted = [
+        ScriptedVehicle("lead", right, cut_out, length),
+        ScriptedVehicle("other", right, _const_speed(s_stop, 0.0), length),
+    ]
+    return sc
+
+
+def _decel(p: Decel, b: _Build) -> Scenario:
+    sc, right = _r157(b, p.ve0)
+    a, ve0 = p.decel, p.ve0
+    s_lead0 = b.s_front0(ve0) + b.k.follow_thw * ve0 + b.z.other_length / 2
+
+    def decel(t: float) -> tuple[float, float, float, float]:
+        if t < 0:
+            return s_lead0 + ve0 * t, 0.0, ve0, 0.0
+        tt = min(t, ve0 / a)
+        return s_lead0 + ve0 * tt - a * tt * tt / 2, 0.0, ve0 - a * tt, 0.0
+
+    sc.scripted = [ScriptedVehicle("other", right, decel, b.z.other_length)]
+    return sc
+
+
+def _stationary(p: Stationary, b: _Build) -> Scenario:
+    sc, right = _r157(b, p.ve0)
+    s_c = b.s_front0(p.ve0) + p.gap + b.z.other_length / 2
+    sc.scripted = [ScriptedVehicle("other", right, _const_speed(s_c, 0.0), b.z.other_length)]
+    return sc
+
+
+def _dart_out(p: DartOut, b: _Build) -> Scenario:
+    k, z = b.k, b.z
+    net = build_intersection(
+        b.workdir / "street.net.xml", IntersectionParams(lane_width=k.lane_width)
+    )
+    network = RoadNetwork(net)
+    lane = next(ln for ln in network.sumo.getEdge("w_in").getLanes() if ln.allows("passenger"))
+    frame = network.lane_frame(lane.getID())
+    vp = p.ped_speed
+    s_path = frame.length - 30.0  # the child's path crosses 30 m before the junction
+    d_start = -(k.lane_width / 2 + k.ped_start_beyond_lane)
+    d_impact = -z.ego_width / 2 + p.impact_fraction * z.ego_width
+    # without braking, the ego front reaches the path when the child reaches d_impact
+    t_hit = (s_path - z.child_depth / 2 - b.s_front0(p.ve0)) / p.ve0
+    t_go = t_hit - (d_impact - d_start) / vp
+
+    def child(t: float) -> tuple[float, float, float, float]:
+        if t < t_go:
+            return s_path, d_start, 0.0, 0.0
+        return s_path, d_start + vp * (t - t_go), 0.0, vp
+
+    s_parked = s_path - k.parked_gap_to_path - z.other_length / 2
+    d_parked = -(k.lane_width / 2 + k.kerb_offset)
+    sc = Scenario(
+        net=net,
+        network=network,
+        ego_route=["w_in", "e_out"],
+        ego_lane=lane.getIndex(),
+        ego_start_s=k.ego_start_s,
+        target_id="child",
+        **b.base(p.ve0),
+    )
+    sc.scripted = [ScriptedPerson("child", frame, child)]
+    if p.parked_car:
+        parked = _const_speed(s_parked, 0.0, d_parked)
+        sc.scripted.insert(0, ScriptedVehicle("parked", frame, parked, z.other_length))
+    sc.conflict_point = frame.to_xy(s_path, d_impact)[:2]
+    return sc
+
+
+def _city(p: City, b: _Build) -> Scenario:
+    net = build_city_grid(b.workdir / "city.net.xml", CityGridParams())
+    routes = write_demand(
+        net,
+        b.workdir / "demand.rou.xml",
+        DemandConfig(
+            vehicles_per_hour=p.vehicles_per_hour,
+            persons_per_hour=p.persons_per_hour,
+            end=p.warmup + b.duration + 60.0,
+            seed=b.seed,
+            vehicle_mix={"car": 0.85, "truck": 0.05, "bus": 0.05, "motorcycle": 0.05},
+        ),
+    )
+    network = RoadNetwork(net)
+    ego_route = _long_route(network)
+    first = network.sumo.getEdge(ego_route[0])
+    lane = next(ln for ln in first.getLanes() if ln.allows("passenger"))
+    sc = Scenario(
+        net=net,
+        network=network,
+        routes=[routes],
+        ego_route=ego_route,
+        ego_lane=lane.getIndex(),
+        warmup=p.warmup,
+        ego_start_s=5.0,
+        ego_speed=p.ve0,
+        ego_speed_mode=b.k.city_speed_mode,
+        lead_in=0.0,
+        sizes=b.z,
+    )
+    sc.settle_after_stop = math.inf
+    return sc
+
+
+#: The scenario types: typed parameters -> Scenario (the one registry of builders).
+BUILDERS = {
+    CutIn: _cut_in,
+    CutOut: _cut_out,
+    Decel: _decel,
+    Stationary: _stationary,
+    DartOut: _dart_out,
+    City: _city,
+}
+
+
 def build_scenario(
     cs: ConcreteScenario,
     workdir: Path,
@@ -173,145 +441,10 @@ def build_scenario(
     sizes: ActorSizes | None = None,
 ) -> Scenario:
     """The Scenario for one concrete scenario; road files are written into ``workdir``."""
-    k = k or ScenarioConstants()
-    z = sizes or ActorSizes()
-    p = cs.params
-    ve0 = kmh_to_mps(p.get("ve0_kmh", 0.0))
+    params = typed_parameters(cs)
     workdir.mkdir(parents=True, exist_ok=True)
-    base = dict(ego_speed=ve0, lead_in=k.lead_in, settle_after_stop=k.settle_after_stop, sizes=z)
-    # ego front at script time 0 if it holds Ve0 through the lead-in
-    s_front0 = k.ego_start_s + ve0 * k.lead_in
-
-    if cs.type in ("cut-in", "cut-out", "decel", "stationary"):
-        net = build_r157_road(workdir / "r157.net.xml", R157RoadParams())
-        network = RoadNetwork(net)
-        right, left, route = _road_lanes(network)
-        sc = Scenario(
-            net=net,
-            network=network,
-            ego_route=route,
-            ego_lane=right.lane_index,
-            ego_start_s=k.ego_start_s,
-            target_id="other",
-            **base,
-        )
-        w = k.lane_width
-        if cs.type == "cut-in":
-            vo0, vy, dx0 = kmh_to_mps(p["vo0_kmh"]), p["vy_ms"], p["dx0_m"]
-            s_c0 = s_front0 + dx0 + z.other_length / 2
-
-            def cut_in(t: float) -> tuple[float, float, float, float]:
-                d = w if t < 0 else max(0.0, w - vy * t)
-                vd = -vy if 0 <= t < w / vy else 0.0
-                return s_c0 + vo0 * t, d, vo0, vd
-
-            sc.scripted = [ScriptedVehicle("other", right, cut_in, z.other_length)]
-        elif cs.type == "cut-out":
-            vy, dx0f = p["vy_ms"], p["dx0_f_m"]
-            s_lead0 = s_front0 + k.follow_thw * ve0 + z.other_length / 2
-            s_stop = s_lead0 + z.other_length / 2 + dx0f + z.other_length / 2
-
-            def cut_out(t: float) -> tuple[float, float, float, float]:
-                d = 0.0 if t < 0 else min(w, vy * t)
-                vd = vy if 0 <= t < w / vy else 0.0
-                return s_lead0 + ve0 * t, d, ve0, vd
-
-            sc.scripted = [
-                ScriptedVehicle("lead", right, cut_out, z.other_length),
-                ScriptedVehicle("other", right, _const_speed(s_stop, 0.0), z.other_length),
-            ]
-        elif cs.type == "decel":
-            a = p["gx_max_g"] * G
-            s_lead0 = s_front0 + k.follow_thw * ve0 + z.other_length / 2
-
-            def decel(t: float) -> tuple[float, float, float, float]:
-                if t < 0:
-                    return s_lead0 + ve0 * t, 0.0, ve0, 0.0
-                tt = min(t, ve0 / a)
-                return s_lead0 + ve0 * tt - a * tt * tt / 2, 0.0, ve0 - a * tt, 0.0
-
-            sc.scripted = [ScriptedVehicle("other", right, decel, z.other_length)]
-        else:  # stationary
-            s_c = s_front0 + p["gap_m"] + z.other_length / 2
-            sc.scripted = [ScriptedVehicle("other", right, _const_speed(s_c, 0.0), z.other_length)]
-        return sc
-
-    if cs.type == "dart-out":
-        net = build_intersection(
-            workdir / "street.net.xml", IntersectionParams(lane_width=k.lane_width)
-        )
-        network = RoadNetwork(net)
-        lane = next(ln for ln in network.sumo.getEdge("w_in").getLanes() if ln.allows("passenger"))
-        frame = network.lane_frame(lane.getID())
-        vp = kmh_to_mps(p["ped_speed_kmh"])
-        s_path = frame.length - 30.0  # the child's path crosses 30 m before the junction
-        d_start = -(k.lane_width / 2 + k.ped_start_beyond_lane)
-        d_impact = -z.ego_width / 2 + p["impact_fraction"] * z.ego_width
-        # without braking, the ego front reaches the path when the child reaches d_impact
-        t_hit = (s_path - z.child_depth / 2 - s_front0) / ve0
-        t_go = t_hit - (d_impact - d_start) / vp
-
-        def child(t: float) -> tuple[float, float, float, float]:
-            if t < t_go:
-                return s_path, d_start, 0.0, 0.0
-            return s_path, d_start + vp * (t - t_go), 0.0, vp
-
-        s_parked = s_path - k.parked_gap_to_path - z.other_length / 2
-        d_parked = -(k.lane_width / 2 + k.kerb_offset)
-        sc = Scenario(
-            net=net,
-            network=network,
-            ego_route=["w_in", "e_out"],
-            ego_lane=lane.getIndex(),
-            ego_start_s=k.ego_start_s,
-            target_id="child",
-            **base,
-        )
-        sc.scripted = [ScriptedPerson("child", frame, child)]
-        if p.get("parked_car", 1.0) >= 0.5:
-            sc.scripted.insert(
-                0,
-                ScriptedVehicle(
-                    "parked", frame, _const_speed(s_parked, 0.0, d_parked), z.other_length
-                ),
-            )
-
-        sc.conflict_point = frame.to_xy(s_path, d_impact)[:2]
-        return sc
-
-    if cs.type == "city":
-        net = build_city_grid(workdir / "city.net.xml", CityGridParams())
-        routes = write_demand(
-            net,
-            workdir / "demand.rou.xml",
-            DemandConfig(
-                vehicles_per_hour=p["vehicles_per_hour"],
-                persons_per_hour=p["persons_per_hour"],
-                end=p["warmup_s"] + cs.duration + 60.0,
-                seed=cs.seed,
-                vehicle_mix={"car": 0.85, "truck": 0.05, "bus": 0.05, "motorcycle": 0.05},
-            ),
-        )
-        network = RoadNetwork(net)
-        ego_route = _long_route(network)
-        first = network.sumo.getEdge(ego_route[0])
-        lane = next(ln for ln in first.getLanes() if ln.allows("passenger"))
-        sc = Scenario(
-            net=net,
-            network=network,
-            routes=[routes],
-            ego_route=ego_route,
-            ego_lane=lane.getIndex(),
-            warmup=p["warmup_s"],
-            ego_start_s=5.0,
-            ego_speed=ve0,
-            ego_speed_mode=k.city_speed_mode,
-            lead_in=0.0,
-            sizes=z,
-        )
-        sc.settle_after_stop = math.inf
-        return sc
-    raise HiyariError(f"no scenario script for type {cs.type!r}")
+    b = _Build(workdir, k or ScenarioConstants(), sizes or ActorSizes(), cs.seed, cs.duration)
+    return BUILDERS[type(params)](params, b)
 
 
 def _long_route(network: RoadNetwork) -> list[str]:

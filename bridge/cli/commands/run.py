@@ -1,23 +1,104 @@
-"""``hiyari run scenario.toml``: run one concrete scenario (or a small grid) in closed loop."""
+"""``hiyari run scenario.toml|scenario.xosc``: run one concrete scenario (or a small grid, or
+the runs of an OpenSCENARIO parameter distribution) in closed loop."""
 
 from __future__ import annotations
 
 import argparse
 import csv
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.cli import numbers
 from hiyari.errors import HiyariError, about
 
+if TYPE_CHECKING:
+    from hiyari.bridge.scenario.engine_run import EgoSetup
+    from hiyari.bridge.scenario.result import RunResult
+
 
 def run(args: argparse.Namespace) -> int:
     # the work is imported in _run so that `hiyari --help` and the other commands start fast
-    with about(args.scenario):
+    with about(args.scenario, Path(args.scenario).resolve()):
+        if Path(args.scenario).suffix.lower() == ".xosc":
+            return _run_xosc(args)
         return _run(args)
 
 
+def ego_setup(args: argparse.Namespace) -> EgoSetup:
+    """The EgoSetup the command line asks for (OpenSCENARIO runs)."""
+    from hiyari.bridge.scenario.engine_run import EgoSetup
+
+    return EgoSetup(
+        perception=args.perception or "perfect",
+        environment=args.environment,
+        step_length=args.step_length,
+        seed=args.seed,
+        max_duration=args.max_duration,
+    )
+
+
+def _run_xosc(args: argparse.Namespace) -> int:
+    import tempfile
+
+    from hiyari.bridge.scenario.run import RunOptions
+    from hiyari.bridge.scenario.xosc_runs import load_plan, run_xosc
+
+    plan = load_plan(args.scenario, ego_setup(args))
+    if plan.count() > args.max_runs:
+        raise HiyariError(
+            f"{args.scenario}: {plan.count()} runs exceed --max-runs {args.max_runs} "
+            "(use 'hiyari sweep' for large distributions)"
+        )
+    runs = plan.expand()
+    if args.dry_run:
+        for xr in runs:
+            print(xr.label())
+        print(f"{len(runs)} run(s); nothing run (--dry-run)")
+        return 0
+    out = Path(args.out)
+    record = len(runs) == 1 if args.record is None else args.record
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="hiyari-road-") as tmp:
+        # the road is imported before anything is written: a bad road leaves no output
+        runs = plan.with_road_imported(Path(tmp)).expand()
+        for xr in runs:
+            folder = out / f"run{xr.index:04d}" if len(runs) > 1 else out
+            options = RunOptions(out_dir=folder, progress=not args.quiet, record=record)
+            res = run_xosc(xr, options)
+            rows.append({"index": xr.index, "seed": xr.seed, **xr.params, **res.row()})
+            _print_run(xr.label(), res, folder, record)
+    _write_table(out, rows)
+    return 0
+
+
+def _print_run(label: str, res: RunResult, folder: Path, record: bool) -> None:
+    d = res.as_dict()
+    ttc = "inf" if d["min_ttc_s"] is None else f"{d['min_ttc_s']:.2f} s"
+    gap = "" if d["min_gap_m"] is None else f"; min gap {d['min_gap_m']:.2f} m"
+    impact = (
+        f" at {d['impact_speed_kmh']:.1f} km/h with {d['collided_with']}" if res.collision else ""
+    )
+    print(
+        f"{label}: {res.verdict()}{impact}; min TTC {ttc}{gap}; "
+        f"{res.sim_seconds:.1f} s simulated in {res.wall_seconds:.2f} s  -> {folder}"
+        + (f" (recorded: {folder / 'run.mcap'})" if record else "")
+    )
+
+
+def _write_table(out: Path, rows: list[dict]) -> None:
+    columns = list(dict.fromkeys(k for r in rows for k in r))
+    with atomic_path(out / "results.csv") as tmp, tmp.open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=columns)
+        w.writeheader()
+        w.writerows(rows)
+    n_coll = sum(r["collision"] for r in rows)
+    print(f"{len(rows)} run(s), {n_coll} collision(s); table: {out / 'results.csv'}")
+
+
 def _run(args: argparse.Namespace) -> int:
+    from dataclasses import replace
+
     from hiyari.bridge.campaign.sweep import count_runs
     from hiyari.bridge.scenario.run import RunOptions, run_concrete
     from hiyari.bridge.scenario.toml_file import load_scenario
@@ -41,34 +122,24 @@ def _run(args: argparse.Namespace) -> int:
     record = len(runs) == 1 if args.record is None else args.record
     rows = []
     for cs in runs:
+        if args.perception:
+            cs = replace(cs, perception=args.perception)
         folder = out / f"run{cs.index:04d}" if len(runs) > 1 else out
         options = RunOptions(out_dir=folder, progress=not args.quiet, record=record)
         res = run_concrete(cs, options)
-        d = res.as_dict()
         rows.append({"index": cs.index, "seed": cs.seed, **cs.params, **res.row()})
-        ttc = "inf" if d["min_ttc_s"] is None else f"{d['min_ttc_s']:.2f} s"
-        impact = (
-            f" at {d['impact_speed_kmh']:.1f} km/h with {d['collided_with']}"
-            if res.collision
-            else ""
-        )
-        print(
-            f"{cs.label()}: {res.verdict()}{impact}; min TTC {ttc}; "
-            f"{res.sim_seconds:.1f} s simulated in {res.wall_seconds:.2f} s  -> {folder}"
-            + (f" (recorded: {folder / 'run.mcap'})" if record else "")
-        )
-    with atomic_path(out / "results.csv") as tmp, tmp.open("w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    n_coll = sum(r["collision"] for r in rows)
-    print(f"{len(rows)} run(s), {n_coll} collision(s); table: {out / 'results.csv'}")
+        _print_run(cs.label(), res, folder, record)
+    _write_table(out, rows)
     return 0
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run a scenario file (one concrete run or a small grid)")
-    p.add_argument("scenario", help="scenario file (TOML)")
+    p.add_argument(
+        "scenario",
+        help="scenario file: hiyari TOML, or OpenSCENARIO .xosc (a scenario or a "
+        "ParameterValueDistribution)",
+    )
     p.add_argument("-o", "--out", default="out/run", help="output folder")
     p.add_argument(
         "--max-runs", type=numbers.count(), default=50, help="refuse larger grids (use sweep)"
@@ -84,4 +155,29 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--dry-run", action="store_true", help="check the file and list its runs; run nothing"
     )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    add_xosc_options(p)
     p.set_defaults(func=run)
+
+
+def add_xosc_options(p: argparse.ArgumentParser) -> None:
+    """The ego stack and clock options of ``run`` and ``sweep`` (TOML files: --perception
+    overrides the file's; the others apply to .xosc runs, whose files do not say)."""
+    p.add_argument(
+        "--perception",
+        choices=["perfect", "sensors", "none"],
+        default=None,
+        help="ego perception (default: the TOML file's; perfect for .xosc)",
+    )
+    p.add_argument(
+        "--environment", default="clear", help=".xosc: sensor disturbance preset (default clear)"
+    )
+    p.add_argument(
+        "--step-length", type=numbers.seconds(), default=0.05, help=".xosc: step, s (0.05)"
+    )
+    p.add_argument("--seed", type=numbers.seed(), default=1, help=".xosc: base seed (1)")
+    p.add_argument(
+        "--max-duration",
+        type=numbers.seconds(),
+        default=600.0,
+        help=".xosc: end a run here if its stop trigger has not fired, s (600)",
+    )

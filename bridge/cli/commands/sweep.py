@@ -1,9 +1,11 @@
-"""``hiyari sweep scenario.toml``: every concrete run of a logical scenario, in parallel."""
+"""``hiyari sweep scenario.toml|scenario.xosc``: every concrete run of a logical scenario (or
+of an OpenSCENARIO ParameterValueDistribution), in parallel."""
 
 from __future__ import annotations
 
 import argparse
 import os
+from dataclasses import replace
 from pathlib import Path
 
 from hiyari.bridge.cli import numbers
@@ -12,10 +14,17 @@ from hiyari.errors import HiyariError, about
 
 def run(args: argparse.Namespace) -> int:
     from hiyari.bridge.campaign.sweep import SweepOptions, count_runs, run_sweep
+    from hiyari.bridge.cli.commands.run import ego_setup
     from hiyari.bridge.scenario.toml_file import load_scenario
+    from hiyari.bridge.scenario.xosc_runs import is_openscenario, load_plan
 
-    with about(args.scenario):
-        logical = load_scenario(args.scenario)
+    with about(args.scenario, Path(args.scenario).resolve()):
+        if is_openscenario(args.scenario):
+            logical = load_plan(args.scenario, ego_setup(args))
+        else:
+            logical = load_scenario(args.scenario)
+            if args.perception:
+                logical = replace(logical, ego={**logical.ego, "perception": args.perception})
     if args.dry_run:
         n = count_runs(logical)
         if n > args.max_runs:
@@ -49,8 +58,14 @@ def run(args: argparse.Namespace) -> int:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from hiyari.bridge.cli.commands.run import add_xosc_options
+
     p = sub.add_parser("sweep", help="run every concrete scenario of a logical scenario file")
-    p.add_argument("scenario", help="scenario file (TOML) with parameter ranges")
+    p.add_argument(
+        "scenario",
+        help="scenario file: TOML with parameter ranges, or OpenSCENARIO .xosc (a "
+        "ParameterValueDistribution, or a scenario: one run)",
+    )
     p.add_argument("-o", "--out", default="out/sweep", help="output folder (resumable)")
     p.add_argument(
         "--workers",
@@ -76,4 +91,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--retry-failed", action="store_true", help="run failed rows again")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    add_xosc_options(p)
     p.set_defaults(func=run)

@@ -369,17 +369,26 @@ class ScenarioEngine:
                 tree.end(i, now)
 
     def _command(self, sim: Simulation) -> None:
+        ids, centres, heading, length, speed, edges, lanes = [], [], [], [], [], [], []
         for name, a in self.actors.items():
-            if not self.storyboard_drives(name) or not a.inserted:
+            if not a.inserted or not self.storyboard_drives(name):
                 continue
-            cx, cy = a.centre()
             edge, lane = "", -1
             if a.road and not a.free:
                 ln = self.roads.sumo_lane(a.road, a.lane, a.s)
                 if ln is not None:
                     edge, lane = ln.edge, ln.index
-            speed = math.hypot(a.v, a.v_lat)
-            sim.move_vehicle(name, cx, cy, a.h, a.entity.length, speed=speed, edge=edge, lane=lane)
+            ids.append(name)
+            centres.append(a.centre())
+            heading.append(a.h)
+            length.append(a.entity.length)
+            speed.append(math.hypot(a.v, a.v_lat))
+            edges.append(edge)
+            lanes.append(lane)
+        sim.move_vehicles(
+            ids, np.array(centres).reshape(-1, 2), np.array(heading), np.array(length),
+            np.array(speed), edges, lanes,
+        )  # fmt: skip
 
     # ------------------------------------------------------------------ snapshot
     def _snapshot(self, world: WorldState, sim: Simulation) -> Snapshot:
@@ -411,6 +420,8 @@ class ScenarioEngine:
         contacts: set[frozenset[int]] = set()
         contact_any = np.zeros(len(rows), dtype=bool)
         for col in sim.collisions:
+            if col.depth <= 0.0:
+                continue  # SUMO's per-lane check alone: no sublanes, beside counts as hit
             ia, ib = self.index.get(col.a, -1), self.index.get(col.b, -1)
             for x in (ia, ib):
                 if x >= 0:
