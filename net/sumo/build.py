@@ -360,3 +360,49 @@ def build_r157_road(out: str | Path, params: R157RoadParams | None = None) -> Pa
         "params": {"hiyari:barrier": side},
     }
     return build_net(out, nodes, [edge], _COMMON, "r157 road")
+
+
+@dataclass(frozen=True)
+class CatalogueRoadParams:
+    """A JAMA catalogue road as OpenDRIVE (written beside the net as .xodr), then imported.
+
+    Main line / merge / branch: one carriageway along +x, road "main", lanes -1 (leftmost)
+    to -lanes, merge / exit lane -(lanes + 1); intersection: four legs, one lane per direction
+    (see hiyari.net.road.xodr_writer).
+    """
+
+    lanes: int = _param(2, "through lanes per direction (motorway: 2 or 3; intersection: 1)")
+    lane_width: float = _param(3.5, "lane width, m")
+    length: float = _param(1500.0, "motorway road length, m")
+    station: float = _param(
+        700.0, "merge: end of the acceleration lane; branch: exit lane start, m"
+    )
+
+
+def build_catalogue_road(
+    out: str | Path, params: CatalogueRoadParams | None = None, geometry: str = "main"
+) -> Path:
+    """Write ``out`` (.net.xml) and the OpenDRIVE road beside it (``out`` with .xodr) for a
+    catalogue ``geometry`` (main, merge, branch, intersection); return the net's path."""
+    from hiyari.net.road.xodr_writer import CatalogueRoad, write_catalogue_road
+    from hiyari.net.sumo.opendrive import import_opendrive
+
+    params = params or CatalogueRoadParams()
+    road = CatalogueRoad(
+        geometry=geometry,
+        lanes=1 if geometry == "intersection" else params.lanes,
+        lane_width=params.lane_width,
+        length=params.length,
+        merge_end=params.station,
+        branch_start=params.station,
+    )
+    out = Path(out)
+    xodr = write_catalogue_road(xodr_beside(out), road)
+    return import_opendrive(xodr, out, warn=lambda _msg: None)
+
+
+def xodr_beside(net: str | Path) -> Path:
+    """The OpenDRIVE file written next to a generated net: ``x.net.xml`` -> ``x.xodr``."""
+    net = Path(net)
+    stem = net.name.removesuffix(".net.xml").removesuffix(".xml")
+    return net.with_name(stem + ".xodr")
