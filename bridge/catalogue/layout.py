@@ -13,8 +13,8 @@ from dataclasses import dataclass
 from hiyari.bridge.catalogue.taxonomy import EgoMotion, Geometry, Motion, Position
 
 #: Ego start station (m) per geometry: the merge events end before the acceleration lane
-#: does (700 m), the branch events start where the exit lane is at full width (760 m).
-START_STATION = {Geometry.MAIN: 200.0, Geometry.MERGE: 150.0, Geometry.BRANCH: 800.0}
+#: does (700 m); on the branch everyone starts beside the exit lane (from 700 m).
+START_STATION = {Geometry.MAIN: 200.0, Geometry.MERGE: 150.0, Geometry.BRANCH: 780.0}
 LANE_WIDTH = 3.5
 #: Side of a position: +1 left, -1 right, 0 the ego's lane.
 SIDE = {

@@ -114,7 +114,8 @@ def _motorway_cell(c: Combination, position: Position, lanes: int, ranges: Range
     target, why = layout.target_lane(position, c.motion)
     if target is None:
         return Cell(c, position, lanes, "undefined", why)
-    p = corners(ranges, ranges.names(c.motion.value, c.prefix == "C"), position in BEHIND)
+    names = ranges.names(c.motion.value, position == Position.FRONT, c.prefix == "C")
+    p = corners(ranges, names, position in BEHIND)
     ego = motorway_ego(layout, p, ranges.ego_lateral_speed, ranges.ego_event_time)
     others = motorway_actor(layout, position, c.motion, p, ranges.event_time)
     still = motorway_actor(layout, position, c.motion, p, ranges.event_time, moving=False)

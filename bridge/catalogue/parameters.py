@@ -42,14 +42,19 @@ class Ranges:
     arrival_offset: tuple[float, float] = (-2.0, 2.0)
     junction_arrival: float = 4.0  # s: the ego reaches the junction entry
 
-    def names(self, motion: str, chain: bool = False) -> tuple[str, ...]:
-        """Parameters a concrete scenario with ``motion`` draws (order = columns)."""
-        base = ("ego_speed", "speed_delta", "gap")
+    def names(self, motion: str, lead: bool = False, chain: bool = False) -> tuple[str, ...]:
+        """Parameters a concrete scenario with ``motion`` draws (order = columns). ``lead``:
+        the surrounding vehicle is the ego's lead (front position): for a deceleration or a
+        cut-out it drives at the ego's speed ``lead_thw`` ahead, as in Annex G."""
+        if lead and motion in ("decelerate", "cut-out"):
+            base: tuple[str, ...] = ("ego_speed", "lead_thw")
+        else:
+            base = ("ego_speed", "speed_delta", "gap")
         extra = {
             "accelerate": ("accel",),
             "decelerate": ("decel",),
             "cut-in": ("lateral_speed",),
-            "cut-out": ("lateral_speed", "lead_thw", "plus_one_gap"),
+            "cut-out": ("lateral_speed", "plus_one_gap"),
             "swerve": ("lateral_speed",),
         }.get(motion, ())
         return base + extra + (("plus_one_speed",) if chain else ())
@@ -61,7 +66,8 @@ def sample(ranges: Ranges, names: tuple[str, ...], behind: bool, n: int, seed: i
     from scipy.stats import qmc
 
     lows, highs = zip(*(_range(ranges, k, behind) for k in names), strict=True)
-    u = qmc.Sobol(len(names), scramble=True, seed=seed).random(max(n, 1))[:n]
+    m = max(n - 1, 1).bit_length()  # Sobol points are balanced in powers of two
+    u = qmc.Sobol(len(names), scramble=True, seed=seed).random_base2(m)[:n]
     values = qmc.scale(u, lows, highs) if n else np.zeros((0, len(names)))
     return [dict(zip(names, map(float, row), strict=True)) for row in values]
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hiyari.bridge.catalogue.layout import BEHIND, SIDE, MotorwayLayout
+from hiyari.bridge.catalogue.layout import BEHIND, MotorwayLayout
 from hiyari.bridge.catalogue.taxonomy import EgoMotion, Motion, Position
 from hiyari.net.road.xodr_writer import LEGS
 from hiyari.units import kmh_to_mps
@@ -93,9 +93,9 @@ def motorway_actor(layout: MotorwayLayout, position: Position, motion: Motion,
     if lane is None or target is None:
         return []
     ve = p["ego_speed"]
-    v0 = np.maximum(ve + p["speed_delta"], 0.5)
+    v0 = np.maximum(ve + p.get("speed_delta", 0.0), 0.5)
     le, la = EGO_SIZE[0], OTHER_SIZE[0]
-    gap = p["lead_thw"] * ve if motion == Motion.CUT_OUT and SIDE[position] == 0 else p["gap"]
+    gap = p["lead_thw"] * ve if "lead_thw" in p else p["gap"]
     if position in BEHIND:
         x0 = layout.start - 0.5 * le - gap - 0.5 * la
     else:

@@ -6,9 +6,10 @@ per direction, legs along the axes, junction at the origin).
 
 Motorway lanes: road "main", lane -1 is the leftmost (fast) lane next to the reference line,
 lane -n the rightmost. The merge adds lane -(n+1) (the acceleration lane, type "driving") from
-s = 0 to ``merge_end``, then tapers it to zero width over ``taper``; the branch opens lane
--(n+1) (the deceleration / exit lane) from ``branch_start`` with the same taper and keeps it to
-the road's end. Tapers are cubic width polynomials, so every lane edge is continuous.
+s = 0 to ``merge_end`` (where it ends); the branch opens lane -(n+1) (the deceleration / exit
+lane) at ``branch_start`` and keeps it to the road's end. Lanes start and end at full width
+(no taper): netconvert splits a tapering lane section into several edges where the width
+crosses its minimum, and the lane sections must map one to one onto SUMO edges.
 
 Intersection: legs "west", "south", "east", "north" start at ``approach`` m from the centre
 and run outward (s = 0 at the junction); lane 1 drives toward the junction, lane -1 away.
@@ -44,10 +45,11 @@ class CatalogueRoad:
     lane_width: float = 3.5
     length: float = 1500.0
     merge_end: float = 700.0  # acceleration lane at full width until here
-    branch_start: float = 700.0  # exit lane at full width from here + taper
-    taper: float = 60.0
+    branch_start: float = 700.0  # exit lane from here to the end
     approach: float = 12.0  # intersection: junction half size
     leg_length: float = 300.0
+    speed_limit: float = 36.11  # m/s on motorway lanes (130 km/h, the ego's design speed)
+    town_speed_limit: float = 16.67  # m/s at the intersection (60 km/h)
 
     def validate(self) -> None:
         """HiyariError for an unknown geometry or impossible sizes."""
@@ -58,9 +60,7 @@ class CatalogueRoad:
         if not 2.5 <= self.lane_width <= 5.0:
             raise HiyariError(f"road: lane width must be 2.5..5 m, got {self.lane_width}")
         ends = (self.merge_end, self.branch_start)
-        if self.geometry in ("merge", "branch") and not (
-            0 < min(ends) and max(ends) + self.taper < self.length and self.taper > 0
-        ):
+        if self.geometry in ("merge", "branch") and not 0 < min(ends) <= max(ends) < self.length:
             raise HiyariError(
                 f"road: merge/branch stations must lie inside the {self.length} m road"
             )
@@ -99,7 +99,8 @@ def _geometry(plan: etree._Element, x: float, y: float, hdg: float, length: floa
 
 
 def _lane(parent: etree._Element, lid: int, width: tuple[float, float, float, float],
-          links: tuple[int | None, int | None] = (None, None)) -> None:  # fmt: skip
+          links: tuple[int | None, int | None] = (None, None),
+          speed: float = 0.0) -> None:  # fmt: skip
     lane = etree.SubElement(parent, "lane", id=str(lid), type="driving", level="false")
     link = etree.SubElement(lane, "link")
     for tag, other in zip(("predecessor", "successor"), links, strict=True):
@@ -109,22 +110,18 @@ def _lane(parent: etree._Element, lid: int, width: tuple[float, float, float, fl
     etree.SubElement(lane, "width", sOffset="0", a=repr(a), b=repr(b), c=repr(c), d=repr(d))
     etree.SubElement(lane, "roadMark", sOffset="0", type="solid" if lid in (-1, 1) else "broken",
                      color="standard", width="0.15")  # fmt: skip
+    if speed > 0:
+        etree.SubElement(lane, "speed", sOffset="0", max=repr(speed), unit="m/s")
 
 
-def _section(lanes_el: etree._Element, s: float, right: list[tuple]) -> None:
+def _section(lanes_el: etree._Element, s: float, right: list[tuple], speed: float) -> None:
     """A lane section from ``s`` with right lanes ``(id, width poly, links)``."""
     sec = etree.SubElement(lanes_el, "laneSection", s=repr(s))
     centre = etree.SubElement(sec, "center")
     etree.SubElement(etree.SubElement(centre, "lane", id="0", type="none", level="false"), "link")
     side = etree.SubElement(sec, "right")
     for lid, width, links in right:
-        _lane(side, lid, width, links)
-
-
-def _taper(w: float, length: float, opening: bool) -> tuple[float, float, float, float]:
-    """Cubic width polynomial from w to 0 (or 0 to w when ``opening``) over ``length``."""
-    c, d = 3 * w / length**2, -2 * w / length**3
-    return (0.0, 0.0, c, d) if opening else (w, 0.0, -c, -d)
+        _lane(side, lid, width, links, speed)
 
 
 def _motorway(p: CatalogueRoad) -> etree._Element:
@@ -140,17 +137,9 @@ def _motorway(p: CatalogueRoad) -> etree._Element:
     if x is None:
         sections = [(0.0, [], None)]
     elif p.geometry == "merge":
-        sections = [
-            (0.0, [(x, full)], None),
-            (p.merge_end, [(x, _taper(p.lane_width, p.taper, False))], None),
-            (p.merge_end + p.taper, [], None),
-        ]
+        sections = [(0.0, [(x, full)], None), (p.merge_end, [], None)]
     else:
-        sections = [
-            (0.0, [], None),
-            (p.branch_start, [(x, _taper(p.lane_width, p.taper, True))], None),
-            (p.branch_start + p.taper, [(x, full)], None),
-        ]
+        sections = [(0.0, [], None), (p.branch_start, [(x, full)], None)]
     for k, (s, extra, _) in enumerate(sections):
         ids_prev = _ids(sections, k - 1, p) if k > 0 else set()
         ids_next = _ids(sections, k + 1, p) if k + 1 < len(sections) else set()
@@ -158,7 +147,7 @@ def _motorway(p: CatalogueRoad) -> etree._Element:
             (lid, w, (lid if lid in ids_prev else None, lid if lid in ids_next else None))
             for lid, w in [*through, *extra]
         ]
-        _section(lanes_el, s, right)
+        _section(lanes_el, s, right, p.speed_limit)
     return root
 
 
@@ -179,12 +168,12 @@ def _intersection(p: CatalogueRoad) -> etree._Element:
                   hdg, p.leg_length)  # fmt: skip
         sec = etree.SubElement(etree.SubElement(road, "lanes"), "laneSection", s="0")
         left = etree.SubElement(sec, "left")
-        _lane(left, 1, (w, 0.0, 0.0, 0.0))
+        _lane(left, 1, (w, 0.0, 0.0, 0.0), speed=p.town_speed_limit)
         centre = etree.SubElement(sec, "center")
         etree.SubElement(
             etree.SubElement(centre, "lane", id="0", type="none", level="false"), "link"
         )
-        _lane(etree.SubElement(sec, "right"), -1, (w, 0.0, 0.0, 0.0))
+        _lane(etree.SubElement(sec, "right"), -1, (w, 0.0, 0.0, 0.0), speed=p.town_speed_limit)
     junction = etree.Element("junction", id="1", name="centre")
     for a, ha in LEGS.items():
         for b, hb in LEGS.items():
@@ -207,7 +196,8 @@ def _intersection(p: CatalogueRoad) -> etree._Element:
             etree.SubElement(link, "successor", elementType="road", elementId=b,
                              contactPoint="start")  # fmt: skip
             _geometry(etree.SubElement(road, "planView"), x0, y0, h0, length, k)
-            _section(etree.SubElement(road, "lanes"), 0.0, [(-1, (w, 0.0, 0.0, 0.0), (1, -1))])
+            _section(etree.SubElement(road, "lanes"), 0.0, [(-1, (w, 0.0, 0.0, 0.0), (1, -1))],
+                     p.town_speed_limit)  # fmt: skip
             con = etree.SubElement(junction, "connection", id=str(len(junction)),
                                    incomingRoad=a, connectingRoad=cid, contactPoint="start")  # fmt: skip
             etree.SubElement(con, "laneLink", attrib={"from": "1", "to": "-1"})
