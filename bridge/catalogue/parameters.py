@@ -35,7 +35,7 @@ class Ranges:
     ego_lateral_speed: float = 1.0  # m/s, the ego's own lane change
     event_time: float = 2.0  # s after the start: the surrounding vehicle's manoeuvre begins
     ego_event_time: float = 1.0  # s: the ego starts its lane change
-    duration: float = 12.0  # s of simulation per concrete run
+    duration: float = 10.0  # s of simulation per concrete run
     #: intersection: approach speeds and the other vehicle's arrival at the junction entry
     #: relative to the ego's (s; crossing and oncoming positions)
     junction_speed: tuple[float, float] = (kmh_to_mps(20.0), kmh_to_mps(50.0))

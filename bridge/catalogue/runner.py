@@ -44,7 +44,7 @@ class RunConfig:
     roads: Path
     perception: str = "perfect"
     stack: str = ""
-    step_length: float = 0.05
+    step_length: float = 0.1
     aeb_delay: float = 0.2
 
 
