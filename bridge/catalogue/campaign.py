@@ -53,6 +53,8 @@ class CatalogueOptions:
     pool: PoolOptions = field(default_factory=PoolOptions)
     ranges: Ranges = field(default_factory=Ranges)
     record_failures: bool = True
+    #: run only cells whose key starts with one of these (e.g. "M03", "M02-front"); () = all
+    only: tuple[str, ...] = ()
 
     def validate(self) -> None:
         if self.catalogue not in CATALOGUES:
@@ -82,10 +84,16 @@ def supported(cell: Cell) -> bool:
 
 def plan(options: CatalogueOptions, cells: list[Cell]) -> list[ConcreteCase]:
     """The concrete cases of every evaluated, supported cell."""
+    chosen = [
+        cell
+        for cell in cells
+        if supported(cell) and (not options.only or cell.key.startswith(options.only))
+    ]
+    if options.only and not chosen:
+        raise HiyariError(f"--cells {','.join(options.only)}: no evaluated cell matches")
     return [
         case
-        for cell in cells
-        if supported(cell)
+        for cell in chosen
         for case in concrete_cases(cell, options.runs_per_cell, options.seed, options.ranges)
     ]
 
@@ -156,6 +164,16 @@ def read_results(path: Path) -> dict[str, dict]:
     return rows
 
 
+def _drop_partial_line(path: Path) -> None:
+    """Cut a last line left unfinished by a killed campaign, so appends start on a new line."""
+    if not path.is_file():
+        return
+    data = path.read_bytes()
+    if data and not data.endswith(b"\n"):
+        with path.open("r+b") as f:
+            f.truncate(data.rfind(b"\n") + 1)
+
+
 def _line(row: dict) -> str:
     buf = io.StringIO()
     csv.DictWriter(buf, COLUMNS, lineterminator="\n").writerow(row)
@@ -175,6 +193,7 @@ def run_catalogue(options: CatalogueOptions, out: Path,
     ):
         prepare_road(options.run.roads, geometry, lanes)
     table = out / "results.csv"
+    _drop_partial_line(table)
     done = read_results(table)
     todo = [c for c in cases if c.run_id not in done]
     fresh = not table.is_file() or table.stat().st_size == 0

@@ -54,6 +54,7 @@ def evaluate(args: argparse.Namespace) -> int:
         runs_per_cell=args.runs_per_cell,
         seed=args.seed,
         pool=PoolOptions(args.workers, args.backend, args.ray_address),
+        only=tuple(k for k in (args.cells or "").split(",") if k),
     )
     t0 = time.perf_counter()
     bar = tqdm(total=0, unit="run", disable=args.quiet, desc="catalogue")
@@ -101,6 +102,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--perception", choices=["perfect", "sensors", "none"], default="perfect")
     p.add_argument("--runs-per-cell", type=numbers.count(1, 100_000), default=14,
                    help="concrete runs per evaluated cell (default: 14)")  # fmt: skip
+    p.add_argument("--cells", default="",
+                   help="only these cells: comma-separated key prefixes, e.g. M03,M02-front")  # fmt: skip
     p.add_argument("--seed", type=numbers.seed(), default=0, help="seed of the sampling")
     p.add_argument("--step", type=numbers.seconds(), default=0.1,
                    help="simulation step, s (default 0.1)")  # fmt: skip
