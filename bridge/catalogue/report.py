@@ -77,20 +77,27 @@ def _md_table(head: list[str], body: list[list[str]]) -> str:
     return "\n".join(lines)
 
 
+def _where(cells: list[Cell]) -> str:
+    """ "front (2, 3 lanes), rear (2 lanes)": positions with their lane counts."""
+    lanes: dict[str, list[str]] = defaultdict(list)
+    for c in cells:
+        lanes[c.position.value].append(str(c.lanes))
+    return ", ".join(f"{p} ({', '.join(n)} lanes)" for p, n in lanes.items())
+
+
 def _coverage_rows(cells: list[Cell]) -> list[list[str]]:
     by_combo: dict[str, list[Cell]] = defaultdict(list)
     for c in cells:
         by_combo[c.combination.key].append(c)
     rows = []
     for key, group in by_combo.items():
-        c0 = group[0].combination
-        kept = (
-            ", ".join(f"{c.position.value} ({c.lanes} lanes)" for c in group if c.valid) or "none"
-        )
-        why = "; ".join(
-            f"{c.position.value} ({c.lanes} lanes): {c.reason}" for c in group if not c.valid
-        )
-        rows.append([key, c0.title, kept, why])
+        kept = _where([c for c in group if c.valid]) or "none"
+        reasons: dict[str, list[Cell]] = defaultdict(list)
+        for c in group:
+            if not c.valid:
+                reasons[c.reason].append(c)
+        why = "; ".join(f"{reason}: {_where(cs)}" for reason, cs in reasons.items())
+        rows.append([key, group[0].combination.title, kept, why])
     return rows
 
 
