@@ -88,3 +88,28 @@ def test_generated_roads_have_the_extra_lane_where_stated(tmp_path: Path, geomet
         p = roads.place("main", lane, 1000.0)
         assert np.isclose(p.y, -(abs(lane) - 0.5) * 3.5, atol=0.05)
         assert roads.origin_of(p.sumo_lane)[:2] == ("main", lane)
+
+
+def test_exported_case_reads_back_as_the_same_scenario(tmp_path: Path) -> None:
+    """.xosc + .xodr export: hiyari's XSD-validating reader gets the same entities, Init
+    positions and speeds, and the surrounding vehicle's manoeuvre."""
+    from hiyari.bridge.catalogue.campaign import case_by_id, catalogue_cells
+    from hiyari.bridge.catalogue.concrete import concrete_cases, to_scenario
+    from hiyari.bridge.catalogue.xosc_export import export_case
+    from hiyari.bridge.scenario.openscenario.reader import read_scenario
+
+    case = case_by_id("M04-front-2L-003")
+    cell = next(c for c in catalogue_cells("motorway") if c.key == "M04-front-2L")
+    assert case.params == concrete_cases(cell, 14)[3].params  # same case whatever the count
+    path = export_case(case, tmp_path / "roads", tmp_path / "xosc")
+    assert (tmp_path / "xosc" / "main-2.xodr").is_file()
+    back, model = read_scenario(path), to_scenario(case)
+    assert [e.name for e in back.entities] == ["ego", "actor", "plus1"]
+    assert [(i.entity, i.action.body) for i in back.storyboard.init] == [
+        (i.entity, i.action.body) for i in model.storyboard.init
+    ]
+    events = [ev for s in back.storyboard.stories for a in s.acts for g in a.groups
+              for m in g.maneuvers for ev in m.events]  # fmt: skip
+    assert [ev.actions[0].body for ev in events] == [
+        model.storyboard.stories[0].acts[0].groups[0].maneuvers[0].events[0].actions[0].body
+    ]

@@ -98,6 +98,17 @@ def plan(options: CatalogueOptions, cells: list[Cell]) -> list[ConcreteCase]:
     ]
 
 
+def case_by_id(run_id: str, catalogue: str = "motorway", seed: int = 0,
+               ranges: Ranges | None = None) -> ConcreteCase:  # fmt: skip
+    """The concrete case a results row names (the Sobol samples are a fixed sequence, so the
+    i-th case does not depend on how many runs per cell were asked for)."""
+    key, _, index = run_id.rpartition("-")
+    cell = next((c for c in catalogue_cells(catalogue, ranges) if c.key == key), None)
+    if cell is None or not index.isdigit() or not supported(cell):
+        raise HiyariError(f"no concrete case {run_id!r} in the {catalogue} catalogue")
+    return concrete_cases(cell, int(index) + 1, seed, ranges)[int(index)]
+
+
 def _cause(res: object, expected: Expectation) -> str:
     """One line on why a run failed."""
     what = f"hit {res.collided_with} at {res.relative_impact_speed:.1f} m/s"

@@ -44,6 +44,14 @@ def evaluate(args: argparse.Namespace) -> int:
     from hiyari.bridge.catalogue.runner import RunConfig
 
     out = Path(args.out)
+    if args.export:
+        from hiyari.bridge.catalogue.campaign import case_by_id
+        from hiyari.bridge.catalogue.xosc_export import export_case
+
+        for run_id in args.export.split(","):
+            case = case_by_id(run_id, args.catalogue, args.seed)
+            print(f"scenario: {export_case(case, out / 'roads', out / 'xosc')}")
+        return 0
     config = RunConfig(
         roads=out / "roads", perception=args.perception, stack=args.stack or "",
         step_length=args.step,
@@ -112,5 +120,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="local worker processes (default: all cores)")  # fmt: skip
     p.add_argument("--backend", choices=["local", "ray"], default="local")
     p.add_argument("--ray-address", default=None, help="Ray cluster: 'auto' or host:port")
+    p.add_argument("--export", default="",
+                   help="write these cases (comma-separated run ids, e.g. M03-left_rear-2L-004) "
+                        "as OpenSCENARIO + OpenDRIVE into OUT/xosc and run nothing")  # fmt: skip
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=evaluate)
