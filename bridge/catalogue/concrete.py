@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from hiyari.bridge.catalogue.layout import BEHIND, MotorwayLayout
 from hiyari.bridge.catalogue.obstruction import Cell
 from hiyari.bridge.catalogue.parameters import Ranges, sample
-from hiyari.bridge.catalogue.sketch import ACCEL_SPAN, EGO_SIZE, OTHER_SIZE
+from hiyari.bridge.catalogue.sketch import ACCEL_SPAN, EGO_SIZE, OTHER_SIZE, SWERVE_SHIFT
 from hiyari.bridge.catalogue.taxonomy import Geometry, Motion, Position
 from hiyari.bridge.scenario.model import (
     AbsoluteLane,
@@ -144,7 +144,12 @@ def _manoeuvre(case: ConcreteCase, v0: float) -> Action | None:
     if target is None:
         return None
     dyn = TransitionDynamics(Shape.LINEAR, Dimension.RATE, p["lateral_speed"])
-    return Action(motion.value, LaneChangeAction(dyn, AbsoluteLane(target)))
+    offset = 0.0
+    if motion == Motion.SWERVE:  # within its lane, toward the ego's (left when in it)
+        lay = case.layout
+        toward = lay.centre_t(lay.ego_lane) - lay.centre_t(target)
+        offset = SWERVE_SHIFT if toward >= 0 else -SWERVE_SHIFT
+    return Action(motion.value, LaneChangeAction(dyn, AbsoluteLane(target), offset))
 
 
 def to_scenario(case: ConcreteCase) -> Scenario:
