@@ -40,12 +40,12 @@ _COMMON = [
 ]
 
 
-def _param(default, doc: str):
+def _param(default: object, doc: str):  # noqa: ANN202 - a dataclass field
     """A dataclass field whose ``doc`` metadata becomes the CLI help text."""
     return field(default=default, metadata={"doc": doc})
 
 
-def param_docs(cls) -> dict[str, str]:
+def param_docs(cls: type) -> dict[str, str]:
     """Field name -> documentation of a params dataclass."""
     return {f.name: f.metadata.get("doc", "") for f in fields(cls)}
 
