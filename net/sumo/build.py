@@ -1,6 +1,6 @@
 """Generate SUMO networks from plain XML (nodes, edges, connections) with lxml and netconvert.
 
-Four generators, each returning the written ``.net.xml`` path:
+Five generators, each returning the written ``.net.xml`` path:
 
 - ``build_intersection``: a four-leg intersection with sidewalks, crossings and an optional
   traffic light;
@@ -8,7 +8,9 @@ Four generators, each returning the written ``.net.xml`` path:
   and fringe arms;
 - ``build_expressway``: a dual carriageway with N lanes, a clothoid-arc-clothoid curve of
   radius R with superelevation, an on-ramp merge, an off-ramp branch and guard rails;
-- ``build_r157_road``: the UN R157 (Annex G) test road: two 3.5 m lanes, straight.
+- ``build_r157_road``: the UN R157 (Annex G) test road: two 3.5 m lanes, straight;
+- ``build_catalogue_road``: the JAMA catalogue roads (main line, merge, branch, four-leg
+  intersection) written as OpenDRIVE beside the net and imported with netconvert.
 
 Geometry parameters use the JAMA Annex A road-geometry terms: lane width, curve radius,
 transition section, cross slope (superelevation), longitudinal gradient. Lengths in metres,
