@@ -1,6 +1,6 @@
 """Generate SUMO networks from plain XML (nodes, edges, connections) with lxml and netconvert.
 
-Four generators, each returning the written ``.net.xml`` path:
+Five generators, each returning the written ``.net.xml`` path:
 
 - ``build_intersection``: a four-leg intersection with sidewalks, crossings and an optional
   traffic light;
@@ -8,7 +8,9 @@ Four generators, each returning the written ``.net.xml`` path:
   and fringe arms;
 - ``build_expressway``: a dual carriageway with N lanes, a clothoid-arc-clothoid curve of
   radius R with superelevation, an on-ramp merge, an off-ramp branch and guard rails;
-- ``build_r157_road``: the UN R157 (Annex G) test road: two 3.5 m lanes, straight.
+- ``build_r157_road``: the UN R157 (Annex G) test road: two 3.5 m lanes, straight;
+- ``build_catalogue_road``: the JAMA catalogue roads (main line, merge, branch, four-leg
+  intersection) written as OpenDRIVE beside the net and imported with netconvert.
 
 Geometry parameters use the JAMA Annex A road-geometry terms: lane width, curve radius,
 transition section, cross slope (superelevation), longitudinal gradient. Lengths in metres,
@@ -40,12 +42,12 @@ _COMMON = [
 ]
 
 
-def _param(default, doc: str):
+def _param(default: object, doc: str):  # noqa: ANN202 - a dataclass field
     """A dataclass field whose ``doc`` metadata becomes the CLI help text."""
     return field(default=default, metadata={"doc": doc})
 
 
-def param_docs(cls) -> dict[str, str]:
+def param_docs(cls: type) -> dict[str, str]:
     """Field name -> documentation of a params dataclass."""
     return {f.name: f.metadata.get("doc", "") for f in fields(cls)}
 
@@ -360,3 +362,49 @@ def build_r157_road(out: str | Path, params: R157RoadParams | None = None) -> Pa
         "params": {"hiyari:barrier": side},
     }
     return build_net(out, nodes, [edge], _COMMON, "r157 road")
+
+
+@dataclass(frozen=True)
+class CatalogueRoadParams:
+    """A JAMA catalogue road as OpenDRIVE (written beside the net as .xodr), then imported.
+
+    Main line / merge / branch: one carriageway along +x, road "main", lanes -1 (leftmost)
+    to -lanes, merge / exit lane -(lanes + 1); intersection: four legs, one lane per direction
+    (see hiyari.net.road.xodr_writer).
+    """
+
+    lanes: int = _param(2, "through lanes per direction (motorway: 2 or 3; intersection: 1)")
+    lane_width: float = _param(3.5, "lane width, m")
+    length: float = _param(1500.0, "motorway road length, m")
+    station: float = _param(
+        700.0, "merge: end of the acceleration lane; branch: exit lane start, m"
+    )
+
+
+def build_catalogue_road(
+    out: str | Path, params: CatalogueRoadParams | None = None, geometry: str = "main"
+) -> Path:
+    """Write ``out`` (.net.xml) and the OpenDRIVE road beside it (``out`` with .xodr) for a
+    catalogue ``geometry`` (main, merge, branch, intersection); return the net's path."""
+    from hiyari.net.road.xodr_writer import CatalogueRoad, write_catalogue_road
+    from hiyari.net.sumo.opendrive import import_opendrive
+
+    params = params or CatalogueRoadParams()
+    road = CatalogueRoad(
+        geometry=geometry,
+        lanes=1 if geometry == "intersection" else params.lanes,
+        lane_width=params.lane_width,
+        length=params.length,
+        merge_end=params.station,
+        branch_start=params.station,
+    )
+    out = Path(out)
+    xodr = write_catalogue_road(xodr_beside(out), road)
+    return import_opendrive(xodr, out, warn=lambda _msg: None)
+
+
+def xodr_beside(net: str | Path) -> Path:
+    """The OpenDRIVE file written next to a generated net: ``x.net.xml`` -> ``x.xodr``."""
+    net = Path(net)
+    stem = net.name.removesuffix(".net.xml").removesuffix(".xml")
+    return net.with_name(stem + ".xodr")

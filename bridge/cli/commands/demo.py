@@ -69,6 +69,15 @@ def run(args: argparse.Namespace) -> int:
             f"   {verdict}{extra}; min TTC {r['min_ttc_s']} s; {r['sim_seconds']:.1f} s simulated "
             f"in {r['wall_seconds']:.1f} s ({time.perf_counter() - t:.1f} s with set-up)"
         )
+    t = _stage(f"JAMA catalogue: {args.catalogue_runs} runs per motorway cell, safety argument")
+    from hiyari.bridge.cli.demo.catalogue import run_catalogue_demo
+
+    c = run_catalogue_demo(out / "catalogue", args.catalogue_runs, args.workers)
+    print(
+        f"   {c['passed']}/{c['runs']} runs passed, {c['preventable_passed']}/{c['preventable']} "
+        f"Preventable; {c['report']} ({time.perf_counter() - t:.1f} s)"
+    )
+
     t = _stage("replay: static HTML of the dart-out recording")
     html = cl.export_replay(out / "dart_out" / "run.mcap", out / "dart_out" / "replay.html")
     print(f"   {html} ({time.perf_counter() - t:.1f} s)")
@@ -90,6 +99,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--duration", type=numbers.seconds(), default=300.0, help="traffic seconds to simulate"
     )
     p.add_argument("--r157-sample", type=numbers.count(1), default=60, help="R157 points to judge")
+    p.add_argument(
+        "--catalogue-runs", type=numbers.count(1), default=2, help="catalogue runs per cell"
+    )
     p.add_argument("--workers", "-j", type=numbers.count(1, 4096), default=os.cpu_count() or 1)
     p.add_argument("--seed", type=numbers.seed(), default=42)
     p.set_defaults(func=run)

@@ -12,6 +12,7 @@ import dataclasses
 import sys
 import time
 from collections import Counter
+from functools import partial
 from pathlib import Path
 
 from hiyari.bridge.cli import numbers
@@ -21,10 +22,12 @@ from hiyari.net.mesh.materials import Material
 from hiyari.net.mesh.road_mesh import MeshParams, build_scene_mesh
 from hiyari.net.road.geometry import RoadGeometry
 from hiyari.net.sumo.build import (
+    CatalogueRoadParams,
     CityGridParams,
     ExpresswayParams,
     IntersectionParams,
     R157RoadParams,
+    build_catalogue_road,
     build_city_grid,
     build_expressway,
     build_intersection,
@@ -40,6 +43,14 @@ GENERATORS = {
     "city": (CityGridParams, build_city_grid),
     "intersection": (IntersectionParams, build_intersection),
     "r157": (R157RoadParams, build_r157_road),
+    # JAMA catalogue roads: OpenDRIVE (.xodr beside the net) imported with netconvert
+    "mainline": (CatalogueRoadParams, partial(build_catalogue_road, geometry="main")),
+    "merge": (CatalogueRoadParams, partial(build_catalogue_road, geometry="merge")),
+    "branch": (CatalogueRoadParams, partial(build_catalogue_road, geometry="branch")),
+    "jama-intersection": (
+        CatalogueRoadParams,
+        partial(build_catalogue_road, geometry="intersection"),
+    ),
 }
 
 
