@@ -25,6 +25,7 @@ COMMAND_MODULES = [
     "hiyari.bridge.cli.commands.r157",
     "hiyari.bridge.cli.commands.sensors",
     "hiyari.bridge.cli.commands.study",
+    "hiyari.bridge.cli.commands.perception",
 ]
 
 
