@@ -89,3 +89,23 @@ def merged_list(matrices: dict[str, Matrix], registry: DisturbanceRegistry) -> l
         if any(per.values()):
             out.append(MergedRow(d.name, f"{d.range[0]:g}..{d.range[1]:g} {d.unit}", per))
     return out
+
+
+def representatives(
+    per_sensor: dict[str, list[PrincipleCoverage]], exclude: tuple[str, ...] = ()
+) -> list[str]:
+    """Fewest disturbances that together exercise every covered principle of every sensor
+    (greedy set cover, ties in registry order): the representative factors of JAMA 4.2.1.3."""
+    need = {
+        (c.sensor, c.principle): set(c.disturbances) - set(exclude)
+        for cov in per_sensor.values()
+        for c in cov
+    }
+    need = {k: v for k, v in need.items() if v}
+    order = list(dict.fromkeys(d for v in need.values() for d in sorted(v)))
+    chosen: list[str] = []
+    while need:
+        best = max(order, key=lambda d: sum(d in v for v in need.values()))
+        chosen.append(best)
+        need = {k: v for k, v in need.items() if best not in v}
+    return chosen

@@ -43,6 +43,8 @@ class Disturbance:
     """Sensor models that implement it."""
     factors: dict[str, tuple[int, ...]]
     """Factor rows it stands for, per sensor matrix."""
+    levels: int | None = None
+    """Number of distinct intensities (2 for an on / off disturbance), None for continuous."""
 
 
 @dataclass(frozen=True)
@@ -97,6 +99,7 @@ def load_disturbances(path: Path | None = None) -> DisturbanceRegistry:
                 range=(lo, hi),
                 sensors=tuple(d["sensors"]),
                 factors={s: tuple(int(r) for r in rows) for s, rows in d["factors"].items()},
+                levels=int(d["levels"]) if "levels" in d else None,
             )
             bad = [s for s in (*dist.sensors, *dist.factors) if s not in SENSORS]
             if dist.kind not in KINDS or bad:

@@ -6,12 +6,38 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from hiyari.bridge.cli import numbers
+
 
 def _coverage(args: argparse.Namespace) -> int:
     from hiyari.bridge.perception.coverage_run import parse_sensors, write_coverage
 
     text, paths = write_coverage(parse_sensors(args.sensors), Path(args.out))
     print(text)
+    for p in paths.values():
+        print(f"written: {p}")
+    return 0
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from hiyari.bridge.perception.sweep import SweepConfig
+    from hiyari.bridge.perception.sweep_run import run_sweep
+
+    cfg = SweepConfig(levels=args.levels, frames=args.frames, seed=args.seed)
+    rows, paths = run_sweep(args.disturbances, cfg, Path(args.out))
+    print(paths["md"].read_text())
+    for p in paths.values():
+        print(f"written: {p}")
+    return 0
+
+
+def _grip(args: argparse.Namespace) -> int:
+    from hiyari.risk.dynamics.report import write_grip_report
+    from hiyari.risk.dynamics.study import GripStudy, run_study
+
+    study = GripStudy()
+    paths = write_grip_report(run_study(study, progress=True), study, Path(args.out))
+    print(paths["md"].read_text())
     for p in paths.values():
         print(f"written: {p}")
     return 0
@@ -29,3 +55,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--sensors", default="camera,radar,lidar", help="comma-separated sensors")
     c.add_argument("-o", "--out", default="out/perception", help="output folder")
     c.set_defaults(func=_coverage)
+    w = psub.add_parser(
+        "sweep",
+        help="sweep the representative disturbances over their range for the standard targets",
+    )
+    w.add_argument(
+        "--disturbances", nargs="*", help="disturbance names (default: the representative set)"
+    )
+    w.add_argument("--levels", type=numbers.count(lo=2), default=3, help="intensities each")
+    w.add_argument("--frames", type=numbers.count(lo=2), default=2, help="frames per distance")
+    w.add_argument("--seed", type=numbers.seed(), default=7)
+    w.add_argument("-o", "--out", default="out/perception", help="output folder")
+    w.set_defaults(func=_sweep)
+    g = psub.add_parser(
+        "grip",
+        help="vehicle-motion disturbances: grip use through the expressway curve per mu and speed",
+    )
+    g.add_argument("-o", "--out", default="out/perception", help="output folder")
+    g.set_defaults(func=_grip)
