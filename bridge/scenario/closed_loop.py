@@ -42,6 +42,21 @@ class ScenarioHooks:
         """True when the scenario has played out (besides duration and collisions)."""
         return False
 
+    def after_step(self, sim: Simulation, world: WorldState) -> bool:
+        """Advance the scenario on the state SUMO just reached (triggers, actors for the next
+        step); True when it has ended (its stop trigger): the loop still scores this state."""
+        return False
+
+    def stack_drives_ego(self) -> bool:
+        """Whether the ego stack's command moves the ego now (else the scenario does)."""
+        return True
+
+    def gap_target(self, world: WorldState, row: int) -> int:
+        """Row of the actor whose bumper gap is scored (-1: none): the scenario's target."""
+        if self.target_id and self.target_id in world.ids:
+            return world.index(self.target_id)
+        return -1
+
 
 def run_closed_loop(
     sim: Simulation,
@@ -72,7 +87,10 @@ def run_closed_loop(
             hooks.before_step(sim, hooks.script_time(sim.time + dt))
             world = sim.step()
             bar.update(1)
+            ended = hooks.after_step(sim, world)
             if ego_id not in world.ids:
+                if ended:
+                    break
                 if res.sim_seconds > 0:
                     break  # the ego left the network
                 continue
@@ -91,8 +109,11 @@ def run_closed_loop(
                 rel = world.velocity[row] - world.velocity[k]
                 res.relative_impact_speed = float(np.linalg.norm(rel))
                 break
-            v_next = max(0.0, ego.speed + step.command.accel * dt)
-            sim.set_speed(ego_id, v_next)
+            if ended:
+                res.stop_trigger = True
+                break
+            if hooks.stack_drives_ego():
+                sim.set_speed(ego_id, max(0.0, ego.speed + step.command.accel * dt))
             res.sim_seconds = world.time
             if hooks.done(world, ego, hooks.script_time(world.time)):
                 break
@@ -119,8 +140,8 @@ def _metrics(
     ttc_true = float(ttc.min())
     res.min_ttc = min(res.min_ttc, ttc_true)
     gap = float("inf")
-    if hooks.target_id and hooks.target_id in world.ids:
-        k = world.index(hooks.target_id)
+    k = hooks.gap_target(world, row)
+    if k >= 0:
         gap, beside = gap_to(xy, world.heading, world.length, world.width, row, k)
         if beside < 0 and gap > -world.length[k]:
             res.min_gap = min(res.min_gap, gap)

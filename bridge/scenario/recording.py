@@ -10,7 +10,6 @@ from pathlib import Path
 
 from hiyari import __version__
 from hiyari.bridge.record.recorder import Recorder, SensorMount
-from hiyari.bridge.scenario.toml_file import ConcreteScenario
 from hiyari.bridge.stack.aeb import AEBStage
 from hiyari.bridge.stack.interfaces import EgoStack, EgoStep
 from hiyari.bridge.stack.perception_sensors import SensorPerception
@@ -71,28 +70,17 @@ class StepRecorder:
 
 def open_recorder(
     path: Path,
-    cs: ConcreteScenario,
+    metadata: Mapping[str, object],
     stack: EgoStack,
     network: RoadNetwork,
     signal_links: Sequence[SignalLink] = (),
 ) -> Recorder:
-    """A Recorder with the run's metadata, sensor configs (with mounts), static road mesh (the
+    """A Recorder with the run's ``metadata`` (and the toolkit version), sensor configs (with mounts), static road mesh (the
     sensors' scene mesh when the stack has one, else built from ``network``) and OSI road
     (lanes, boundaries, stationary objects, traffic lights) written."""
     rec = Recorder(
         path,
-        metadata={
-            "scenario": cs.label(),
-            "scenario_type": cs.type,
-            "seed": cs.seed,
-            "params": cs.params,
-            "perception": cs.perception,
-            "sensors": list(cs.sensors),
-            "environment": cs.environment,
-            "aeb_delay_s": cs.aeb_delay,
-            "step_length_s": cs.step_length,
-            "toolkit_version": __version__,
-        },
+        metadata={**metadata, "toolkit_version": __version__},
     )
     perception = stack.perception
     if isinstance(perception, SensorPerception):

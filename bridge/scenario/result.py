@@ -94,6 +94,7 @@ class RunResult:
     aeb_first_time: float = float("nan")
     aeb_max_stage: int = 0
     final_speed: float = 0.0
+    stop_trigger: bool = False  # the scenario's stop trigger ended the run
     sim_seconds: float = 0.0
     wall_seconds: float = 0.0
     detection: dict[str, DetectionStats] = field(
@@ -150,6 +151,7 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
     ResultField("aeb_first_time_s", lambda r: _num(r.aeb_first_time)),
     ResultField("aeb_max_stage", lambda r: r.aeb_max_stage),
     ResultField("final_speed_kmh", lambda r: _kmh(r.final_speed)),
+    ResultField("stop_trigger", lambda r: r.stop_trigger, in_table=False),
     ResultField("sim_seconds", lambda r: round(r.sim_seconds, 3), in_table=False),
     ResultField("wall_seconds", lambda r: round(r.wall_seconds, 3), in_table=False),
 )

@@ -89,12 +89,13 @@ def run_concrete(
                 from hiyari.bridge.scenario.recording import StepRecorder, open_recorder
 
                 links = sim.signal_links()
-                recorder = open_recorder(options.out_dir / "run.mcap", cs, stack, network, links)
+                meta = concrete_metadata(cs)
+                recorder = open_recorder(options.out_dir / "run.mcap", meta, stack, network, links)
                 if isinstance(stack.perception, SensorPerception):
                     stack.perception.render_every = options.camera_image_every
                 signals = sim.signal_states if links else None
                 step_recorder = StepRecorder(recorder, stack, sc.ego_id, signals)
-                on_step = _chain(step_recorder, on_step)
+                on_step = chain(step_recorder, on_step)
             try:
                 result = run_closed_loop(
                     sim,
@@ -116,7 +117,7 @@ def run_concrete(
     return result
 
 
-def _chain(first: OnStep, second: OnStep | None) -> OnStep:
+def chain(first: OnStep, second: OnStep | None) -> OnStep:
     """Call ``first`` and then ``second`` (when given) with the same arguments."""
     if second is None:
         return first
@@ -128,11 +129,30 @@ def _chain(first: OnStep, second: OnStep | None) -> OnStep:
     return both
 
 
-def write_result(result: RunResult, cs: ConcreteScenario, out_dir: Path, plot: bool = True) -> None:
-    """result.json (summary + parameters), timeseries.csv and timeseries.png in ``out_dir``."""
+def concrete_metadata(cs: ConcreteScenario) -> dict:
+    """A TOML concrete scenario as result.json and the recording's metadata record it."""
+    return {
+        "scenario": cs.label(),
+        "scenario_type": cs.type,
+        "seed": cs.seed,
+        "params": cs.params,
+        "perception": cs.perception,
+        "sensors": list(cs.sensors),
+        "environment": cs.environment,
+        "aeb_delay_s": cs.aeb_delay,
+        "step_length_s": cs.step_length,
+    }
+
+
+def write_result(
+    result: RunResult, scenario: ConcreteScenario | dict, out_dir: Path, plot: bool = True
+) -> None:
+    """result.json (summary + parameters), timeseries.csv and timeseries.png in ``out_dir``.
+    ``scenario``: the TOML concrete scenario, or the scenario section as a dict."""
     out_dir.mkdir(parents=True, exist_ok=True)
-    doc = {
-        "scenario": {
+    if isinstance(scenario, ConcreteScenario):
+        cs = scenario
+        scenario = {
             "type": cs.type,
             "name": cs.name,
             "index": cs.index,
@@ -142,9 +162,8 @@ def write_result(result: RunResult, cs: ConcreteScenario, out_dir: Path, plot: b
             "sensors": list(cs.sensors),
             "environment": cs.environment,
             "aeb_delay_s": cs.aeb_delay,
-        },
-        "result": result.as_dict(),
-    }
+        }
+    doc = {"scenario": scenario, "result": result.as_dict()}
     with atomic_path(out_dir / "result.json") as tmp:
         tmp.write_text(json.dumps(doc, indent=2))
     columns = result.series.columns()
