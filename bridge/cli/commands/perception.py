@@ -43,9 +43,23 @@ def _grip(args: argparse.Namespace) -> int:
     return 0
 
 
+def _blindspots(args: argparse.Namespace) -> int:
+    from hiyari.bridge.perception.blindspot.report import write_catalogue
+    from hiyari.bridge.perception.blindspot.run import run_catalogue
+
+    out = Path(args.out)
+    results = run_catalogue(out / "blindspot_roads", not args.no_run, args.cases or None)
+    paths = write_catalogue(results, out)
+    print(paths["md"].read_text())
+    for p in paths.values():
+        print(f"written: {p}")
+    return 0
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
-        "perception", help="JAMA perception / vehicle-motion disturbances (principle coverage)"
+        "perception",
+        help="JAMA perception / vehicle-motion disturbances: coverage, sweep, grip, blind spots",
     )
     psub = p.add_subparsers(dest="perception_command", required=True, metavar="SUBCOMMAND")
     c = psub.add_parser(
@@ -73,3 +87,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     g.add_argument("-o", "--out", default="out/perception", help="output folder")
     g.set_defaults(func=_grip)
+    b = psub.add_parser(
+        "blindspots",
+        help="JAMA blind-spot catalogue: ray-cast occlusion check and closed-loop run per case",
+    )
+    b.add_argument("--cases", nargs="*", help="case names (default: every realisable one)")
+    b.add_argument("--no-run", action="store_true", help="occlusion check only, no closed loop")
+    b.add_argument("-o", "--out", default="out/perception", help="output folder")
+    b.set_defaults(func=_blindspots)
