@@ -22,7 +22,7 @@ def test_dense_fog_shortens_lidar_range_but_not_radar_or_fused(tmp_path):
     assert fog.range_m["radar"] == clear.range_m["radar"] == 60.0  # 77 GHz barely notices fog
     assert fog.range_m["fused"] == 60.0
     paths = write_sweep([clear, fog], tmp_path)
-    assert "| fog | 30 m visibility | car |" in paths["md"].read_text()
+    assert "| fog | 30 (m visibility) | car |" in paths["md"].read_text()
     assert paths["png"].read_bytes()[:4] == b"\x89PNG"
 
 

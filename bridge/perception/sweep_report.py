@@ -10,6 +10,7 @@ import numpy as np
 
 from hiyari.atomic import atomic_path, write_text_atomic
 from hiyari.bridge.perception.sweep import OUTPUTS, SweepRow
+from hiyari.sensors.detection_range import SENSORS
 
 
 def _flat(r: SweepRow) -> dict:
@@ -40,7 +41,9 @@ def sweep_markdown(rows: list[SweepRow]) -> str:
     for r in rows:
         cells = [f"{r.range_m[o]:.0f} / {_pct(r.missed[o])} / {_pct(r.ghosts[o])}" for o in OUTPUTS]
         lines.append(
-            f"| {r.disturbance} | {r.level:.3g} {r.unit} | {r.target} | " + " | ".join(cells) + " |"
+            f"| {r.disturbance} | {r.level:.4g} ({r.unit}) | {r.target} | "
+            + " | ".join(cells)
+            + " |"
         )
     return "\n".join(lines) + "\n"
 
@@ -66,11 +69,13 @@ def write_sweep(rows: list[SweepRow], out_dir: Path) -> dict[str, Path]:
             ax = axes[i, j]
             sel = [r for r in rows if r.disturbance == name and r.target == target]
             x = np.arange(len(sel))
-            for o in OUTPUTS:
-                ax.plot(
-                    x, [r.range_m[o] for r in sel], marker="o", label=o, lw=2 if o == "fused" else 1
-                )
-            ax.set_xticks(x, [f"{r.level:.3g}" for r in sel], fontsize=7)
+            # the fused line wide and pale underneath, so a sensor on the same values shows
+            ax.plot(
+                x, [r.range_m["fused"] for r in sel], color="0.6", lw=6, alpha=0.5, label="fused"
+            )
+            for o in SENSORS:
+                ax.plot(x, [r.range_m[o] for r in sel], marker="o", label=o)
+            ax.set_xticks(x, [f"{r.level:.4g}" for r in sel], fontsize=7)
             ax.grid(alpha=0.3)
             if i == 0:
                 ax.set_title(target, fontsize=9)
