@@ -23,6 +23,7 @@ from hiyari.sensors.environment.presets import PRESETS, DisturbancePreset
 from hiyari.sensors.frames import Mount
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.sensor import Lidar
+from hiyari.sensors.outputs import ObjectList
 from hiyari.sensors.radar.config import RadarConfig
 from hiyari.sensors.radar.sensor import Radar
 from hiyari.sensors.scene.ray_scene import RayScene
@@ -30,7 +31,11 @@ from hiyari.sensors.scene.synthetic import StraightRoad, actor_world
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
-TARGETS = ("pedestrian", "car")
+TARGETS = ("pedestrian", "car", "motorcycle", "obstacle")
+"""Standard targets: a pedestrian crossing, a car ahead showing its rear, a motorcycle ahead,
+and a stationary obstacle (a stalled car broadside across the lane, the ego at 60 km/h)."""
+OBSTACLE_EGO_SPEED = 60.0 / 3.6
+"""Ego speed toward the stationary obstacle, m/s (radar sees it closing)."""
 SENSORS = ("lidar", "radar", "camera")
 EGO_LANE_Y = -1.75
 """The ego drives along +x in the right lane of the two-lane StraightRoad (lane centre)."""
@@ -55,8 +60,16 @@ class RangeStudy:
     """Radar (the seed's narrow grid, meant for far targets ahead)."""
     camera: CameraConfig = field(default_factory=lambda: CameraConfig.preset("wide"))
     """Camera (the seed's 120 deg / 2 Mpix unit)."""
+    lidar_mount: Mount = Mount(x=0.0, z=1.9)
+    """Roof LiDAR."""
+    radar_mount: Mount = Mount(x=2.3, z=0.5)
+    """Front-bumper radar."""
+    camera_mount: Mount = Mount(x=0.8, z=1.3)
+    """Windscreen camera."""
     seed: int = 7
     """Seed of the noise (one Generator per distance)."""
+    guard_rail: bool = False
+    """Guard rails along both road edges (radar multipath needs a reflector)."""
 
 
 def target_world(target: str, distance: float, occluder: bool) -> WorldState:
@@ -70,8 +83,14 @@ def target_world(target: str, distance: float, occluder: bool) -> WorldState:
                 id="target", cls=ActorClass.PEDESTRIAN, x=distance, y=EGO_LANE_Y, heading=np.pi / 2
             )
         )
+    elif target == "obstacle":
+        actors[0]["speed"] = OBSTACLE_EGO_SPEED
+        actors.append(
+            dict(id="target", cls=ActorClass.CAR, x=distance, y=EGO_LANE_Y, heading=np.pi / 2)
+        )
     else:
-        actors.append(dict(id="target", cls=ActorClass.CAR, x=distance, y=EGO_LANE_Y))
+        cls = ActorClass.MOTORCYCLE if target == "motorcycle" else ActorClass.CAR
+        actors.append(dict(id="target", cls=cls, x=distance, y=EGO_LANE_Y))
     truck_length, truck_width = ActorClass.TRUCK.size.length, ActorClass.TRUCK.size.width
     ego_front = ActorClass.CAR.size.length / 2
     if occluder and distance - OCCLUDER_GAP_M - truck_length / 2 > ego_front + OCCLUDER_CLEARANCE_M:
@@ -87,32 +106,65 @@ def target_world(target: str, distance: float, occluder: bool) -> WorldState:
     return actor_world(actors)
 
 
+@dataclass(frozen=True, eq=False)
+class Observation:
+    """One frame of the sweep."""
+
+    world: WorldState
+    objects: dict[str, ObjectList]
+    """Object list per sensor ('lidar', 'radar', 'camera')."""
+    camera_probability: float
+    """The camera's detection probability for the target (0 when out of view)."""
+
+    def ghosts(self, sensor: str) -> int:
+        """Objects of ``sensor`` with no real surface behind them (false detections: noise,
+        rain ghosts, multipath; static-scene objects are not counted)."""
+        return int(np.sum(self.objects[sensor].truth == ""))
+
+
 class RangeSweep:
     """Builds the road scene and the sensors once; ``ranges`` runs one preset and target."""
 
     def __init__(self, study: RangeStudy | None = None) -> None:
         self.study = study or RangeStudy()
-        self.scene = RayScene(StraightRoad(x0=-20.0, x1=max(self.study.distances_m) + 60.0).mesh())
-        self.lidar = Lidar(self.study.lidar, Mount(x=0.0, z=1.9))
-        self.radar = Radar(self.study.radar, Mount(x=2.3, z=0.5))
-        self.camera = Camera(self.study.camera, Mount(x=0.8, z=1.3))
+        road = StraightRoad(
+            x0=-20.0, x1=max(self.study.distances_m) + 60.0, guard_rail=self.study.guard_rail
+        )
+        self.scene = RayScene(road.mesh())
+        self.lidar = Lidar(self.study.lidar, self.study.lidar_mount)
+        self.radar = Radar(self.study.radar, self.study.radar_mount)
+        self.camera = Camera(self.study.camera, self.study.camera_mount)
+
+    def observe(
+        self, target: str, preset: DisturbancePreset, distance: float, seed: list[int]
+    ) -> Observation:
+        """One frame with the target ``distance`` m ahead: every sensor's object list (each
+        sensor sees its own window soiling) and the camera's detection probability."""
+        self.scene.set_appearance(preset.appearance)
+        world = target_world(target, float(distance), preset.occluder)
+        self.scene.update(world, "ego")
+        ego = world.pose_of("ego")
+        env = preset.environment_for(ego.heading)
+        rng = np.random.default_rng([self.study.seed, *seed])
+        _, lidar_objects = self.lidar.sense(self.scene, ego, world, env.for_sensor("lidar"), rng)
+        _, radar_objects = self.radar.sense(self.scene, ego, world, env.for_sensor("radar"), rng)
+        view = self.camera.view(self.scene, ego, world, env.for_sensor("camera"))
+        _, camera_objects = self.camera.sense(self.scene, ego, world, env.for_sensor("camera"), rng)
+        p = view.probability[world.ids[view.rows] == "target"]
+        return Observation(
+            world,
+            {"lidar": lidar_objects, "radar": radar_objects, "camera": camera_objects},
+            float(p.max()) if len(p) else 0.0,
+        )
 
     def detected(self, target: str, preset: DisturbancePreset) -> dict[str, np.ndarray]:
         """(len(distances),) bool per sensor: target recognised at each distance."""
-        self.scene.set_appearance(preset.appearance)
         out = {s: np.zeros(len(self.study.distances_m), bool) for s in SENSORS}
         for i, d in enumerate(self.study.distances_m):
-            world = target_world(target, float(d), preset.occluder)
-            self.scene.update(world, "ego")
-            ego = world.pose_of("ego")
-            env = preset.environment_for(ego.heading)
-            rng = np.random.default_rng([self.study.seed, i])
-            _, lidar_objects = self.lidar.sense(self.scene, ego, world, env, rng)
-            _, radar_objects = self.radar.sense(self.scene, ego, world, env, rng)
-            view = self.camera.view(self.scene, ego, world, env)
-            out["lidar"][i] = np.any(lidar_objects.truth == "target")
-            out["radar"][i] = np.any(radar_objects.truth == "target")
-            out["camera"][i] = np.any(view.probability[world.ids[view.rows] == "target"] >= 0.5)
+            ob = self.observe(target, preset, float(d), [i])
+            out["lidar"][i] = np.any(ob.objects["lidar"].truth == "target")
+            out["radar"][i] = np.any(ob.objects["radar"].truth == "target")
+            out["camera"][i] = ob.camera_probability >= 0.5
         return out
 
     def ranges(self, target: str, preset: DisturbancePreset) -> dict[str, float]:
@@ -135,7 +187,7 @@ def far_limit(distances: np.ndarray, detected: np.ndarray) -> float:
 
 def perception_table(
     presets: list[str] | None = None,
-    targets: tuple[str, ...] = TARGETS,
+    targets: tuple[str, ...] = ("pedestrian", "car"),
     study: RangeStudy | None = None,
     progress: bool = True,
 ) -> list[dict]:

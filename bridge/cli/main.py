@@ -26,6 +26,7 @@ COMMAND_MODULES = [
     "hiyari.bridge.cli.commands.sensors",
     "hiyari.bridge.cli.commands.study",
     "hiyari.bridge.cli.commands.evaluate",
+    "hiyari.bridge.cli.commands.perception",
 ]
 
 

@@ -46,6 +46,10 @@ class AtmosphereModel:
     """Fog liquid water content M = (coeff / V_km)^exp g/m^3 from visibility (Eldridge 1966)."""
     fog_water_exp: float = 1.54
     """Exponent of the fog water content relation (Eldridge 1966)."""
+    snow_rate_at_1km_mm_h: float = 1.0
+    """Liquid-water-equivalent snowfall rate that gives 1 km visibility, mm/h; the rate scales
+    as 1 / visibility (toolkit choice in line with the US NWS intensity classes: heavy snow,
+    visibility <= 400 m, is about 2.5 mm/h; Rasmussen et al. 1999 show a factor 3-10 scatter)."""
 
     def rain_drop_volume(self, rain_mm_h: float) -> float:
         """Water volume of rain drops per volume of air, mm^3/m^3 (= N0 pi / L^4)."""
@@ -80,24 +84,49 @@ class AtmosphereModel:
         beta = -math.log(self.koschmieder_contrast) / visibility_m
         return beta * (wavelength_nm / 550.0) ** (-q)
 
+    def large_particle_extinction(self, visibility_m: float) -> float:
+        """Extinction of snow flakes or spray drops, 1/m: Koschmieder -ln(0.02) / V, the same at
+        every optical wavelength because the particles are far larger than it (0 for inf)."""
+        if not math.isfinite(visibility_m):
+            return 0.0
+        return -math.log(self.koschmieder_contrast) / visibility_m
+
+    def snow_rate_mm_h(self, snow_visibility_m: float) -> float:
+        """Liquid-water-equivalent snowfall rate for a snow visibility, mm/h (0 for inf)."""
+        if not math.isfinite(snow_visibility_m):
+            return 0.0
+        return self.snow_rate_at_1km_mm_h * 1000.0 / snow_visibility_m
+
+    def _particles(self, env: Environment) -> float:
+        return self.large_particle_extinction(
+            env.snow_visibility_m
+        ) + self.large_particle_extinction(env.spray_visibility_m)
+
     def lidar_extinction(self, env: Environment) -> float:
-        """One-way LiDAR extinction, nepers per metre (rain per the seed's fit, plus fog)."""
+        """One-way LiDAR extinction, nepers per metre (rain per the seed's fit, fog, snow and
+        spray)."""
         rain_db = self.lidar_rain_db_per_m_per_mm3 * self.rain_drop_volume(env.rain_mm_h)
-        return rain_db * math.log(10.0) / 10.0 + self.fog_extinction(
-            env.fog_visibility_m, self.lidar_wavelength_nm
+        return (
+            rain_db * math.log(10.0) / 10.0
+            + self.fog_extinction(env.fog_visibility_m, self.lidar_wavelength_nm)
+            + self._particles(env)
         )
 
     def visible_extinction(self, env: Environment) -> float:
-        """One-way extinction of visible light, nepers per metre (rain plus fog)."""
-        return self.rain_optical_extinction(env.rain_mm_h) + self.fog_extinction(
-            env.fog_visibility_m
+        """One-way extinction of visible light, nepers per metre (rain, fog, snow, spray)."""
+        return (
+            self.rain_optical_extinction(env.rain_mm_h)
+            + self.fog_extinction(env.fog_visibility_m)
+            + self._particles(env)
         )
 
     def radar_attenuation_db_per_m(self, env: Environment) -> float:
-        """One-way 77 GHz attenuation by rain (ITU-R P.838) and fog (ITU-R P.840), dB/m."""
-        rain = (
-            self.radar_rain_k * env.rain_mm_h**self.radar_rain_alpha if env.rain_mm_h > 0 else 0.0
-        )
+        """One-way 77 GHz attenuation by rain (ITU-R P.838), fog (ITU-R P.840) and snow, dB/m.
+
+        Snow is charged as rain of its liquid-water-equivalent rate: the wet-snow upper bound
+        (dry snow attenuates less); spray drops are too few to attenuate 77 GHz measurably."""
+        water_rate = env.rain_mm_h + self.snow_rate_mm_h(env.snow_visibility_m)
+        rain = self.radar_rain_k * water_rate**self.radar_rain_alpha if water_rate > 0 else 0.0
         fog = 0.0
         if math.isfinite(env.fog_visibility_m):
             water = (

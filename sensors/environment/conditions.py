@@ -14,6 +14,9 @@ from enum import StrEnum
 
 from hiyari.errors import HiyariError
 
+SENSOR_KINDS = ("lidar", "radar", "camera")
+"""Sensor kinds an environment can address one by one (window soiling)."""
+
 
 class Illumination(StrEnum):
     """Time of day as far as light levels go (see lighting.LightingModel for the lux)."""
@@ -93,7 +96,17 @@ class Environment:
     sun_elevation_deg: float = 45.0
     """Sun elevation above the horizon, degrees (ignored at night)."""
     soiling: Soiling = field(default_factory=Soiling)
-    """Deposits on the sensor windows, the same for every sensor."""
+    """Deposits on the sensor windows, for every sensor without its own entry in
+    ``sensor_soiling``."""
+    sensor_soiling: tuple[tuple[str, Soiling], ...] = ()
+    """Deposits on one sensor's window, as (sensor kind: 'lidar' / 'radar' / 'camera', soiling)
+    pairs (JAMA: dirt on one sensor front while the others stay clean)."""
+    snow_visibility_m: float = math.inf
+    """Meteorological visibility in falling snow, m (inf = no snow; JAMA rows grade snow by
+    visibility: 'reduced' vs 'poor')."""
+    spray_visibility_m: float = math.inf
+    """Visibility through the spray kicked up by traffic on a wet road, m (inf = none; JAMA
+    'rain / snow, kicked up': partial poor visibility)."""
 
     def __post_init__(self) -> None:
         self.validate()
@@ -106,8 +119,15 @@ class Environment:
             raise HiyariError(
                 f"rain_mm_h {self.rain_mm_h} is beyond any recorded rain (max 500 mm/h)"
             )
-        if not self.fog_visibility_m > 0:
-            raise HiyariError(f"fog_visibility_m must be positive, got {self.fog_visibility_m}")
+        for name in ("fog_visibility_m", "snow_visibility_m", "spray_visibility_m"):
+            if not getattr(self, name) > 0:
+                raise HiyariError(f"{name} must be positive, got {getattr(self, name)}")
+        for kind, soiling in self.sensor_soiling:
+            if kind not in SENSOR_KINDS:
+                raise HiyariError(
+                    f"sensor_soiling names unknown sensor {kind!r} (known: {', '.join(SENSOR_KINDS)})"
+                )
+            soiling.validate()
         if not -90 <= self.sun_elevation_deg <= 90:
             raise HiyariError(
                 f"sun_elevation_deg must be in [-90, 90], got {self.sun_elevation_deg}"
@@ -121,6 +141,11 @@ class Environment:
             ) from None
         self.soiling.validate()
         return self
+
+    def for_sensor(self, kind: str) -> Environment:
+        """The environment one sensor sees: its own window soiling when it has one."""
+        own = dict(self.sensor_soiling).get(kind)
+        return self if own is None else replace(self, soiling=own, sensor_soiling=())
 
     @property
     def sun_up(self) -> bool:
