@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from hiyari.bridge.stack.aeb import ACCConfig, AEBPlanner
 from hiyari.bridge.stack.fusion import KalmanFusion
@@ -86,3 +87,29 @@ def test_acc_holds_for_a_pedestrian_behind_an_object_driving_off():
     # the pedestrian gone, the ego may follow the car that drives off
     alone = _objs([[6.2, -0.5]], [[4.7, 0.0]], [[4.5, 1.8, 1.5]], "fusion", 0)
     assert AEBPlanner(ACCConfig(set_speed=11.11)).plan(alone, STOPPED, 0.0).accel > 0.5
+
+
+def test_stationary_radar_ghost_does_not_stop_the_track_of_a_moving_truck():
+    """Ego at 20 m/s; a truck 35 m ahead in its lane at 24 m/s, seen by the LiDAR (position)
+    and the radar (position + Doppler). A guard-rail multipath ghost appears at the truck's
+    position with the radial speed of the static world (-20 m/s). Gated on position alone it
+    was taken for the truck: one Doppler update turned the track's relative speed from +4 to
+    about -28 m/s, TTC 0.8 s, and the AEB braked fully with nothing ahead (blind-spot case
+    occ1-hid11-cut-in-left). Gated on the radial speed too, the ghost starts its own track."""
+    fusion = KalmanFusion()
+    dt = 0.05
+    for k in range(41):
+        t = k * dt
+        ego = Pose(20.0 * t, 0.0, speed=20.0, length=4.8, width=1.9)
+        truck = 35.0 + 24.0 * t
+        lists = [
+            _objs([[truck, 0.0]], [[np.nan, np.nan]], [[8.5, 2.5, 3.4]], "lidar", 1, "truck"),
+            _objs([[truck, 0.0]], [[4.0, 0.0]], [[np.nan] * 3], "radar", -1, "truck"),
+        ]
+        if k == 40:  # the ghost, where the radar's real return of the truck was
+            lists[1] = _objs([[truck, 0.0]], [[-20.0, 0.0]], [[np.nan] * 3], "radar", -1, "")
+        out = fusion.update(lists, ego, t)
+    truck = out.truth == "truck"  # the LiDAR's and the radar's tracks of it
+    assert truck.any() and out.velocity[truck, 0] == pytest.approx(4.0, abs=0.5)
+    cmd = AEBPlanner(ACCConfig(set_speed=20.0)).plan(out, ego, 2.0)
+    assert cmd.aeb_stage == 0

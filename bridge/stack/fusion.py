@@ -15,7 +15,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.linalg import block_diag
 from scipy.optimize import linear_sum_assignment
+from scipy.stats import chi2
 
 from hiyari.kinematics import Pose, rotation_2d
 from hiyari.sensors.outputs import ObjectList
@@ -41,7 +43,7 @@ class FusionConfig:
     gate_bearing_deg: float = 3.0  # camera-to-ranging bearing gate
     gate_range_frac: float = 0.35  # camera range error allowed, fraction of range
     gate_range_min_m: float = 3.0
-    gate_chi2: float = 13.8  # track gate, chi-square 2 dof at 99.9 %
+    gate_probability: float = 0.999  # track gate: chi-square quantile over the measured dims
     accel_noise: float = 2.0  # m/s^2, white-acceleration process noise (manoeuvring targets)
     noise: dict[str, SensorNoise] = field(
         default_factory=lambda: {
@@ -192,12 +194,14 @@ class KalmanFusion:
         world = [_to_world(o, ego) for o in obs]  # (xy, cov, unit line of sight)
         nt, nm = len(self._tracks), len(obs)
         cost = np.full((nt, nm), 1e6)
+        gates = {n: float(chi2.ppf(self.config.gate_probability, n)) for n in (2, 3, 4)}
+        measured = [self._measurement(o, w, ego) for o, w in zip(obs, world, strict=True)]
         for i, tr in enumerate(self._tracks):
-            for j, (xy, cov, _) in enumerate(world):
-                d = xy - tr.x[:2]
-                s = tr.p[:2, :2] + cov
+            for j, (h, z, r) in enumerate(measured):
+                d = z - h @ tr.x
+                s = h @ tr.p @ h.T + r
                 maha = float(d @ np.linalg.solve(s, d))
-                if maha <= self.config.gate_chi2:
+                if maha <= gates[len(z)]:
                     # negative log-likelihood, not the bare distance: with the distance alone
                     # a vague track (e.g. fed by radar bearings) wins every observation it
                     # can reach from a precise track of the same object
@@ -212,18 +216,28 @@ class KalmanFusion:
             if j not in used:
                 self._spawn(obs[j], world[j], ego, time)
 
-    def _update(self, tr: _Track, o: _Obs, w: _World, ego: Pose, time: float) -> None:
+    def _measurement(
+        self, o: _Obs, w: _World, ego: Pose
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The observation as one linear measurement of the track state (x, y, vx, vy):
+        position, plus the velocity or the radar's radial speed when measured. Gating on the
+        speeds too keeps a stationary radar ghost at a moving car's position (guard-rail
+        multipath) from being taken for that car and stopping its track in one update."""
         xy, cov, unit = w
-        cfg = self.config
-        _kalman(tr, np.eye(4)[:2], xy, cov)
+        rows, zs, rs = [np.eye(4)[:2]], [xy], [cov]
         if np.all(np.isfinite(o.vel)):
-            v_abs = ego.vehicle_to_world_vec(o.vel) + ego.velocity
-            _kalman(tr, np.eye(4)[2:], v_abs, np.eye(2) * cfg.full_velocity_sigma**2)
+            rows.append(np.eye(4)[2:])
+            zs.append(ego.vehicle_to_world_vec(o.vel) + ego.velocity)
+            rs.append(np.eye(2) * self.config.full_velocity_sigma**2)
         if np.isfinite(o.radial):
             # radial relative speed = (v_object - v_ego) . unit
-            h = np.array([[0.0, 0.0, unit[0], unit[1]]])
-            z = np.array([o.radial + ego.velocity @ unit])
-            _kalman(tr, h, z, np.array([[cfg.radial_speed_sigma**2]]))
+            rows.append(np.array([[0.0, 0.0, unit[0], unit[1]]]))
+            zs.append(np.array([o.radial + ego.velocity @ unit]))
+            rs.append(np.array([[self.config.radial_speed_sigma**2]]))
+        return np.vstack(rows), np.concatenate(zs), block_diag(*rs)
+
+    def _update(self, tr: _Track, o: _Obs, w: _World, ego: Pose, time: float) -> None:
+        _kalman(tr, *self._measurement(o, w, ego))
         tr.hits += 1
         tr.last_update = time
         if o.cls >= 0:

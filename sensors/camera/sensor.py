@@ -372,6 +372,12 @@ class Camera:
         rng: np.random.Generator,
         render_image: bool = False,
     ) -> tuple[CameraFrame | None, ObjectList]:
-        """The image when ``render_image`` (skip it on frames nobody records) and the objects."""
+        """The image when ``render_image`` (skip it on frames nobody records) and the objects.
+
+        The image's noise comes from a stream jumped off ``rng`` without advancing it, so
+        rendering (recording) never changes the detections of this or any later frame."""
         objects = self.detect(scene, ego, world, env, rng)
-        return (self.render(scene, ego, world, env, rng) if render_image else None), objects
+        if not render_image:
+            return None, objects
+        image_rng = np.random.Generator(rng.bit_generator.jumped())
+        return self.render(scene, ego, world, env, image_rng), objects
