@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import math
 import time
+from collections.abc import Callable
 
 import numpy as np
 
@@ -41,7 +42,7 @@ def scenarios(n: int, seed: int) -> tuple[np.ndarray, ...]:
     return ve, vo, dx0, vy
 
 
-def best_of(fn, repeats: int) -> tuple[float, float]:
+def best_of(fn: Callable[[], object], repeats: int) -> tuple[float, float]:
     """Shortest CPU time and shortest wall time of ``fn()`` over ``repeats`` calls, s."""
     cpu = wall = math.inf
     for _ in range(repeats):

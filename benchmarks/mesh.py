@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 from hiyari.net.mesh.road_mesh import build_scene_mesh
@@ -28,7 +29,7 @@ CITY = CityGridParams(blocks_x=10, blocks_y=10, block_length=200.0)
 ALKS = Path(__file__).resolve().parents[2] / "shared" / "data" / "opendrive" / "alks"
 
 
-def best(fn, repeat: int) -> tuple[float, object]:
+def best(fn: Callable[[], object], repeat: int) -> tuple[float, object]:
     """Smallest wall time of ``repeat`` calls of ``fn`` and the last result."""
     times, result = [], None
     for _ in range(repeat):
@@ -45,7 +46,9 @@ def city_netconvert_args(tmp: Path) -> list[str]:
     return [*inputs, "-o", str(tmp / "city.net.xml"), *options]
 
 
-def measure(name: str, netconvert_args: list[str], net: Path, buildings: bool, repeat: int):
+def measure(
+    name: str, netconvert_args: list[str], net: Path, buildings: bool, repeat: int
+) -> tuple[str, int, int, float, float, float]:
     t_nc, _ = best(lambda: run_sumo_tool("netconvert", netconvert_args, name), repeat)
 
     def mesh():

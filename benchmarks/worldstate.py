@@ -36,6 +36,7 @@ import subprocess
 import tempfile
 import time
 from dataclasses import dataclass
+from multiprocessing.connection import Connection
 from pathlib import Path
 
 import numpy as np
@@ -85,7 +86,9 @@ def long_route(net: Path) -> list[str]:
     return [e.getID() for e in n.getShortestPath(a, b, vClass="passenger")[0]]
 
 
-def worker(case: Case, net: Path, demand: Path, route: list[str], warm: float, conn) -> None:
+def worker(
+    case: Case, net: Path, demand: Path, route: list[str], warm: float, conn: Connection
+) -> None:
     """One run in its own process: warm up, insert the ego, then step one block per request
     and answer (CPU seconds, actors per step summed); at the end, the actor counts."""
     scope = ReadScope(EGO, case.radius) if case.radius else None

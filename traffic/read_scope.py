@@ -9,9 +9,10 @@ measures both.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from operator import itemgetter
+from types import ModuleType
 from typing import NamedTuple
 
 from hiyari.errors import HiyariError
@@ -74,7 +75,7 @@ class ContextScope:
     empty when walking) as a marker, and such clashes are read through the getters instead.
     """
 
-    def __init__(self, sumo, scope: ReadScope) -> None:
+    def __init__(self, sumo: ModuleType, scope: ReadScope) -> None:
         scope.validate()
         self.scope = scope
         tc = sumo.constants
@@ -109,7 +110,7 @@ class ContextScope:
                 pass  # the centre has left: SUMO dropped its subscriptions with it
             self._subscribed = False
 
-    def read(self, vehicle_ids) -> tuple[Columns, Columns] | None:
+    def read(self, vehicle_ids: Callable[[], Sequence[str]]) -> tuple[Columns, Columns] | None:
         """(vehicles, persons) in scope now, or None when the centre is not in the network.
 
         ``vehicle_ids``: a callable giving the vehicles in the network (only called while the

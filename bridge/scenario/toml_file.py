@@ -213,17 +213,7 @@ def _number(path: str, key: str, value: Any) -> float:
 
 def parse_scenario(data: dict[str, Any], path: str = "<scenario>") -> LogicalScenario:
     """Validate a parsed TOML document and build the LogicalScenario."""
-    for section in data:
-        if section not in _SECTIONS:
-            raise _err(path, section, f"unknown section (known: {', '.join(_SECTIONS)})")
-        if not isinstance(data[section], dict):
-            raise _err(path, section, "must be a table")
-        allowed = _SECTIONS[section]
-        for key in data[section]:
-            if allowed is not None and key not in allowed:
-                raise _err(
-                    path, f"{section}.{key}", f"unknown key (known: {', '.join(sorted(allowed))})"
-                )
+    _check_sections(data, path)
     sc = data.get("scenario")
     if sc is None or "type" not in sc:
         raise _err(path, "scenario.type", "missing")
@@ -241,11 +231,47 @@ def parse_scenario(data: dict[str, Any], path: str = "<scenario>") -> LogicalSce
         raise _err(path, "scenario.duration", f"must be positive, got {duration}")
     if not 0.001 <= step <= 0.5:
         raise _err(path, "scenario.step_length", f"must be within 0.001..0.5 s, got {step}")
+    fixed, ranges, rand = _parameters(data.get("parameters", {}), stype, path)
+    sampling = _sampling(dict(data.get("sampling", {})), bool(rand), path)
+    ego = _ego(dict(data.get("ego", {})), path)
+    env = data.get("environment", {}).get("preset", "clear")
+    return LogicalScenario(
+        path=path,
+        type=stype,
+        name=str(sc.get("name", stype)),
+        seed=seed,
+        duration=duration,
+        step_length=step,
+        fixed=fixed,
+        ranges=ranges,
+        random=rand,
+        sampling=sampling,
+        ego=ego,
+        environment=env,
+    )
 
+
+def _check_sections(data: dict[str, Any], path: str) -> None:
+    for section in data:
+        if section not in _SECTIONS:
+            raise _err(path, section, f"unknown section (known: {', '.join(_SECTIONS)})")
+        if not isinstance(data[section], dict):
+            raise _err(path, section, "must be a table")
+        allowed = _SECTIONS[section]
+        for key in data[section]:
+            if allowed is not None and key not in allowed:
+                raise _err(
+                    path, f"{section}.{key}", f"unknown key (known: {', '.join(sorted(allowed))})"
+                )
+
+
+def _parameters(
+    given: dict[str, Any], stype: str, path: str
+) -> tuple[dict[str, float], dict[str, Sequence[float]], dict[str, tuple[float, float]]]:
+    """Fixed values, swept axes and random ranges of a type's parameters, checked."""
     spec = PARAMETERS[stype]
-    given = data.get("parameters", {})
     fixed: dict[str, float] = {}
-    ranges: dict[str, list[float]] = {}
+    ranges: dict[str, Sequence[float]] = {}
     rand: dict[str, tuple[float, float]] = {}
     for key in given:
         if key not in spec:
@@ -264,19 +290,23 @@ def parse_scenario(data: dict[str, Any], path: str = "<scenario>") -> LogicalSce
                 ranges[key] = vals
         else:
             fixed[key] = _check_range(path, k, _number(path, k, value), lo, hi)
+    return fixed, ranges, rand
 
-    sampling = dict(data.get("sampling", {}))
+
+def _sampling(sampling: dict[str, Any], has_random: bool, path: str) -> dict[str, Any]:
     mode = sampling.get("mode", "grid")
     if mode not in ("grid", "random"):
         raise _err(path, "sampling.mode", f"must be grid or random, got {mode!r}")
-    if rand and mode != "random":
+    if has_random and mode != "random":
         raise _err(path, "sampling.mode", 'uniform ranges need mode = "random" and n')
     if mode == "random":
         n = sampling.get("n")
         if not isinstance(n, int) or n < 1:
             raise _err(path, "sampling.n", f"expected a positive integer, got {n!r}")
+    return sampling
 
-    ego = dict(data.get("ego", {}))
+
+def _ego(ego: dict[str, Any], path: str) -> dict[str, Any]:
     perception = ego.get("perception", "perfect")
     if perception not in PERCEPTION_MODES:
         raise _err(
@@ -291,24 +321,10 @@ def parse_scenario(data: dict[str, Any], path: str = "<scenario>") -> LogicalSce
         d = _number(path, "ego.aeb_delay", ego["aeb_delay"])
         if not 0 <= d <= 3:
             raise _err(path, "ego.aeb_delay", f"must be within 0..3 s, got {d}")
-    env = data.get("environment", {}).get("preset", "clear")
-    return LogicalScenario(
-        path=path,
-        type=stype,
-        name=str(sc.get("name", stype)),
-        seed=seed,
-        duration=duration,
-        step_length=step,
-        fixed=fixed,
-        ranges=ranges,
-        random=rand,
-        sampling=sampling,
-        ego=ego,
-        environment=env,
-    )
+    return ego
 
 
-def _axis(path, k, value: dict, rand: dict, key: str) -> Sequence[float] | None:
+def _axis(path: str, k: str, value: dict, rand: dict, key: str) -> Sequence[float] | None:
     if set(value) == {"values"}:
         vals = value["values"]
         if not isinstance(vals, list) or not vals:

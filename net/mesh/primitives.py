@@ -12,7 +12,7 @@ SUMO network metres, z up.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -198,7 +198,9 @@ class PolygonSet:
         return faces[np.abs(cross) > 1e-9]
 
 
-def _ragged(make, outlines: Sequence[np.ndarray], which: np.ndarray) -> np.ndarray:
+def _ragged(
+    make: Callable[..., np.ndarray], outlines: Sequence[np.ndarray], which: np.ndarray
+) -> np.ndarray:
     """Vectorised shapely construction (linearrings / linestrings) of several outlines."""
     xy = np.concatenate([outlines[k][:, :2] for k in which])
     index = np.repeat(np.arange(len(which)), [len(outlines[k]) for k in which])

@@ -38,7 +38,10 @@ class Alignment:
 
     @staticmethod
     def from_elements(
-        elements: list[Element], start=(0.0, 0.0), heading: float = 0.0, step: float = 0.25
+        elements: list[Element],
+        start: tuple[float, float] = (0.0, 0.0),
+        heading: float = 0.0,
+        step: float = 0.25,
     ) -> Alignment:
         """Integrate heading and position along the elements on a ``step``-metre grid."""
         bounds = np.concatenate([[0.0], np.cumsum([e.length for e in elements])])

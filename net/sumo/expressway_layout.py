@@ -115,7 +115,11 @@ def expressway_plain(p: ExpresswayParams) -> tuple[list[dict], list[dict], list[
         return params
 
     def node(
-        node_id: str, s: float, lateral: float, kind: str = "priority", z_lateral=None
+        node_id: str,
+        s: float,
+        lateral: float,
+        kind: str = "priority",
+        z_lateral: float | None = None,
     ) -> dict:
         zl = None if z_lateral is None else np.array([z_lateral])
         pt = _shape(a, xs, np.array([s]), lateral, zl)[0]
