@@ -74,3 +74,45 @@ def test_only_the_cli_picks_the_matplotlib_backend():
             if is_use and rel.parts[:2] != ("bridge", "cli"):
                 bad.append(str(rel))
     assert not bad, bad
+
+
+def _package_folders() -> list[Path]:
+    return sorted(
+        init.parent
+        for pkg in LAYER
+        for init in (ROOT / pkg).rglob("__init__.py")
+        if "__pycache__" not in init.parts
+    )
+
+
+def test_every_package_folder_is_installed_and_none_is_crowded():
+    """pyproject's package list is the tree (a missing entry installs editable but not from a
+    wheel), and no folder holds more than a dozen modules (split it into wings)."""
+    import tomllib
+
+    listed = set(
+        tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"]
+    )
+    folders = {
+        "hiyari" if f.name == "hiyari" else "hiyari." + ".".join(f.relative_to(ROOT).parts)
+        for f in _package_folders()
+    }
+    assert folders == listed
+    crowded = {
+        str(f.relative_to(ROOT)): n
+        for f in _package_folders()
+        if (n := len([p for p in f.glob("*.py") if p.name != "__init__.py"])) > 12
+    }
+    assert not crowded
+
+
+def test_readme_layout_names_every_wing():
+    """The README's layout block names every sub-package down to two levels."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    block = text.split("## Layout", 1)[1].split("```")[1]
+    missing = [
+        str(f.relative_to(ROOT))
+        for f in _package_folders()
+        if len(f.relative_to(ROOT).parts) <= 2 and f"{f.name}/" not in block
+    ]
+    assert not missing

@@ -18,10 +18,10 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from hiyari.atomic import atomic_path, write_text_atomic
-from hiyari.bridge.catalogue.campaign import supported
-from hiyari.bridge.catalogue.obstruction import Cell
-from hiyari.bridge.catalogue.parameters import Ranges
+from hiyari.bridge.catalogue.evaluation.campaign import supported
 from hiyari.bridge.catalogue.report_plots import datasheet_figure, matrix_figure
+from hiyari.bridge.catalogue.space.obstruction import Cell
+from hiyari.bridge.catalogue.space.parameters import Ranges
 
 STYLE = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1500px;color:#222}
 table{border-collapse:collapse;font-size:13px;margin:.5em 0}td,th{border:1px solid #ccc;

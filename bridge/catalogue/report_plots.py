@@ -7,7 +7,7 @@ import numpy as np
 from matplotlib.colors import LinearSegmentedColormap
 from matplotlib.figure import Figure
 
-from hiyari.bridge.catalogue.obstruction import Cell
+from hiyari.bridge.catalogue.space.obstruction import Cell
 from hiyari.units import mps_to_kmh
 
 RED_GREEN = LinearSegmentedColormap.from_list("pass", ["#c62828", "#f9a825", "#2e7d32"])

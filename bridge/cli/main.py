@@ -18,15 +18,15 @@ COMMAND_MODULES = [
     "hiyari.bridge.cli.commands.sim",
     "hiyari.bridge.cli.commands.demo",
     "hiyari.bridge.cli.commands.net",
-    "hiyari.bridge.cli.commands.run",
-    "hiyari.bridge.cli.commands.sweep",
-    "hiyari.bridge.cli.commands.replay",
-    "hiyari.bridge.cli.commands.boundary",
-    "hiyari.bridge.cli.commands.r157",
+    "hiyari.bridge.cli.commands.runs.run",
+    "hiyari.bridge.cli.commands.runs.sweep",
+    "hiyari.bridge.cli.commands.runs.replay",
+    "hiyari.bridge.cli.commands.evaluation.boundary",
+    "hiyari.bridge.cli.commands.evaluation.r157",
     "hiyari.bridge.cli.commands.sensors",
-    "hiyari.bridge.cli.commands.study",
-    "hiyari.bridge.cli.commands.evaluate",
-    "hiyari.bridge.cli.commands.perception",
+    "hiyari.bridge.cli.commands.evaluation.study",
+    "hiyari.bridge.cli.commands.evaluation.evaluate",
+    "hiyari.bridge.cli.commands.evaluation.perception",
 ]
 
 

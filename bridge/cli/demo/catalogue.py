@@ -5,9 +5,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from hiyari.bridge.campaign.pool import PoolOptions
-from hiyari.bridge.catalogue.campaign import CatalogueOptions, catalogue_cells, run_catalogue
+from hiyari.bridge.catalogue.evaluation.campaign import (
+    CatalogueOptions,
+    catalogue_cells,
+    run_catalogue,
+)
+from hiyari.bridge.catalogue.evaluation.runner import RunConfig
 from hiyari.bridge.catalogue.report import write_report
-from hiyari.bridge.catalogue.runner import RunConfig
 
 
 def run_catalogue_demo(out: Path, runs_per_cell: int, workers: int) -> dict:

@@ -10,7 +10,7 @@ import argparse
 import os
 from pathlib import Path
 
-from hiyari.bridge.cli.commands.boundary import add_model_options, model_params
+from hiyari.bridge.cli.commands.evaluation.boundary import add_model_options, model_params
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import Grid
 from hiyari.risk.cc.model import CCParams

@@ -3,7 +3,7 @@ when the motion can obstruct the ego's path.
 
 Test: over the probes of the logical parameter ranges (every corner and the centre of the
 range box), sketch the ego without reaction and the surrounding vehicle doing the motion
-(hiyari.bridge.catalogue.sketch), and look for the first overlap of their footprints
+(hiyari.bridge.catalogue.space.sketch), and look for the first overlap of their footprints
 (hiyari.kinematics separating-axis test). The combination obstructs when, in some probe, the
 motion makes an overlap that the same vehicle keeping its lane and speed would not make (the
 motion is the cause), unless the overlap is the surrounding vehicle running into a
@@ -18,9 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hiyari.bridge.catalogue.layout import BEHIND, MotorwayLayout
-from hiyari.bridge.catalogue.parameters import Ranges, corners
-from hiyari.bridge.catalogue.sketch import (
+from hiyari.bridge.catalogue.space.layout import BEHIND, MotorwayLayout
+from hiyari.bridge.catalogue.space.parameters import Ranges, corners
+from hiyari.bridge.catalogue.space.sketch import (
     EGO_MANOEUVRE,
     EGO_SIZE,
     OTHER_SIZE,
@@ -30,7 +30,7 @@ from hiyari.bridge.catalogue.sketch import (
     motorway_actor,
     motorway_ego,
 )
-from hiyari.bridge.catalogue.taxonomy import (
+from hiyari.bridge.catalogue.space.taxonomy import (
     ADJACENT,
     INTERSECTION_POSITIONS,
     Combination,

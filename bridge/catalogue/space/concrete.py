@@ -13,11 +13,11 @@ from __future__ import annotations
 import zlib
 from dataclasses import dataclass, field
 
-from hiyari.bridge.catalogue.layout import BEHIND, MotorwayLayout
-from hiyari.bridge.catalogue.obstruction import Cell
-from hiyari.bridge.catalogue.parameters import Ranges, sample
-from hiyari.bridge.catalogue.sketch import ACCEL_SPAN, EGO_SIZE, OTHER_SIZE, SWERVE_SHIFT
-from hiyari.bridge.catalogue.taxonomy import Geometry, Motion, Position
+from hiyari.bridge.catalogue.space.layout import BEHIND, MotorwayLayout
+from hiyari.bridge.catalogue.space.obstruction import Cell
+from hiyari.bridge.catalogue.space.parameters import Ranges, sample
+from hiyari.bridge.catalogue.space.sketch import ACCEL_SPAN, EGO_SIZE, OTHER_SIZE, SWERVE_SHIFT
+from hiyari.bridge.catalogue.space.taxonomy import Geometry, Motion, Position
 from hiyari.bridge.scenario.model import (
     AbsoluteLane,
     AbsoluteSpeed,

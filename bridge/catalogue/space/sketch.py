@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hiyari.bridge.catalogue.layout import BEHIND, MotorwayLayout
-from hiyari.bridge.catalogue.taxonomy import EgoMotion, Motion, Position
+from hiyari.bridge.catalogue.space.layout import BEHIND, MotorwayLayout
+from hiyari.bridge.catalogue.space.taxonomy import EgoMotion, Motion, Position
 from hiyari.net.road.xodr_writer import LEGS
 from hiyari.units import kmh_to_mps
 

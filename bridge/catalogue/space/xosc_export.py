@@ -14,8 +14,8 @@ from pathlib import Path
 from lxml import etree
 
 from hiyari.atomic import write_text_atomic
-from hiyari.bridge.catalogue.concrete import ConcreteCase, to_scenario
-from hiyari.bridge.catalogue.runner import prepare_road
+from hiyari.bridge.catalogue.evaluation.runner import prepare_road
+from hiyari.bridge.catalogue.space.concrete import ConcreteCase, to_scenario
 from hiyari.bridge.scenario.model import (
     AbsoluteLane,
     Action,

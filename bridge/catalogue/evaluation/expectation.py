@@ -5,7 +5,7 @@ closed form: ego keeping its lane and the lead braking (deceleration), a vehicle
 adjacent lane ahead, not faster than the ego, cutting in (cut-in), or the lead cutting out
 in front of a stopped "+1" (cut-out). Its t = 0 is the manoeuvre start, so the initial gap is
 advanced to it. Every other case is answered by running the C&C reference driver in the same
-closed loop (hiyari.bridge.catalogue.cc_driver).
+closed loop (hiyari.bridge.catalogue.evaluation.cc_driver).
 
 Judgement: Preventable = the C&C driver does not collide. Pass: no collision where it is
 Preventable; elsewhere, no collision or an impact no harder than the C&C driver's
@@ -18,9 +18,9 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from hiyari.bridge.catalogue.concrete import ConcreteCase
-from hiyari.bridge.catalogue.sketch import EGO_SIZE
-from hiyari.bridge.catalogue.taxonomy import EgoMotion, Motion, Position
+from hiyari.bridge.catalogue.space.concrete import ConcreteCase
+from hiyari.bridge.catalogue.space.sketch import EGO_SIZE
+from hiyari.bridge.catalogue.space.taxonomy import EgoMotion, Motion, Position
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.evaluator import evaluate_cut_in, evaluate_cut_out, evaluate_decel
 from hiyari.risk.cc.model import CCParams

@@ -12,8 +12,8 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
-from hiyari.bridge.catalogue.concrete import ConcreteCase, EgoLaneChange, to_scenario
-from hiyari.bridge.catalogue.layout import LANE_WIDTH
+from hiyari.bridge.catalogue.space.concrete import ConcreteCase, EgoLaneChange, to_scenario
+from hiyari.bridge.catalogue.space.layout import LANE_WIDTH
 from hiyari.bridge.scenario.closed_loop import run_closed_loop
 from hiyari.bridge.scenario.engine import ScenarioEngine
 from hiyari.bridge.scenario.engine_run import (

@@ -35,18 +35,18 @@ def evaluate(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from hiyari.bridge.campaign.pool import PoolOptions
-    from hiyari.bridge.catalogue.campaign import (
+    from hiyari.bridge.catalogue.evaluation.campaign import (
         CatalogueOptions,
         catalogue_cells,
         run_catalogue,
     )
+    from hiyari.bridge.catalogue.evaluation.runner import RunConfig
     from hiyari.bridge.catalogue.report import write_report
-    from hiyari.bridge.catalogue.runner import RunConfig
 
     out = Path(args.out)
     if args.export:
-        from hiyari.bridge.catalogue.campaign import case_by_id
-        from hiyari.bridge.catalogue.xosc_export import export_case
+        from hiyari.bridge.catalogue.evaluation.campaign import case_by_id
+        from hiyari.bridge.catalogue.space.xosc_export import export_case
 
         for run_id in args.export.split(","):
             case = case_by_id(run_id, args.catalogue, args.seed)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from hiyari.bridge.catalogue.taxonomy import EgoMotion, Geometry, Motion, Position
+from hiyari.bridge.catalogue.space.taxonomy import EgoMotion, Geometry, Motion, Position
 
 #: Ego start station (m) per geometry: the merge events end before the acceleration lane
 #: does (700 m); on the branch everyone starts beside the exit lane (from 700 m).

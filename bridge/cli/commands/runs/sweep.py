@@ -14,7 +14,7 @@ from hiyari.errors import HiyariError, about
 
 def run(args: argparse.Namespace) -> int:
     from hiyari.bridge.campaign.sweep import SweepOptions, count_runs, run_sweep
-    from hiyari.bridge.cli.commands.run import ego_setup
+    from hiyari.bridge.cli.commands.runs.run import ego_setup
     from hiyari.bridge.scenario.toml_file import load_scenario
     from hiyari.bridge.scenario.xosc_runs import is_openscenario, load_plan
 
@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    from hiyari.bridge.cli.commands.run import add_xosc_options
+    from hiyari.bridge.cli.commands.runs.run import add_xosc_options
 
     p = sub.add_parser("sweep", help="run every concrete scenario of a logical scenario file")
     p.add_argument(

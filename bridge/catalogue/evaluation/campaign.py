@@ -18,13 +18,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from hiyari.bridge.campaign.pool import PoolOptions, run_all
-from hiyari.bridge.catalogue.cc_driver import cc_reference_stack
-from hiyari.bridge.catalogue.concrete import ConcreteCase, concrete_cases
-from hiyari.bridge.catalogue.expectation import Expectation, annex_g, judge
-from hiyari.bridge.catalogue.obstruction import Cell, expand
-from hiyari.bridge.catalogue.parameters import Ranges
-from hiyari.bridge.catalogue.runner import RunConfig, prepare_road, run_case
-from hiyari.bridge.catalogue.taxonomy import (
+from hiyari.bridge.catalogue.evaluation.cc_driver import cc_reference_stack
+from hiyari.bridge.catalogue.evaluation.expectation import Expectation, annex_g, judge
+from hiyari.bridge.catalogue.evaluation.runner import RunConfig, prepare_road, run_case
+from hiyari.bridge.catalogue.space.concrete import ConcreteCase, concrete_cases
+from hiyari.bridge.catalogue.space.obstruction import Cell, expand
+from hiyari.bridge.catalogue.space.parameters import Ranges
+from hiyari.bridge.catalogue.space.taxonomy import (
     Geometry,
     chain_combinations,
     general_combinations,

@@ -1,0 +1,1 @@
+"""Commands that run scenarios and read their recordings: run, sweep, replay."""
