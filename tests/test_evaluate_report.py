@@ -41,6 +41,11 @@ def test_report_files_and_recordings(report: Path) -> None:
     for rec in (report / "recordings").glob("*.mcap"):
         assert rec.name.startswith("M02-front-2L-")
     assert len(list((report / "recordings").glob("*.mcap"))) == 2
+    # the perception structures: the coverage is always part of the argument; pages not run
+    # are declared as not evaluated, never silently absent
+    assert "### Perception: factor x principle coverage" in md
+    assert "](structures/coverage.png)" in md and "principles exercised" in md
+    assert md.count("Not evaluated in this report") == 3
 
 
 def test_report_opens_in_headless_chromium_and_shows_the_matrix(report: Path) -> None:
@@ -49,6 +54,9 @@ def test_report_opens_in_headless_chromium_and_shows_the_matrix(report: Path) ->
         page = browser.new_page(viewport={"width": 1400, "height": 900})
         page.goto((report / "report.html").as_uri())
         assert page.locator("h1").inner_text().startswith("Safety argument")
+        coverage = page.locator("img[alt=coverage]")
+        assert coverage.evaluate("img => img.complete && img.naturalWidth") > 500
+        assert page.locator("h3#coverage ~ table").count() >= 1
         matrix = page.locator("img#matrix")
         assert matrix.evaluate("img => img.complete && img.naturalWidth") > 1000
         png = matrix.screenshot()

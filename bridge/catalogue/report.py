@@ -3,7 +3,8 @@ embedded), the same in Markdown with PNG files, from the cells' verdicts and the
 
 Sections: summary, catalogue matrix, coverage statement (evaluated / not applicable / not
 supported, with the reason for every excluded position and lane count), failures with their
-cause and recording, per-combination datasheets, run configuration for reproduction.
+cause and recording, per-combination datasheets, the perception and vehicle-motion structures
+(JAMA §4.2-4.3, from the ``hiyari perception`` pages), run configuration for reproduction.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from hiyari.bridge.catalogue.evaluation.campaign import supported
 from hiyari.bridge.catalogue.report_plots import datasheet_figure, matrix_figure
 from hiyari.bridge.catalogue.space.obstruction import Cell
 from hiyari.bridge.catalogue.space.parameters import Ranges
+from hiyari.bridge.catalogue.structures import read_pages, section_html, section_markdown
 
 STYLE = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1500px;color:#222}
 table{border-collapse:collapse;font-size:13px;margin:.5em 0}td,th{border:1px solid #ccc;
@@ -119,8 +121,10 @@ def _failures(rows: list[dict], out: Path) -> list[list[str]]:
 
 
 def write_report(out: Path, cells: list[Cell], rows: list[dict], config: dict,
-                 ranges: Ranges | None = None) -> Path:  # fmt: skip
-    """Write ``out/report.html``, ``out/report.md`` and the PNGs; return the HTML path."""
+                 ranges: Ranges | None = None, structures: Path | None = None) -> Path:  # fmt: skip
+    """Write ``out/report.html``, ``out/report.md`` and the PNGs; return the HTML path.
+    ``structures``: the folder the ``hiyari perception`` pages were written to (their section
+    lists the missing ones as not evaluated)."""
     ranges = ranges or Ranges()
     limits = {
         f.name: getattr(ranges, f.name)
@@ -181,6 +185,8 @@ def write_report(out: Path, cells: list[Cell], rows: list[dict], config: dict,
     for key, _, data in sheets:
         enc = base64.b64encode(data).decode()
         body.append(f'<h3>{key}</h3><img alt="{key}" src="data:image/png;base64,{enc}">')
+    pages = read_pages(structures)
+    body += section_html(pages)
     body += ["<h2>Run configuration</h2>", _table(["", ""], conf_rows)]
     page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>hiyari safety argument"
             f"</title><style>{STYLE}</style></head><body>{''.join(body)}</body></html>")  # fmt: skip
@@ -193,6 +199,7 @@ def write_report(out: Path, cells: list[Cell], rows: list[dict], config: dict,
         _md_table(fail_head, [[*f[:4], html.unescape(f[4]), f"recordings/{f[0]}.mcap"]
                               for f in fails]) if fails else "No failures.", "",
         "## Datasheets", "", *[f"![{k}]({n})" for k, n, _ in sheets], "",
+        *section_markdown(pages, structures, out),
         "## Run configuration", "", _md_table(["", ""], [[k, str(v)] for k, v in config.items()]),
     ]  # fmt: skip
     write_text_atomic(out / "report.md", "\n".join(md) + "\n")

@@ -91,7 +91,13 @@ def evaluate(args: argparse.Namespace) -> int:
         **{f"version {k}": v for k, v in _versions().items()},
     }
     cells = catalogue_cells(args.catalogue, options.ranges)
-    html = write_report(out, cells, rows, run_conf, options.ranges)
+    structures = Path(args.structures) if args.structures else out / "structures"
+    if not (structures / "coverage.md").is_file():  # seconds: always part of the argument
+        from hiyari.bridge.perception.coverage_run import parse_sensors, write_coverage
+
+        write_coverage(parse_sensors("camera,radar,lidar"), structures)
+    run_conf["structures folder"] = str(structures)
+    html = write_report(out, cells, rows, run_conf, options.ranges, structures)
     n_pass = sum(r["passed"] == "True" for r in rows)
     print(f"{len(rows)} runs, {n_pass} passed, {len(rows) - n_pass} failed; {wall:.1f} s wall")
     print(f"report: {html}")
@@ -123,5 +129,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--export", default="",
                    help="write these cases (comma-separated run ids, e.g. M03-left_rear-2L-004) "
                         "as OpenSCENARIO + OpenDRIVE into OUT/xosc and run nothing")  # fmt: skip
+    p.add_argument("--structures", default=None,
+                   help="folder of the 'hiyari perception coverage / sweep / blindspots / grip' "
+                        "pages to include (default: OUT/structures, where the coverage is "
+                        "written when missing)")  # fmt: skip
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=evaluate)
