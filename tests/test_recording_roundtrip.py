@@ -39,7 +39,10 @@ DURATION = 40.0
 @pytest.fixture(scope="module")
 def run(intersection_net, intersection_demand, tmp_path_factory):
     out = tmp_path_factory.mktemp("recording") / "run.mcap"
-    return record_run(intersection_net, intersection_demand, out, DURATION)
+    # LiDAR as float32 foxglove.PointCloud, the bit-exact encoding these tests check; the
+    # compact default (hiyari.LidarScan) is checked in test_recording_lidar.py
+    cfg = RecorderConfig(camera_format="png", creation_time=CREATED, lidar_encoding="float32")
+    return record_run(intersection_net, intersection_demand, out, DURATION, cfg)
 
 
 @pytest.fixture(scope="module")
