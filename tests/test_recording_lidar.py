@@ -103,6 +103,7 @@ def test_mcap_reader_decodes_the_scan_and_the_display_cloud(recorded):
     assert len(scans) == len(shown) == 2
     for (ch, msg), orig in zip(scans, clouds, strict=True):
         assert msg.DESCRIPTOR.full_name == "hiyari.LidarScan"
+        assert ch.metadata["hiyari.display_topic"] == "/lidar/top/thinned"
         assert msg.timestamp_ns == round(orig.time * 1e9)
         assert msg.range_step_m == lidar_scan.RANGE_STEP_M
         # ~0.7 byte a point on a city scan (24 bytes as float32 fields before)
