@@ -71,38 +71,38 @@ SCHEMA_NAME = "hiyari.LidarScan"
 
 
 def _codes(pc: PointCloud, truth_id: np.ndarray) -> np.ndarray:
-    """(5, N) int64 codes of the columns in COLUMNS order."""
+    """(5, N) int32 codes of the columns in COLUMNS order (each within +-2^30, so every
+    delta fits 32 bits)."""
     xyz = np.asarray(pc.xyz, np.float64).reshape(-1, 3)
     rng = np.asarray(pc.range, np.float64)
     inten = np.asarray(pc.intensity, np.float64)
+    where = f"lidar {pc.sensor} at t={pc.time} s"
     if not (np.isfinite(xyz).all() and np.isfinite(rng).all() and np.isfinite(inten).all()):
-        raise HiyariError(f"lidar {pc.sensor} at t={pc.time} s: non-finite point values")
+        raise HiyariError(f"{where}: non-finite point values")
     if len(rng) and rng.min() < 0:
-        raise HiyariError(f"lidar {pc.sensor} at t={pc.time} s: negative range")
+        raise HiyariError(f"{where}: negative range")
     x, y, z = xyz.T
-    codes = np.empty((len(COLUMNS), len(rng)), np.int64)
-    codes[0] = np.rint(np.arctan2(y, x) / ANGLE_STEP_RAD)
-    codes[1] = np.rint(np.arctan2(z, np.hypot(x, y)) / ANGLE_STEP_RAD)
-    codes[2] = np.rint(rng / RANGE_STEP_M)
-    log_i = np.log2(np.maximum(inten, _INTENSITY_FLOOR))
-    codes[3] = np.where(
-        inten >= _INTENSITY_FLOOR, np.rint(log_i / LOG2_INTENSITY_STEP), INTENSITY_ZERO_CODE
-    )
+    codes = np.empty((len(COLUMNS), len(rng)), np.float64)
+    codes[0] = np.arctan2(y, x) / ANGLE_STEP_RAD
+    codes[1] = np.arctan2(z, np.hypot(x, y)) / ANGLE_STEP_RAD
+    codes[2] = rng / RANGE_STEP_M
+    codes[3] = np.log2(np.maximum(inten, _INTENSITY_FLOOR)) / LOG2_INTENSITY_STEP
+    codes[3][inten < _INTENSITY_FLOOR] = INTENSITY_ZERO_CODE
     codes[4] = truth_id
-    return codes
+    np.rint(codes, out=codes)
+    if len(rng) and np.abs(codes).max() >= 2**30:
+        raise HiyariError(f"{where}: a range or truth id is beyond what the format codes")
+    return codes.astype(np.int32)
 
 
 def encode_scan(pc: PointCloud, truth_id: np.ndarray, time_ns: int) -> bytes:
     """Serialized ``hiyari.LidarScan`` of ``pc`` (points in the sensor frame, m) with
     ``truth_id`` (N,) the OSI id hit per point (-1 static scene, -2 no surface)."""
-    codes = _codes(pc, np.asarray(truth_id, np.int64))
-    delta = np.diff(codes, axis=1, prepend=0)
-    if len(pc) and np.abs(delta).max() >= 2**31:
-        raise HiyariError(
-            f"lidar {pc.sensor} at t={pc.time} s: a value is out of the codable range"
-        )
-    zigzag = ((delta << 1) ^ (delta >> 63)).astype("<u4")
-    planes = zigzag.view(np.uint8).reshape(len(COLUMNS), -1, 4).transpose(0, 2, 1)
+    delta = np.diff(_codes(pc, np.asarray(truth_id, np.int64)), axis=1, prepend=np.int32(0))
+    # in 32 bits throughout: int64 temporaries of a whole scan were ten times slower here
+    zigzag = ((delta << 1) ^ (delta >> 31)).view(np.uint32)
+    # shifts, not a byte transpose: numpy gathers strided single bytes slowly
+    planes = np.stack([(zigzag >> (8 * b)).astype(np.uint8) for b in range(4)], axis=1)
     msg = LidarScan(
         timestamp_ns=time_ns,
         frame_id=WORLD_FRAME,
@@ -119,27 +119,41 @@ def encode_scan(pc: PointCloud, truth_id: np.ndarray, time_ns: int) -> bytes:
 
 
 def decode_codes(msg: Message) -> np.ndarray:
-    """(5, N) int64 codes (COLUMNS order) of a ``hiyari.LidarScan``."""
+    """(5, N) int32 codes (COLUMNS order) of a ``hiyari.LidarScan``."""
     if msg.codec != CODEC:
         raise ValueError(f"unknown LidarScan codec {msg.codec!r}")
     n, k = msg.point_count, len(COLUMNS)
     raw = zstandard.ZstdDecompressor().decompress(msg.data, max_output_size=4 * k * n)
     if len(raw) != 4 * k * n:
         raise ValueError(f"LidarScan data holds {len(raw)} bytes, expected {4 * k * n}")
-    planes = np.frombuffer(raw, np.uint8).reshape(k, 4, n).transpose(0, 2, 1)
-    zigzag = np.ascontiguousarray(planes).view("<u4").reshape(k, n).astype(np.int64)
-    return np.cumsum((zigzag >> 1) ^ -(zigzag & 1), axis=1)
+    planes = np.frombuffer(raw, np.uint8).reshape(k, 4, n)
+    # in place where possible: fresh scan-sized arrays cost page faults on every call
+    zigzag = planes[:, 3].astype(np.uint32)
+    for b in (2, 1, 0):
+        zigzag <<= np.uint32(8)
+        zigzag |= planes[:, b]
+    sign = (zigzag & np.uint32(1)).view(np.int32)
+    np.negative(sign, out=sign)
+    zigzag >>= np.uint32(1)
+    delta = zigzag.view(np.int32)
+    delta ^= sign
+    return np.cumsum(delta, axis=1, out=delta)
 
 
 def decode_scan(msg: Message, sensor: str, id_names: dict[int, str]) -> PointCloud:
     """PointCloud of a ``hiyari.LidarScan`` (``actor_ids`` = the actors hit, named by
     ``id_names``: OSI id -> SUMO id)."""
     codes = decode_codes(msg)
-    az = codes[0] * msg.angle_step_rad
-    el = codes[1] * msg.angle_step_rad
-    rng = codes[2] * msg.range_step_m
-    ce = np.cos(el)
-    xyz = np.stack([rng * ce * np.cos(az), rng * ce * np.sin(az), rng * np.sin(el)], 1)
+    # float32 trigonometry (vectorised, ~10x float64's speed): angles within 1.2e-7 rad,
+    # inside the stated bound of range x angle_step_rad
+    az = (codes[0] * msg.angle_step_rad).astype(np.float32)
+    el = (codes[1] * msg.angle_step_rad).astype(np.float32)
+    rng = (codes[2] * msg.range_step_m).astype(np.float32)
+    across = rng * np.cos(el)
+    xyz = np.empty((len(rng), 3), np.float32)
+    xyz[:, 0] = across * np.cos(az)
+    xyz[:, 1] = across * np.sin(az)
+    xyz[:, 2] = rng * np.sin(el)
     zero = codes[3] == msg.intensity_zero_code
     inten = np.where(zero, 0.0, np.exp2(codes[3] * msg.log2_intensity_step))
     hit, actors = actor_hits(codes[4], id_names)
@@ -147,9 +161,9 @@ def decode_scan(msg: Message, sensor: str, id_names: dict[int, str]) -> PointClo
         time=msg.timestamp_ns / 1e9,
         sensor=sensor,
         sensor_to_world=np.asarray(msg.sensor_to_frame, np.float64).reshape(4, 4),
-        xyz=xyz.astype(np.float32),
+        xyz=xyz,
         intensity=inten.astype(np.float32),
-        range=rng.astype(np.float32),
+        range=rng,
         hit=hit,
         actor_ids=actors,
     )
