@@ -1,5 +1,6 @@
-"""Recorder: one MCAP file per run, ground truth and object lists as ASAM OSI, dense data as
-Foxglove schemas (layout in :mod:`hiyari.bridge.record.format`).
+"""Recorder: one MCAP file per run, ground truth and object lists as ASAM OSI, raw LiDAR as
+``hiyari.LidarScan`` (:mod:`hiyari.bridge.record.lidar_scan`), other dense data as Foxglove
+schemas (layout in :mod:`hiyari.bridge.record.format`).
 
 Crash safety: the file is written as ``<name>.mcap.part`` and renamed to ``<name>.mcap`` by
 :meth:`Recorder.close`. Chunks are closed only between time steps, at least every
