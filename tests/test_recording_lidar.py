@@ -7,10 +7,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 import zstandard
+from google.protobuf.message import Message
 from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
@@ -25,7 +27,7 @@ from hiyari.sensors.environment.conditions import Environment
 from hiyari.sensors.frames import Mount
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.sensor import Lidar
-from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
+from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC, PointCloud
 from hiyari.sensors.scene.ray_scene import RayScene
 from hiyari.sensors.scene.synthetic import StraightRoad, street_scenario
 
@@ -33,7 +35,7 @@ CREATED = "2026-01-01T00:00:00Z"
 
 
 @pytest.fixture(scope="module")
-def recorded(tmp_path_factory):
+def recorded(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[PointCloud]]:
     """Two 64 x 2,048 scans of the built-in street from a moving ego (moving actors, so the
     scan-time skew bends their points off the beams; rain, so some returns hit no surface)."""
     world = street_scenario(ego_speed=12.0)
@@ -53,7 +55,9 @@ def recorded(tmp_path_factory):
     return path, clouds
 
 
-def test_scan_reads_back_within_the_stated_quantisation(recorded):
+def test_scan_reads_back_within_the_stated_quantisation(
+    recorded: tuple[Path, list[PointCloud]],
+) -> None:
     path, clouds = recorded
     rec = Recording.open(path)
     assert rec.lidar_sensors == ["top"]
@@ -77,7 +81,7 @@ def test_scan_reads_back_within_the_stated_quantisation(recorded):
     assert rec.point_cloud("top", len(rec) - 1).time == clouds[-1].time
 
 
-def _decode_as_documented(msg) -> tuple[np.ndarray, np.ndarray]:
+def _decode_as_documented(msg: Message) -> tuple[np.ndarray, np.ndarray]:
     """(xyz, range) following format.py's description step by step (numpy + zstandard)."""
     n = msg.point_count
     raw = zstandard.ZstdDecompressor().decompress(msg.data)
@@ -92,7 +96,9 @@ def _decode_as_documented(msg) -> tuple[np.ndarray, np.ndarray]:
     return xyz, rng
 
 
-def test_mcap_reader_decodes_the_scan_and_the_display_cloud(recorded):
+def test_mcap_reader_decodes_the_scan_and_the_display_cloud(
+    recorded: tuple[Path, list[PointCloud]],
+) -> None:
     path, clouds = recorded
     rec = Recording.open(path)
     with path.open("rb") as f:
@@ -123,7 +129,9 @@ def test_mcap_reader_decodes_the_scan_and_the_display_cloud(recorded):
         np.testing.assert_array_equal(pose, orig.sensor_to_world)
 
 
-def test_bad_lidar_input_is_refused(tmp_path, recorded):
+def test_bad_lidar_input_is_refused(
+    tmp_path: Path, recorded: tuple[Path, list[PointCloud]]
+) -> None:
     _, clouds = recorded
     with pytest.raises(HiyariError, match="lidar encoding"):
         RecorderConfig(lidar_encoding="float16").validate()
@@ -136,7 +144,7 @@ def test_bad_lidar_input_is_refused(tmp_path, recorded):
         rec.write_point_cloud(bad)
 
 
-def test_recording_a_closed_loop_run_does_not_change_it(tmp_path):
+def test_recording_a_closed_loop_run_does_not_change_it(tmp_path: Path) -> None:
     cs = ConcreteScenario(
         "dart-out",
         "dart-out",
