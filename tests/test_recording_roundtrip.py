@@ -23,7 +23,7 @@ from osi_utilities.tracefile._config import (
     OSI_CHANNEL_REQUIRED_METADATA_KEYS,
     OSI_TRACE_REQUIRED_METADATA_KEYS,
 )
-from test_recording_data import CREATED, record_run
+from test_recording_data import CREATED, RecordedRun, record_run
 
 from hiyari.bridge.cli.main import main
 from hiyari.bridge.record.osi_convert import world_state_from_ground_truth
@@ -37,13 +37,18 @@ DURATION = 40.0
 
 
 @pytest.fixture(scope="module")
-def run(intersection_net, intersection_demand, tmp_path_factory):
+def run(
+    intersection_net: Path, intersection_demand: Path, tmp_path_factory: pytest.TempPathFactory
+) -> RecordedRun:
     out = tmp_path_factory.mktemp("recording") / "run.mcap"
-    return record_run(intersection_net, intersection_demand, out, DURATION)
+    # LiDAR as float32 foxglove.PointCloud, the bit-exact encoding these tests check; the
+    # compact default (hiyari.LidarScan) is checked in test_recording_lidar.py
+    cfg = RecorderConfig(camera_format="png", creation_time=CREATED, lidar_encoding="float32")
+    return record_run(intersection_net, intersection_demand, out, DURATION, cfg)
 
 
 @pytest.fixture(scope="module")
-def rec(run):
+def rec(run: RecordedRun) -> Recording:
     return Recording.open(run.path)
 
 
@@ -51,13 +56,13 @@ def _ns(t: float) -> int:
     return int(round(t * 1e9))
 
 
-def test_close_renames_part_file(run):
+def test_close_renames_part_file(run: RecordedRun) -> None:
     assert run.path.is_file()
     assert not run.path.with_name(run.path.name + ".part").exists()
     assert len(run.states) == round(DURATION / 0.1)
 
 
-def test_mcap_reader_reads_frames_ids_and_poses(run):
+def test_mcap_reader_reads_frames_ids_and_poses(run: RecordedRun) -> None:
     with run.path.open("rb") as f:
         reader = make_reader(f, decoder_factories=[DecoderFactory()])
         summary = reader.get_summary()
@@ -89,7 +94,7 @@ def test_mcap_reader_reads_frames_ids_and_poses(run):
         np.testing.assert_array_equal(yaw, state.heading)
 
 
-def test_osi_trace_readers_read_ground_truth_and_object_lists(run):
+def test_osi_trace_readers_read_ground_truth_and_object_lists(run: RecordedRun) -> None:
     reader = MultiTraceReader()
     assert reader.open(run.path)
     try:
@@ -126,7 +131,7 @@ def test_osi_trace_readers_read_ground_truth_and_object_lists(run):
     )
 
 
-def test_recording_reads_back_every_world_state(run, rec):
+def test_recording_reads_back_every_world_state(run: RecordedRun, rec: Recording) -> None:
     assert rec.complete and rec.problem is None
     assert len(rec) == len(run.states)
     np.testing.assert_array_equal(rec.times, [s.time for s in run.states])
@@ -143,7 +148,7 @@ def test_recording_reads_back_every_world_state(run, rec):
     assert {ActorClass.CAR, ActorClass.PEDESTRIAN} <= set(np.unique(rec.world(-1).cls).tolist())
 
 
-def test_metadata_environment_and_mesh(run, rec):
+def test_metadata_environment_and_mesh(run: RecordedRun, rec: Recording) -> None:
     assert rec.metadata["scenario"] == "test intersection"
     assert rec.metadata["seed"] == "3"
     assert rec.metadata["format"] == "hiyari-recording"
@@ -162,7 +167,7 @@ def test_metadata_environment_and_mesh(run, rec):
     np.testing.assert_array_equal(mesh.material, run.mesh.material)
 
 
-def test_lidar_frames_round_trip_exactly(run, rec):
+def test_lidar_frames_round_trip_exactly(run: RecordedRun, rec: Recording) -> None:
     assert len(rec.message_times("/lidar/top")) == len(run.lidar)
     for i in (0, len(run.lidar) // 2, len(run.lidar) - 1):
         pc, orig = rec.point_cloud_at("top", i), run.lidar[i]
@@ -177,7 +182,7 @@ def test_lidar_frames_round_trip_exactly(run, rec):
     assert rec.point_cloud("top", k).time == run.lidar[-1].time
 
 
-def test_radar_objects_camera_and_status_round_trip(run, rec):
+def test_radar_objects_camera_and_status_round_trip(run: RecordedRun, rec: Recording) -> None:
     i = len(run.radar) // 2
     det, orig = rec.radar_at("front", i), run.radar[i]
     for name in ("range", "range_rate", "azimuth", "elevation", "snr_db", "power_dbm"):
@@ -203,7 +208,7 @@ def test_radar_objects_camera_and_status_round_trip(run, rec):
     assert status["ttc_s"] == (ttc if math.isfinite(ttc) else None)
 
 
-def test_collisions_round_trip(run, rec):
+def test_collisions_round_trip(run: RecordedRun, rec: Recording) -> None:
     first: dict[tuple[str, str], float] = {}
     for c in run.collisions:
         first.setdefault((c.a, c.b), c.time)
@@ -237,7 +242,7 @@ def _write(path: Path, seed: int) -> None:
             rec.write_world(_state(0.1 * k, 3 + k % 4), ego_id="v0")
 
 
-def test_same_input_gives_identical_file(tmp_path):
+def test_same_input_gives_identical_file(tmp_path: Path) -> None:
     _write(tmp_path / "a.mcap", 1)
     _write(tmp_path / "b.mcap", 1)
     _write(tmp_path / "c.mcap", 2)
@@ -262,7 +267,9 @@ with Simulation(SimConfig(net=net, routes=[routes], seed=3)) as sim:
 """
 
 
-def test_killed_run_leaves_readable_part_file(intersection_net, intersection_demand, tmp_path):
+def test_killed_run_leaves_readable_part_file(
+    intersection_net: Path, intersection_demand: Path, tmp_path: Path
+) -> None:
     out = tmp_path / "crash.mcap"
     proc = subprocess.Popen(
         [
@@ -319,7 +326,7 @@ def test_killed_run_leaves_readable_part_file(intersection_net, intersection_dem
     np.testing.assert_array_equal(last.xyz[:, :2], state.xyz[:, :2])
 
 
-def test_exception_in_run_keeps_part_name(tmp_path):
+def test_exception_in_run_keeps_part_name(tmp_path: Path) -> None:
     path = tmp_path / "failed.mcap"
     with pytest.raises(RuntimeError), Recorder(path, {"scenario": "x"}) as rec:
         rec.write_world(_state(0.1, 2))
@@ -330,14 +337,16 @@ def test_exception_in_run_keeps_part_name(tmp_path):
 
 
 # ---------------------------------------------------------------------- bad input
-def test_not_mcap(tmp_path):
+def test_not_mcap(tmp_path: Path) -> None:
     bad = tmp_path / "notes.mcap"
     bad.write_text("hello, this is text\n")
     with pytest.raises(HiyariError, match=r"notes\.mcap: not an MCAP file"):
         Recording.open(bad)
 
 
-def test_truncated_file_opens_up_to_last_complete_chunk(run, rec, tmp_path, capsys):
+def test_truncated_file_opens_up_to_last_complete_chunk(
+    run: RecordedRun, rec: Recording, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     data = run.path.read_bytes()
     cut = tmp_path / "cut.mcap"
     cut.write_bytes(data[: len(data) // 2])
@@ -357,7 +366,7 @@ def test_truncated_file_opens_up_to_last_complete_chunk(run, rec, tmp_path, caps
         Recording.open(stub)
 
 
-def test_mcap_from_another_program(tmp_path):
+def test_mcap_from_another_program(tmp_path: Path) -> None:
     other = tmp_path / "other.mcap"
     with other.open("wb") as f:
         w = Writer(f)
@@ -370,7 +379,9 @@ def test_mcap_from_another_program(tmp_path):
         Recording.open(other)
 
 
-def test_cli_reports_bad_recordings_in_one_line(tmp_path, capsys):
+def test_cli_reports_bad_recordings_in_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     bad = tmp_path / "x.mcap"
     bad.write_bytes(b"\x00" * 64)
     assert main(["replay", str(bad)]) == 1
@@ -380,7 +391,7 @@ def test_cli_reports_bad_recordings_in_one_line(tmp_path, capsys):
     assert "no such recording" in capsys.readouterr().err
 
 
-def test_recorder_rejects_bad_parameters(tmp_path):
+def test_recorder_rejects_bad_parameters(tmp_path: Path) -> None:
     with pytest.raises(HiyariError, match=r"must end in \.mcap"):
         Recorder(tmp_path / "run.txt")
     with pytest.raises(HiyariError, match="flush interval"):

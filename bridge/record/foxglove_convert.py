@@ -57,6 +57,10 @@ LIDAR_DTYPE = np.dtype(
         ("truth_id", "<i4"),
     ]
 )
+# the thinned display cloud next to a compact scan: what Foxglove's 3D panel colours by
+LIDAR_DISPLAY_DTYPE = np.dtype(
+    [("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("intensity", "<f4"), ("truth_id", "<i4")]
+)
 RADAR_DTYPE = np.dtype(
     [
         ("x", "<f4"),
@@ -189,6 +193,27 @@ def lidar_message(pc: PointCloud, actor_osi_ids: np.ndarray, time_ns: int) -> Fo
     )
 
 
+def lidar_display_message(
+    pc: PointCloud, truth_id: np.ndarray, time_ns: int, every: int
+) -> FoxPointCloud:
+    """Every ``every``-th point of a scan as ``foxglove.PointCloud`` (x y z intensity
+    truth_id, float32 as measured), for display where the full scan is stored compactly;
+    ``truth_id`` (N,) is the OSI id hit per point of the whole scan."""
+    xyz = np.asarray(pc.xyz, np.float32).reshape(-1, 3)[::every]
+    return _packed(
+        LIDAR_DISPLAY_DTYPE,
+        {
+            "x": xyz[:, 0],
+            "y": xyz[:, 1],
+            "z": xyz[:, 2],
+            "intensity": np.asarray(pc.intensity)[::every],
+            "truth_id": np.asarray(truth_id)[::every],
+        },
+        pc.sensor_to_world,
+        time_ns,
+    )
+
+
 def radar_message(det: RadarDetections, actor_osi_ids: np.ndarray, time_ns: int) -> FoxPointCloud:
     """Radar cycle as ``foxglove.PointCloud``: positions for display plus every measurement."""
     xyz = det.xyz().astype(np.float32).reshape(-1, 3)
@@ -211,7 +236,7 @@ def radar_message(det: RadarDetections, actor_osi_ids: np.ndarray, time_ns: int)
     )
 
 
-def _hits(truth_id: np.ndarray, id_names: dict[int, str]) -> tuple[np.ndarray, np.ndarray]:
+def actor_hits(truth_id: np.ndarray, id_names: dict[int, str]) -> tuple[np.ndarray, np.ndarray]:
     """(hit rows, actor ids) rebuilt from truth ids: actors are the distinct ids hit."""
     truth_id = np.asarray(truth_id, np.int64)
     actors = np.unique(truth_id[truth_id > 0])
@@ -227,7 +252,7 @@ def point_cloud_from_message(
 ) -> PointCloud:
     """PointCloud from a hiyari LiDAR message (``actor_ids`` = the actors hit)."""
     pts, pose = unpack_point_cloud(msg)
-    hit, actors = _hits(pts["truth_id"], id_names)
+    hit, actors = actor_hits(pts["truth_id"], id_names)
     return PointCloud(
         time=msg.timestamp.ToNanoseconds() / 1e9,
         sensor=sensor,
@@ -245,7 +270,7 @@ def radar_from_message(
 ) -> RadarDetections:
     """RadarDetections from a hiyari radar message (``actor_ids`` = the actors hit)."""
     pts, pose = unpack_point_cloud(msg)
-    hit, actors = _hits(pts["truth_id"], id_names)
+    hit, actors = actor_hits(pts["truth_id"], id_names)
     measured = ("range", "range_rate", "azimuth", "elevation", "snr_db", "power_dbm")
     col = {k: pts[k].astype(np.float64) for k in measured}
     return RadarDetections(

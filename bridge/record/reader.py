@@ -34,6 +34,7 @@ from osi3.osi_sensordata_pb2 import SensorData
 
 from hiyari.bridge.record import format as fmt
 from hiyari.bridge.record import foxglove_convert as fox
+from hiyari.bridge.record import lidar_scan
 from hiyari.bridge.record import osi_convert as osi
 from hiyari.errors import HiyariError
 from hiyari.net.mesh.scene_mesh import SceneMesh
@@ -233,7 +234,13 @@ class Recording:
         elif self.path.name.endswith(fmt.PART_SUFFIX):
             self.problem = f"{self.path.name} is an unfinished recording (the run stopped early)"
         topics = self._index.keys()
-        self.lidar_sensors = _names(topics, fmt.TOPIC_LIDAR)
+        self._schema_of = {
+            c.topic: scan.schemas[c.schema_id].name if c.schema_id in scan.schemas else ""
+            for c in scan.channels.values()
+        }
+        self.lidar_sensors = [
+            s for s in _names(topics, fmt.TOPIC_LIDAR) if not s.endswith(fmt.LIDAR_THINNED_SUFFIX)
+        ]
         self.radar_sensors = _names(topics, fmt.TOPIC_RADAR)
         self.camera_sensors = sorted(
             {
@@ -363,9 +370,15 @@ class Recording:
         return None if i is None else self.point_cloud_at(sensor, i)
 
     def point_cloud_at(self, sensor: str, i: int) -> PointCloud:
-        """The ``i``-th LiDAR scan of ``sensor``."""
-        msg = FoxPointCloud.FromString(self.raw(fmt.TOPIC_LIDAR + sensor, i))
-        return fox.point_cloud_from_message(msg, sensor, self.id_names)
+        """The ``i``-th LiDAR scan of ``sensor``: every point, from ``hiyari.LidarScan``
+        (within its stated quantisation) or a float32 ``foxglove.PointCloud`` (exact)."""
+        topic = fmt.TOPIC_LIDAR + sensor
+        data = self.raw(topic, i)
+        if self._schema_of.get(topic) == lidar_scan.SCHEMA_NAME:
+            return lidar_scan.decode_scan(
+                lidar_scan.LidarScan.FromString(data), sensor, self.id_names
+            )
+        return fox.point_cloud_from_message(FoxPointCloud.FromString(data), sensor, self.id_names)
 
     def radar(self, sensor: str, k: int, max_age: float | None = None) -> RadarDetections | None:
         """Latest radar cycle of ``sensor`` at frame ``k``."""

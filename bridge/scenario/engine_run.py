@@ -212,7 +212,9 @@ def _loop(
 
         links = sim.signal_links()
         meta = {**scenario_doc(scenario, setup), "scenario": scenario.name}
-        recorder = open_recorder(options.out_dir / "run.mcap", meta, stack, network, links)
+        recorder = open_recorder(
+            options.out_dir / "run.mcap", meta, stack, network, links, options.recorder
+        )
         if isinstance(stack.perception, SensorPerception):
             stack.perception.render_every = options.camera_image_every
         signals = sim.signal_states if links else None

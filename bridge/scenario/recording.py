@@ -9,7 +9,7 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
 from hiyari import __version__
-from hiyari.bridge.record.recorder import Recorder, SensorMount
+from hiyari.bridge.record.recorder import Recorder, RecorderConfig, SensorMount
 from hiyari.bridge.stack.aeb import AEBStage
 from hiyari.bridge.stack.interfaces import EgoStack, EgoStep
 from hiyari.bridge.stack.perception_sensors import SensorPerception
@@ -74,6 +74,7 @@ def open_recorder(
     stack: EgoStack,
     network: RoadNetwork,
     signal_links: Sequence[SignalLink] = (),
+    config: RecorderConfig | None = None,
 ) -> Recorder:
     """A Recorder with the run's ``metadata`` (and the toolkit version), sensor configs (with mounts), static road mesh (the
     sensors' scene mesh when the stack has one, else built from ``network``) and OSI road
@@ -81,6 +82,7 @@ def open_recorder(
     rec = Recorder(
         path,
         metadata={**metadata, "toolkit_version": __version__},
+        config=config,
     )
     perception = stack.perception
     if isinstance(perception, SensorPerception):

@@ -7,6 +7,7 @@ import json
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -28,6 +29,9 @@ from hiyari.net.road.network import RoadNetwork
 from hiyari.traffic.simulation import SimConfig, Simulation
 from hiyari.units import G, kmh_to_mps, mps_to_kmh
 
+if TYPE_CHECKING:
+    from hiyari.bridge.record.recorder import RecorderConfig
+
 
 @dataclass(frozen=True)
 class RunOptions:
@@ -38,6 +42,7 @@ class RunOptions:
     plot: bool = True
     record: bool = False  # write out_dir/run.mcap (needs out_dir)
     camera_image_every: int = 10  # when recording: render every Nth camera frame (0: none)
+    recorder: RecorderConfig | None = None  # when recording: how (None: the defaults)
 
 
 def build_stack(cs: ConcreteScenario, net: Path | RoadNetwork) -> EgoStack:
@@ -92,7 +97,9 @@ def run_concrete(
 
                 links = sim.signal_links()
                 meta = concrete_metadata(cs)
-                recorder = open_recorder(options.out_dir / "run.mcap", meta, stack, network, links)
+                recorder = open_recorder(
+                    options.out_dir / "run.mcap", meta, stack, network, links, options.recorder
+                )
                 if isinstance(stack.perception, SensorPerception):
                     stack.perception.render_every = options.camera_image_every
                 signals = sim.signal_states if links else None
