@@ -400,3 +400,53 @@ def bumper_gap(
     along = p[..., 0] - (np.asarray(length_a, float) + length_b) / 2
     across = np.abs(p[..., 1]) - (np.asarray(width_a, float) + width_b) / 2
     return along, across
+
+
+def footprint_distance(
+    centre_a: np.ndarray,
+    heading_a: float | np.ndarray,
+    length_a: float | np.ndarray,
+    width_a: float | np.ndarray,
+    centre_b: np.ndarray,
+    heading_b: float | np.ndarray,
+    length_b: float | np.ndarray,
+    width_b: float | np.ndarray,
+) -> np.ndarray:
+    """Shortest distance (m) between oriented rectangles A and B; 0 when they touch or overlap.
+
+    Centres (..., 2) world m, headings (...) rad, lengths / widths (...) m; broadcasts. Two
+    disjoint convex shapes are closest at a corner of one of them, so the distance is the least
+    corner-to-rectangle distance both ways; they overlap when no axis of either separates them.
+    """
+    ca, cb = np.asarray(centre_a, float), np.asarray(centre_b, float)
+    ha, hb = np.asarray(heading_a, float), np.asarray(heading_b, float)
+    la, wa = 0.5 * np.asarray(length_a, float), 0.5 * np.asarray(width_a, float)
+    lb, wb = 0.5 * np.asarray(length_b, float), 0.5 * np.asarray(width_b, float)
+    corners_a = footprint_corners(ca, ha, 2 * la, 2 * wa)
+    corners_b = footprint_corners(cb, hb, 2 * lb, 2 * wb)
+    # corners (..., 4, 2) against the other rectangle, broadcast over the corner axis
+    b_to_a = rectangle_point_distance(
+        ca[..., None, :], ha[..., None], la[..., None], wa[..., None], corners_b
+    ).min(axis=-1)
+    a_to_b = rectangle_point_distance(
+        cb[..., None, :], hb[..., None], lb[..., None], wb[..., None], corners_a
+    ).min(axis=-1)
+    apart = _separated(cb - ca, ha, hb, la, wa, lb, wb)
+    apart |= _separated(ca - cb, hb, ha, lb, wb, la, wa)
+    return np.where(apart, np.minimum(b_to_a, a_to_b), 0.0)
+
+
+def _separated(
+    d: np.ndarray,
+    h_own: np.ndarray,
+    h_other: np.ndarray,
+    half_l: np.ndarray,
+    half_w: np.ndarray,
+    other_half_l: np.ndarray,
+    other_half_w: np.ndarray,
+) -> np.ndarray:
+    """Whether one of a rectangle's own two axes separates it from another rectangle at offset
+    ``d`` (..., 2, world m): their extents along the axis do not meet."""
+    x, y = unrotate_xy(d[..., 0], d[..., 1], h_own)
+    ext_x, ext_y = footprint_extent(2 * other_half_l, 2 * other_half_w, h_other - h_own)
+    return (np.abs(x) > half_l + ext_x) | (np.abs(y) > half_w + ext_y)
