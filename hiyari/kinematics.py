@@ -416,37 +416,25 @@ def footprint_distance(
 
     Centres (..., 2) world m, headings (...) rad, lengths / widths (...) m; broadcasts. Two
     disjoint convex shapes are closest at a corner of one of them, so the distance is the least
-    corner-to-rectangle distance both ways; they overlap when no axis of either separates them.
+    corner-to-rectangle distance both ways, each rectangle's corners taken in the other's frame;
+    they overlap when no axis of either separates them.
     """
-    ca, cb = np.asarray(centre_a, float), np.asarray(centre_b, float)
+    d = np.asarray(centre_b, float) - np.asarray(centre_a, float)
     ha, hb = np.asarray(heading_a, float), np.asarray(heading_b, float)
     la, wa = 0.5 * np.asarray(length_a, float), 0.5 * np.asarray(width_a, float)
     lb, wb = 0.5 * np.asarray(length_b, float), 0.5 * np.asarray(width_b, float)
-    corners_a = footprint_corners(ca, ha, 2 * la, 2 * wa)
-    corners_b = footprint_corners(cb, hb, 2 * lb, 2 * wb)
-    # corners (..., 4, 2) against the other rectangle, broadcast over the corner axis
-    b_to_a = rectangle_point_distance(
-        ca[..., None, :], ha[..., None], la[..., None], wa[..., None], corners_b
-    ).min(axis=-1)
-    a_to_b = rectangle_point_distance(
-        cb[..., None, :], hb[..., None], lb[..., None], wb[..., None], corners_a
-    ).min(axis=-1)
-    apart = _separated(cb - ca, ha, hb, la, wa, lb, wb)
-    apart |= _separated(ca - cb, hb, ha, lb, wb, la, wa)
-    return np.where(apart, np.minimum(b_to_a, a_to_b), 0.0)
-
-
-def _separated(
-    d: np.ndarray,
-    h_own: np.ndarray,
-    h_other: np.ndarray,
-    half_l: np.ndarray,
-    half_w: np.ndarray,
-    other_half_l: np.ndarray,
-    other_half_w: np.ndarray,
-) -> np.ndarray:
-    """Whether one of a rectangle's own two axes separates it from another rectangle at offset
-    ``d`` (..., 2, world m): their extents along the axis do not meet."""
-    x, y = unrotate_xy(d[..., 0], d[..., 1], h_own)
-    ext_x, ext_y = footprint_extent(2 * other_half_l, 2 * other_half_w, h_other - h_own)
-    return (np.abs(x) > half_l + ext_x) | (np.abs(y) > half_w + ext_y)
+    c, s = np.cos(hb - ha), np.sin(hb - ha)  # B's axes in A's frame
+    bx, by = unrotate_xy(d[..., 0], d[..., 1], ha)  # B's centre in A's frame
+    ax, ay = unrotate_xy(-d[..., 0], -d[..., 1], hb)  # A's centre in B's frame
+    # corners: centre + sx * half length axis + sy * half width axis, (..., 4)
+    sx, sy = np.array([1.0, -1.0, -1.0, 1.0]), np.array([1.0, 1.0, -1.0, -1.0])
+    lbc, lbs, wbc, wbs = (v[..., None] for v in (lb * c, lb * s, wb * c, wb * s))
+    lac, las, wac, was = (v[..., None] for v in (la * c, la * s, wa * c, wa * s))
+    xb, yb = bx[..., None] + sx * lbc - sy * wbs, by[..., None] + sx * lbs + sy * wbc
+    xa, ya = ax[..., None] + sx * lac + sy * was, ay[..., None] - sx * las + sy * wac
+    b_in_a = _outside(xb, yb, la[..., None], wa[..., None])
+    a_in_b = _outside(xa, ya, lb[..., None], wb[..., None])
+    ac, as_ = np.abs(c), np.abs(s)
+    apart = (np.abs(bx) > la + lb * ac + wb * as_) | (np.abs(by) > wa + lb * as_ + wb * ac)
+    apart |= (np.abs(ax) > lb + la * ac + wa * as_) | (np.abs(ay) > wb + la * as_ + wa * ac)
+    return np.where(apart, np.minimum(b_in_a.min(axis=-1), a_in_b.min(axis=-1)), 0.0)

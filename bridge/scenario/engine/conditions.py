@@ -166,6 +166,15 @@ class ConditionBank:
             for name in ec.triggering
         ]
 
+    def road_entities(self, active: np.ndarray) -> np.ndarray:
+        """(E,) entities whose road coordinates the ``active`` triggers' rows read."""
+        need = np.zeros(len(self.entity_index), dtype=bool)
+        on = self.rows.road & active[self.row_trigger]
+        need[self.rows.a[on]] = True
+        b = self.rows.b[on]
+        need[b[b >= 0]] = True
+        return need
+
     # ------------------------------------------------------------------ evaluate
     def evaluate(
         self, snap: Snapshot, active: np.ndarray, states: np.ndarray, transitions: np.ndarray
