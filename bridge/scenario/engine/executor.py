@@ -429,7 +429,8 @@ class ScenarioEngine:
         key = np.stack([tb.road_code, tb.lane, np.full(len(self.names), -1)], 1)
         on_road = rows[~tb.free[rows] & (tb.road_code[rows] >= 0)]
         for road, r in by_road(tb, on_road):
-            key[r, 2] = self.roads.odr.road(road).section_index(tb.s[r])
+            rd = self.roads.odr.road(road)
+            key[r, 2] = rd.section_index(tb.s[r]) if len(rd.sections) > 1 else 0
         changed = rows[(key[rows] != self._lane_key[rows]).any(1)]
         for k in changed.tolist():
             ln = None

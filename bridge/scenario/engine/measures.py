@@ -177,14 +177,15 @@ def _ttc(
 ) -> np.ndarray:
     """Time (s) to close ``dist`` at the closing speed along the measuring direction: A's
     axis (longitudinal / lateral) or the line between the centres (euclidean)."""
-    ua, ub = heading_vector(snap.heading[a]), heading_vector(snap.heading[b])
-    dv = snap.speed[a][:, None] * ua - snap.speed[b][:, None] * ub
+    ha, hb = snap.heading[a], snap.heading[b]
+    ca, sa, va, vb = np.cos(ha), np.sin(ha), snap.speed[a], snap.speed[b]
+    dvx, dvy = va * ca - vb * np.cos(hb), va * sa - vb * np.sin(hb)  # relative velocity
     rel = snap.centre[b] - snap.centre[a]
-    n = np.maximum(np.hypot(rel[:, 0], rel[:, 1]), 1e-9)
-    dx = np.where(dtype == 1, ua[:, 0], np.where(dtype == 2, -ua[:, 1], rel[:, 0] / n))
-    dy = np.where(dtype == 1, ua[:, 1], np.where(dtype == 2, ua[:, 0], rel[:, 1] / n))
-    towards = np.sign(rel[:, 0] * dx + rel[:, 1] * dy)
-    closing = (dv[:, 0] * dx + dv[:, 1] * dy) * towards
+    rx, ry = rel[:, 0], rel[:, 1]
+    n = np.maximum(np.hypot(rx, ry), 1e-9)
+    dx = np.where(dtype == 1, ca, np.where(dtype == 2, -sa, rx / n))
+    dy = np.where(dtype == 1, sa, np.where(dtype == 2, ca, ry / n))
+    closing = (dvx * dx + dvy * dy) * np.sign(rx * dx + ry * dy)
     return np.where(closing > 1e-9, dist / np.maximum(closing, 1e-9), np.inf)
 
 
