@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 import shapely
+from openscenario_files import ALKS
 
 from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
 from hiyari.bridge.scenario.engine.positions import Pose
@@ -32,6 +33,7 @@ from hiyari.bridge.scenario.model.conditions import (
 )
 from hiyari.bridge.scenario.model.positions import WorldPosition
 from hiyari.kinematics import footprint_corners, footprint_distance
+from hiyari.net.road.opendrive_lanes import OpenDriveMap
 
 E, DT = 6, 0.1
 
@@ -152,3 +154,20 @@ def test_batched_evaluation_equals_one_condition_at_a_time() -> None:
         fired_any |= got
         fired_not |= active & ~got
     assert fired_any.sum() > 30 and fired_not.sum() > 30  # not all one way
+
+
+def test_locate_near_matches_the_full_search_on_a_curved_road() -> None:
+    """Re-locating an actor from its s one step earlier (Newton only) gives the road
+    coordinates of the nearest-sample search, on a road of changing curvature."""
+    odr = OpenDriveMap.from_file(ALKS / "road_networks/alks_road_different_curvatures.xodr")
+    road = next(iter(odr.roads))
+    rng = np.random.default_rng(5)
+    s = rng.uniform(10.0, odr.road(road).length - 10.0, 40)
+    t = rng.uniform(-9.0, 9.0, 40)
+    x, y, _, _ = odr.road_pose(road, s, t)
+    for k in range(40):
+        want = odr.locate(x[k : k + 1], y[k : k + 1], road)[0]
+        got = odr.locate_near(road, x[k], y[k], s[k] - 1.5)  # about one step behind at 30 m/s
+        assert got.road == want.road and got.lane == want.lane
+        assert got.s == pytest.approx(s[k], abs=1e-6) and got.s == pytest.approx(want.s, abs=1e-6)
+        assert got.t == pytest.approx(t[k], abs=1e-6)
