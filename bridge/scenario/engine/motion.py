@@ -4,8 +4,11 @@ the storyboard's longitudinal and lateral transitions, or moved along a path.
 An actor on a road holds its reference point in road coordinates (road, lane, s, t) and its
 speed v along the lane; s advances by the distance travelled divided by (1 - curvature * t),
 so the speed is the speed along the actor's own curve. t is the lateral position from the
-reference line (left positive). World poses are computed in one batch per road from the
-OpenDRIVE geometry. Off-road motion (trajectories, routes) follows a polyline in the plane.
+reference line (left positive). The state of all actors lives in one ActorTable (arrays, a
+row per entity; an Actor's attributes are views of its row), so a step advances every actor on
+a road in one numpy pass and only the running transitions one by one; world poses are computed
+in one batch per road from the OpenDRIVE geometry. Off-road motion (trajectories, routes)
+follows a polyline in the plane.
 """
 
 from __future__ import annotations
