@@ -400,3 +400,41 @@ def bumper_gap(
     along = p[..., 0] - (np.asarray(length_a, float) + length_b) / 2
     across = np.abs(p[..., 1]) - (np.asarray(width_a, float) + width_b) / 2
     return along, across
+
+
+def footprint_distance(
+    centre_a: np.ndarray,
+    heading_a: float | np.ndarray,
+    length_a: float | np.ndarray,
+    width_a: float | np.ndarray,
+    centre_b: np.ndarray,
+    heading_b: float | np.ndarray,
+    length_b: float | np.ndarray,
+    width_b: float | np.ndarray,
+) -> np.ndarray:
+    """Shortest distance (m) between oriented rectangles A and B; 0 when they touch or overlap.
+
+    Centres (..., 2) world m, headings (...) rad, lengths / widths (...) m; broadcasts. Two
+    disjoint convex shapes are closest at a corner of one of them, so the distance is the least
+    corner-to-rectangle distance both ways, each rectangle's corners taken in the other's frame;
+    they overlap when no axis of either separates them.
+    """
+    d = np.asarray(centre_b, float) - np.asarray(centre_a, float)
+    ha, hb = np.asarray(heading_a, float), np.asarray(heading_b, float)
+    la, wa = 0.5 * np.asarray(length_a, float), 0.5 * np.asarray(width_a, float)
+    lb, wb = 0.5 * np.asarray(length_b, float), 0.5 * np.asarray(width_b, float)
+    c, s = np.cos(hb - ha), np.sin(hb - ha)  # B's axes in A's frame
+    bx, by = unrotate_xy(d[..., 0], d[..., 1], ha)  # B's centre in A's frame
+    ax, ay = unrotate_xy(-d[..., 0], -d[..., 1], hb)  # A's centre in B's frame
+    # corners: centre + sx * half length axis + sy * half width axis, (..., 4)
+    sx, sy = np.array([1.0, -1.0, -1.0, 1.0]), np.array([1.0, 1.0, -1.0, -1.0])
+    lbc, lbs, wbc, wbs = (v[..., None] for v in (lb * c, lb * s, wb * c, wb * s))
+    lac, las, wac, was = (v[..., None] for v in (la * c, la * s, wa * c, wa * s))
+    xb, yb = bx[..., None] + sx * lbc - sy * wbs, by[..., None] + sx * lbs + sy * wbc
+    xa, ya = ax[..., None] + sx * lac + sy * was, ay[..., None] - sx * las + sy * wac
+    b_in_a = _outside(xb, yb, la[..., None], wa[..., None])
+    a_in_b = _outside(xa, ya, lb[..., None], wb[..., None])
+    ac, as_ = np.abs(c), np.abs(s)
+    apart = (np.abs(bx) > la + lb * ac + wb * as_) | (np.abs(by) > wa + lb * as_ + wb * ac)
+    apart |= (np.abs(ax) > lb + la * ac + wa * as_) | (np.abs(ay) > wb + la * as_ + wa * ac)
+    return np.where(apart, np.minimum(b_in_a.min(axis=-1), a_in_b.min(axis=-1)), 0.0)

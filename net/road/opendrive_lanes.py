@@ -395,6 +395,14 @@ class OpenDriveMap:
                 out[j] = _lane_coord(road, float(sj), float(tj))
         return out  # type: ignore[return-value]
 
+    def locate_near(self, road_id: str, x: float, y: float, s_guess: float) -> RoadCoord:
+        """Road coordinates of the point (``x``, ``y``) on road ``road_id`` by Newton steps from
+        ``s_guess`` (a nearby s, such as the point's s one simulation step earlier), without
+        the nearest-sample search of :meth:`locate`."""
+        road = self.road(road_id)
+        s, t = _project(road, np.array([float(x)]), np.array([float(y)]), np.array([s_guess]))
+        return _lane_coord(road, float(s[0]), float(t[0]))
+
 
 def _project(road: Road, x: np.ndarray, y: np.ndarray, s: np.ndarray):
     """Newton iterations for the foot point of (x, y) on the road's reference line."""

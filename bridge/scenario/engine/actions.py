@@ -19,7 +19,7 @@ from hiyari.bridge.scenario.engine.motion import (
     PathMotion,
     SpeedTransition,
     forward,
-    place_on_road,
+    place_actor,
 )
 from hiyari.bridge.scenario.engine.positions import Pose, lane_shift
 from hiyari.bridge.scenario.engine.shapes import lateral_duration, span
@@ -226,7 +226,7 @@ class ActionStarter:
                 else gap
             )
         a.road, a.s = ref.road, ref.s + direction * lead
-        place_on_road(self.e.roads.odr, a.road, [a])
+        place_actor(self.e.roads.odr, a)
 
     def _lane_change(self, element: int, a: Actor, body: LaneChangeAction, now: float) -> Instance:
         if isinstance(body.target, AbsoluteLane):
@@ -294,7 +294,7 @@ class ActionStarter:
         a.lat, a.lat_travelled = tr, 0.0
         if length == 0.0 and not continuous:
             a.t, a.lane, a.lat = target(a.s), lane, None
-            place_on_road(self.e.roads.odr, a.road, [a])
+            place_actor(self.e.roads.odr, a)
             return Instance(element, a.name, ("lateral",), finished=True)
         return Instance(element, a.name, ("lateral",), tr)
 

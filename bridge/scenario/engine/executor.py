@@ -32,11 +32,18 @@ from hiyari.bridge.scenario.engine.elements import (
     STANDBY,
     ElementTree,
 )
-from hiyari.bridge.scenario.engine.motion import Actor, advance_road_actors, forward
+from hiyari.bridge.scenario.engine.motion import (
+    Actor,
+    ActorTable,
+    advance_road_actors,
+    by_road,
+    forward,
+)
 from hiyari.bridge.scenario.engine.positions import Pose, PoseResolver
 from hiyari.bridge.scenario.model.entities import EntityKind
 from hiyari.bridge.scenario.model.storyboard import Scenario
 from hiyari.errors import HiyariError
+from hiyari.kinematics import vehicle_to_world
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.commands import VehicleType
@@ -77,7 +84,12 @@ class ScenarioEngine:
         self.ego = scenario.ego
         self.names = [e.name for e in scenario.entities]
         self.index = {n: i for i, n in enumerate(self.names)}
-        self.actors = {e.name: Actor(e.name, e) for e in scenario.entities}
+        self.table = ActorTable(len(self.names))
+        self.actors = {
+            e.name: Actor(e.name, e, self.table, k) for k, e in enumerate(scenario.entities)
+        }
+        self._actor_list = list(self.actors.values())
+        self._ego_row = self.index[self.ego] if self.ego is not None else -1
         self.tree = ElementTree(scenario.storyboard)
         self.resolver = PoseResolver(roads.odr, self.pose_of)
         self.starter = ActionStarter(self)
@@ -100,6 +112,8 @@ class ScenarioEngine:
         self.finished = False
         self._world: WorldState | None = None
         self._rows: dict[str, int] = {}
+        self._ids: list[str] | None = None
+        self._entity_rows = np.full(len(self.names), -1, dtype=np.intp)
         self._located: dict[str, Pose] = {}
         self._started: list[str] = []
         self._ended: list[str] = []
@@ -121,6 +135,14 @@ class ScenarioEngine:
         }
         self._cx = np.array([e.centre[0] for e in scenario.entities])
         self._cy = np.array([e.centre[1] for e in scenario.entities])
+        self._centre_offset = np.stack([self._cx, self._cy], 1).reshape(-1, 2)
+        # SUMO lane of each row, kept until its road, lane or lane section changes
+        n = len(self.names)
+        self._lane_key = np.full((n, 3), -2, dtype=np.int64)  # road code, lane, section
+        self._edge: list[str] = [""] * n
+        self._lane_index: list[int] = [-1] * n
+        self._moved: tuple[np.ndarray, list[str]] = (np.zeros(0, np.intp), [])
+        self._near: dict[str, tuple[str, float]] = {}  # last road and s of located entities
 
     # ------------------------------------------------------------------ who drives what
     def storyboard_drives(self, name: str) -> bool:
@@ -133,6 +155,13 @@ class ScenarioEngine:
             and ctrl.drives == "storyboard"
             and any(self.active_domains[name].values())
         )
+
+    def _driven(self) -> np.ndarray:
+        """(E,) whether the storyboard moves each entity (all but a stack-driven ego)."""
+        driven = np.ones(len(self.names), dtype=bool)
+        if self._ego_row >= 0:
+            driven[self._ego_row] = self.storyboard_drives(self.ego)
+        return driven
 
     def pose_of(self, name: str) -> Pose:
         """Current reference-point pose of entity ``name`` with road coordinates."""
@@ -162,7 +191,13 @@ class ScenarioEngine:
         x = float(w.xyz[row, 0]) - e.centre[0] * math.cos(h) + e.centre[1] * math.sin(h)
         y = float(w.xyz[row, 1]) - e.centre[0] * math.sin(h) - e.centre[1] * math.cos(h)
         origin = self.roads.origin_of(str(w.lane[row]))
-        rc = self.roads.odr.locate(np.array([x]), np.array([y]), origin[0] if origin else None)[0]
+        road = origin[0] if origin else None
+        near = self._near.get(name)
+        if road is not None and near is not None and near[0] == road:
+            rc = self.roads.odr.locate_near(road, x, y, near[1])  # s moved by about v dt
+        else:
+            rc = self.roads.odr.locate(np.array([x]), np.array([y]), road)[0]
+        self._near[name] = (rc.road, rc.s)
         return Pose(x, y, float(w.xyz[row, 2]), h, rc.road, rc.lane, rc.s, rc.t)
 
     # ------------------------------------------------------------------ start
@@ -238,13 +273,14 @@ class ScenarioEngine:
         advance the storyboard, and place the scripted actors for the next step."""
         self.now = world.time - self.t0
         self._world = world
-        self._rows = {str(i): k for k, i in enumerate(world.ids)}
+        self._map_rows(world)
         self._located = {}
         self._started, self._ended, self._ego_requests = [], [], []
         if self.finished:
             return self._report()
-        snap = self._snapshot(world, sim)
-        fired = self.bank.evaluate(snap, self._active(), self.tree.state, self.tree.transition)
+        active = self._active()
+        snap = self._snapshot(world, sim, active)
+        fired = self.bank.evaluate(snap, active, self.tree.state, self.tree.transition)
         self.tree.transition[:] = NO_TRANSITION
         if fired[0]:
             self.finished = True
@@ -347,10 +383,12 @@ class ScenarioEngine:
     # ------------------------------------------------------------------ motion
     def _advance(self) -> None:
         nxt = self.now + self.dt
-        moving = [a for n, a in self.actors.items() if self.storyboard_drives(n)]
-        advance_road_actors(self.roads.odr, [a for a in moving if not a.free], nxt, self.dt)
-        for a in moving:
-            if a.free and a.path is not None:
+        driven, free = self._driven(), self.table.free
+        rows = np.flatnonzero(driven & ~free)
+        advance_road_actors(self.roads.odr, self._actor_list, rows, nxt, self.dt)
+        for k in np.flatnonzero(driven & free).tolist():
+            a = self._actor_list[k]
+            if a.path is not None:
                 self.starter.follow_path(a, nxt)
 
     def _finish_actions(self, now: float) -> None:
@@ -360,39 +398,79 @@ class ScenarioEngine:
                 tree.end(ai, now)
                 self._ended.append(tree.elements[ai].name)
                 del self.instances[ai]
+        open_children = None
         for ix in self._kind_order.values():  # bottom-up: events first, stories last
             if not len(ix):
                 continue
-            open_children = tree.open_children()
+            if open_children is None:  # changes only when elements end
+                open_children = tree.open_children()
             done = ix[(st[ix] == RUNNING) & self._has_children[ix] & (open_children[ix] == 0)]
             for i in done.tolist():
                 tree.end(i, now)
+                open_children = None
 
     def _command(self, sim: Simulation) -> None:
-        ids, centres, heading, length, speed, edges, lanes = [], [], [], [], [], [], []
-        for name, a in self.actors.items():
-            if not a.inserted or not self.storyboard_drives(name):
-                continue
-            edge, lane = "", -1
-            if a.road and not a.free:
-                ln = self.roads.sumo_lane(a.road, a.lane, a.s)
-                if ln is not None:
-                    edge, lane = ln.edge, ln.index
-            ids.append(name)
-            centres.append(a.centre())
-            heading.append(a.h)
-            length.append(a.entity.length)
-            speed.append(math.hypot(a.v, a.v_lat))
-            edges.append(edge)
-            lanes.append(lane)
+        tb = self.table
+        rows = np.flatnonzero(tb.inserted & self._driven())
+        edges, lanes = self._sumo_lanes(rows)
+        if not np.array_equal(rows, self._moved[0]):
+            self._moved = (rows, [self.names[k] for k in rows.tolist()])
+        ref = np.stack([tb.x[rows], tb.y[rows]], 1)
+        h = tb.h[rows]
         sim.move_vehicles(
-            ids, np.array(centres).reshape(-1, 2), np.array(heading), np.array(length),
-            np.array(speed), edges, lanes,
+            self._moved[1], vehicle_to_world(self._centre_offset[rows], ref, h), h,
+            self._length[rows], np.hypot(tb.v[rows], tb.v_lat[rows]), edges, lanes,
         )  # fmt: skip
 
+    def _sumo_lanes(self, rows: np.ndarray) -> tuple[list[str], list[int]]:
+        """SUMO edge ('' = any) and lane index (-1) of each of ``rows`` (for moveToXY), looked
+        up again only for rows whose road, lane or lane section changed."""
+        tb = self.table
+        key = np.stack([tb.road_code, tb.lane, np.full(len(self.names), -1)], 1)
+        on_road = rows[~tb.free[rows] & (tb.road_code[rows] >= 0)]
+        for road, r in by_road(tb, on_road):
+            rd = self.roads.odr.road(road)
+            key[r, 2] = rd.section_index(tb.s[r]) if len(rd.sections) > 1 else 0
+        changed = rows[(key[rows] != self._lane_key[rows]).any(1)]
+        for k in changed.tolist():
+            ln = None
+            if key[k, 2] >= 0:
+                ln = self.roads.sumo_lane(tb.road[k], int(tb.lane[k]), float(tb.s[k]))
+            self._edge[k], self._lane_index[k] = (ln.edge, ln.index) if ln else ("", -1)
+            self._lane_key[k] = key[k]
+        rl = rows.tolist()
+        return [self._edge[k] for k in rl], [self._lane_index[k] for k in rl]
+
     # ------------------------------------------------------------------ snapshot
-    def _snapshot(self, world: WorldState, sim: Simulation) -> Snapshot:
-        rows = np.array([self._rows.get(n, -1) for n in self.names], dtype=np.intp)
+    def _road_coords(
+        self, need: np.ndarray, road_s: np.ndarray, road_t: np.ndarray, road_dir: np.ndarray
+    ) -> None:
+        """Road s of the box centre, t and driving direction of entities ``need`` (E,) into
+        the arrays: scripted actors' from their state, the others located on the map."""
+        tb = self.table
+        tb.refresh(self.roads.odr)
+        driven = self._driven()
+        own = need & driven & (tb.road_code >= 0)
+        road_dir[own] = tb.direction[own]
+        road_s[own] = tb.s[own] + road_dir[own] * self._cx[own]
+        road_t[own] = tb.t[own]
+        for k in np.flatnonzero(need & ~driven).tolist():
+            p = self.pose_of(self.names[k])
+            if p.road:
+                road_dir[k] = forward(self.roads.odr, p.road, p.lane)
+                road_s[k] = p.s + road_dir[k] * self._cx[k]
+                road_t[k] = p.t
+
+    def _map_rows(self, world: WorldState) -> None:
+        """Rows of the entities in ``world`` (-1: absent), rebuilt when its ids change."""
+        ids = world.ids.tolist()
+        if ids != self._ids:
+            self._ids = ids
+            self._rows = {str(i): k for k, i in enumerate(ids)}
+            self._entity_rows = np.array([self._rows.get(n, -1) for n in self.names], np.intp)
+
+    def _snapshot(self, world: WorldState, sim: Simulation, active: np.ndarray) -> Snapshot:
+        rows = self._entity_rows
         present = rows >= 0
         r = np.where(present, rows, 0)
         if len(world) == 0:
@@ -400,23 +478,12 @@ class ScenarioEngine:
             world = _padded(world)
         centre = world.xyz[r, :2].copy()
         h = world.heading[r]
-        c, s = np.cos(h), np.sin(h)
-        ref = centre - np.stack([self._cx * c - self._cy * s, self._cx * s + self._cy * c], 1)
+        ref = vehicle_to_world(-self._centre_offset, centre, h)
         road_s = np.full(len(rows), np.nan)
         road_t = np.full(len(rows), np.nan)
         road_dir = np.ones(len(rows))
         if self.bank.needs_road:
-            for k, name in enumerate(self.names):
-                if not present[k]:
-                    continue
-                a = self.actors[name]
-                p = a if self.storyboard_drives(name) else self.pose_of(name)
-                if p.road:
-                    road_dir[k] = (
-                        1.0 if self.roads.odr.roads[p.road].drives_forward(p.lane) else -1.0
-                    )
-                    road_s[k] = p.s + road_dir[k] * self._cx[k]
-                    road_t[k] = p.t
+            self._road_coords(present & self.bank.road_entities(active), road_s, road_t, road_dir)
         contacts: set[frozenset[int]] = set()
         contact_any = np.zeros(len(rows), dtype=bool)
         for col in sim.collisions:

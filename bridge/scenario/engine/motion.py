@@ -4,8 +4,11 @@ the storyboard's longitudinal and lateral transitions, or moved along a path.
 An actor on a road holds its reference point in road coordinates (road, lane, s, t) and its
 speed v along the lane; s advances by the distance travelled divided by (1 - curvature * t),
 so the speed is the speed along the actor's own curve. t is the lateral position from the
-reference line (left positive). World poses are computed in one batch per road from the
-OpenDRIVE geometry. Off-road motion (trajectories, routes) follows a polyline in the plane.
+reference line (left positive). The state of all actors lives in one ActorTable (arrays, a
+row per entity; an Actor's attributes are views of its row), so a step advances every actor on
+a road in one numpy pass and only the running transitions one by one; world poses are computed
+in one batch per road from the OpenDRIVE geometry. Off-road motion (trajectories, routes)
+follows a polyline in the plane.
 """
 
 from __future__ import annotations
@@ -121,31 +124,123 @@ class PathMotion:
         return x, y, h, speed, done
 
 
-@dataclass
-class Actor:
-    """A scripted actor's kinematic state (reference point, road coordinates or free pose)."""
+class ActorTable:
+    """Every actor's kinematic state as arrays, one row per entity (scenario order), so that a
+    step advances, places and commands all scripted actors in a few numpy passes. Road ids are
+    kept as a list and as codes (index into ``road_ids``); ``direction`` (+1 / -1 along s) is
+    recomputed for rows whose road or lane changed (``stale``)."""
 
-    name: str
-    entity: Entity
-    road: str = ""
-    lane: int = 0
-    s: float = 0.0
-    t: float = 0.0
-    v: float = 0.0
-    accel: float = 0.0
-    v_lat: float = 0.0  # dt/dt, m/s (road t direction)
-    h_rel: float = 0.0  # heading relative to the lane's driving direction, rad
-    free: bool = False  # moving in the plane (path), not in road coordinates
-    x: float = 0.0
-    y: float = 0.0
-    z: float = 0.0
-    h: float = 0.0
-    long: SpeedTransition | None = None
-    lat: LateralTransition | None = None
-    path: PathMotion | None = None
-    long_travelled: float = 0.0
-    lat_travelled: float = 0.0
-    inserted: bool = False
+    FLOATS = ("s", "t", "v", "accel", "v_lat", "h_rel", "x", "y", "z", "h",
+              "long_travelled", "lat_travelled")  # fmt: skip
+
+    def __init__(self, n: int) -> None:
+        for name in self.FLOATS:
+            setattr(self, name, np.zeros(n))
+        self.lane = np.zeros(n, dtype=np.int64)
+        self.free = np.zeros(n, dtype=bool)
+        self.inserted = np.zeros(n, dtype=bool)
+        self.has_long = np.zeros(n, dtype=bool)
+        self.has_lat = np.zeros(n, dtype=bool)
+        self.road: list[str] = [""] * n
+        self.road_ids: list[str] = []
+        self.road_code = np.full(n, -1, dtype=np.intp)
+        self.direction = np.ones(n)
+        self.stale = np.zeros(n, dtype=bool)
+
+    def set_road(self, k: int, road: str) -> None:
+        """Row ``k`` is on ``road`` ('' for none)."""
+        self.road[k] = road
+        if road and road not in self.road_ids:
+            self.road_ids.append(road)
+        self.road_code[k] = self.road_ids.index(road) if road else -1
+        self.stale[k] = True
+
+    def refresh(self, odr: OpenDriveMap) -> None:
+        """Driving directions of rows whose road or lane changed."""
+        if not self.stale.any():
+            return
+        for k in np.flatnonzero(self.stale).tolist():
+            road = self.road[k]
+            self.direction[k] = forward(odr, road, int(self.lane[k])) if road else 1.0
+        self.stale[:] = False
+
+
+class _Column:
+    """An Actor attribute stored in its row of the ActorTable column of the same name."""
+
+    def __init__(self, cast: type, marks_stale: bool = False) -> None:
+        self.cast, self.marks_stale = cast, marks_stale
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    def __get__(self, obj: Actor | None, owner: type | None = None) -> object:
+        if obj is None:
+            return self
+        return self.cast(getattr(obj.table, self.name)[obj.k])
+
+    def __set__(self, obj: Actor, value: object) -> None:
+        getattr(obj.table, self.name)[obj.k] = value
+        if self.marks_stale:
+            obj.table.stale[obj.k] = True
+
+
+class Actor:
+    """A scripted actor: its kinematic state (reference point in road coordinates (road, lane,
+    s, t) or as a free pose x, y, z, h; speed v, acceleration, lateral speed v_lat (road t
+    direction), heading relative to the lane h_rel) lives in row ``k`` of the ActorTable; its
+    running transitions and path are attributes."""
+
+    s = _Column(float)
+    t = _Column(float)
+    v = _Column(float)
+    accel = _Column(float)
+    v_lat = _Column(float)
+    h_rel = _Column(float)
+    x = _Column(float)
+    y = _Column(float)
+    z = _Column(float)
+    h = _Column(float)
+    long_travelled = _Column(float)
+    lat_travelled = _Column(float)
+    lane = _Column(int, marks_stale=True)
+    free = _Column(bool)
+    inserted = _Column(bool)
+
+    def __init__(self, name: str, entity: Entity, table: ActorTable, k: int) -> None:
+        self.name, self.entity, self.table, self.k = name, entity, table, k
+        self._long: SpeedTransition | None = None
+        self._lat: LateralTransition | None = None
+        self.path: PathMotion | None = None
+
+    @property
+    def road(self) -> str:
+        """OpenDRIVE road id ('' when off every road)."""
+        return self.table.road[self.k]
+
+    @road.setter
+    def road(self, value: str) -> None:
+        self.table.set_road(self.k, value)
+
+    @property
+    def long(self) -> SpeedTransition | None:
+        """The running longitudinal transition."""
+        return self._long
+
+    @long.setter
+    def long(self, value: SpeedTransition | None) -> None:
+        self._long = value
+        self.table.has_long[self.k] = value is not None
+
+    @property
+    def lat(self) -> LateralTransition | None:
+        """The running lateral transition."""
+        return self._lat
+
+    @lat.setter
+    def lat(self, value: LateralTransition | None) -> None:
+        self._lat = value
+        self.table.has_lat[self.k] = value is not None
 
     def centre(self) -> tuple[float, float]:
         """Bounding-box centre in network x, y (m)."""
@@ -169,56 +264,64 @@ def curvature(odr: OpenDriveMap, road: str, s: np.ndarray) -> np.ndarray:
     return np.where(hi > lo, (h_hi - h_lo) / np.maximum(hi - lo, 1e-9), 0.0)
 
 
-def advance_road_actors(odr: OpenDriveMap, actors: list[Actor], now: float, dt: float) -> None:
-    """Advance actors in road coordinates by one step to scenario time ``now``; their world
-    poses are computed in one batch per road."""
-    by_road: dict[str, list[Actor]] = {}
-    for a in actors:
-        by_road.setdefault(a.road, []).append(a)
-    for road, group in by_road.items():
-        n = len(group)
-        s = np.fromiter((a.s for a in group), float, n)
-        t = np.fromiter((a.t for a in group), float, n)
-        v_old = np.fromiter((a.v for a in group), float, n)
+def by_road(table: ActorTable, rows: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """``rows`` grouped by their road: (road id, rows on it)."""
+    codes = table.road_code[rows]
+    first = codes[0] if len(codes) else -1
+    if len(codes) and (codes == first).all():
+        return [(table.road_ids[first], rows)] if first >= 0 else []
+    return [(table.road_ids[c], rows[codes == c]) for c in np.unique(codes).tolist() if c >= 0]
+
+
+def advance_road_actors(
+    odr: OpenDriveMap, actors: list[Actor], rows: np.ndarray, now: float, dt: float
+) -> None:
+    """Advance the road actors in table ``rows`` (indices into ``actors``, which share one
+    table) by one step to scenario time ``now``: all rows of a road in one numpy pass, the
+    running transitions one by one."""
+    if not len(rows):
+        return
+    table = actors[0].table
+    table.refresh(odr)
+    for road, r in by_road(table, rows):
+        s, t, v_old = table.s[r], table.t[r], table.v[r]
         v_new = v_old.copy()
-        for k, a in enumerate(group):
-            if a.long is not None:
-                v_new[k], done = a.long.speed(now, a.long_travelled + v_old[k] * dt)
-                if done:
-                    a.long = None
-        direction = np.fromiter((forward(odr, road, a.lane) for a in group), float, n)
+        for j in np.flatnonzero(table.has_long[r]).tolist():
+            a = actors[r[j]]
+            v_new[j], done = a.long.speed(now, a.long_travelled + v_old[j] * dt)
+            if done:
+                a.long = None
         ds_path = 0.5 * (v_old + v_new) * dt
-        s_new = s + direction * ds_path / np.maximum(1e-3, 1.0 - curvature(odr, road, s) * t)
-        accel = (v_new - v_old) / dt
-        for k, a in enumerate(group):
-            a.s, a.v, a.accel = float(s_new[k]), float(v_new[k]), float(accel[k])
-            a.long_travelled += float(ds_path[k])
-            a.lat_travelled += float(ds_path[k])
-            if a.lat is not None:
-                t_new, done = a.lat.lateral(now, a.lat_travelled, a.s)
-                a.v_lat = (t_new - a.t) / dt
-                a.t = t_new
-                if done:
-                    a.lane, a.lat = a.lat.lane, None
-            else:
-                a.v_lat = 0.0
-        place_on_road(odr, road, group)
+        kappa = curvature(odr, road, s)
+        table.s[r] = s + table.direction[r] * ds_path / np.maximum(1e-3, 1.0 - kappa * t)
+        table.v[r] = v_new
+        table.accel[r] = (v_new - v_old) / dt
+        table.long_travelled[r] += ds_path
+        table.lat_travelled[r] += ds_path
+        table.v_lat[r] = 0.0
+        for k in r[table.has_lat[r]].tolist():
+            a = actors[k]
+            t_new, done = a.lat.lateral(now, a.lat_travelled, a.s)
+            a.v_lat = (t_new - a.t) / dt
+            a.t = t_new
+            if done:
+                a.lane, a.lat = a.lat.lane, None
+        place_on_road(odr, road, table, r)
 
 
-def place_on_road(odr: OpenDriveMap, road: str, group: list[Actor]) -> None:
-    """World pose (x, y, z, heading) of actors from their road coordinates."""
-    n = len(group)
-    s = np.fromiter((a.s for a in group), float, n)
-    t = np.fromiter((a.t for a in group), float, n)
-    x, y, z, h_ref = odr.road_pose(road, s, t)
-    direction = np.fromiter((forward(odr, road, a.lane) for a in group), float, n)
-    v = np.fromiter((a.v for a in group), float, n)
-    v_lat = np.fromiter((a.v_lat for a in group), float, n)
-    h_rel = np.fromiter((a.h_rel for a in group), float, n)
-    slip = np.where(np.abs(v) > 1e-6, np.arctan2(direction * v_lat, v), 0.0)
-    h = h_ref + np.where(direction > 0, 0.0, np.pi) + slip + h_rel
-    h = np.remainder(h + np.pi, 2 * np.pi) - np.pi
-    for a, xk, yk, zk, hk in zip(
-        group, x.tolist(), y.tolist(), z.tolist(), h.tolist(), strict=True
-    ):
-        a.x, a.y, a.z, a.h = xk, yk, zk, hk
+def place_on_road(odr: OpenDriveMap, road: str, table: ActorTable, rows: np.ndarray) -> None:
+    """World pose (x, y, z, heading) of table ``rows`` on ``road`` from their road
+    coordinates."""
+    table.refresh(odr)
+    x, y, z, h_ref = odr.road_pose(road, table.s[rows], table.t[rows])
+    direction = table.direction[rows]
+    v = table.v[rows]
+    slip = np.where(np.abs(v) > 1e-6, np.arctan2(direction * table.v_lat[rows], v), 0.0)
+    h = h_ref + np.where(direction > 0, 0.0, np.pi) + slip + table.h_rel[rows]
+    table.x[rows], table.y[rows], table.z[rows] = x, y, z
+    table.h[rows] = np.remainder(h + np.pi, 2 * np.pi) - np.pi
+
+
+def place_actor(odr: OpenDriveMap, a: Actor) -> None:
+    """World pose of one road actor from its road coordinates."""
+    place_on_road(odr, a.road, a.table, np.array([a.k]))
