@@ -3,11 +3,19 @@
 Glue between WorldState rows and the metrics in hiyari.risk.metrics.contact: it keeps each
 vehicle's route path (registered by the caller, who knows the routes) and turns the current
 state into predicted vehicle poses and pedestrian velocities.
+
+Every step's work is batched over all vehicles and pedestrians in the view (a fixed number of
+numpy calls per step, whatever the number of pairs): the vehicles' paths are sampled from one
+table of their segments (per-segment values computed once per route), and the pedestrians'
+predicted tracks and whether each track point is on the carriageway are computed once per
+step and shared by the metrics and the controller. The values are exactly those of sampling
+each vehicle's hiyari.risk.metrics.contact.Path on its own (the same float operations on the
+same operands), so batching changes no result.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -20,12 +28,101 @@ from hiyari.risk.metrics.contact import (
     contact_gap,
     crossing_conflict,
     first_contact_time,
+    pedestrian_tracks,
     pedestrian_velocity,
-    safety_cushion_time,
     unprotected,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
 from hiyari.traffic.world_state import WorldState
+
+
+@dataclass(frozen=True)
+class Segments:
+    """A path's segments with the values Path.project and Path.at derive from them: start
+    (S, 2) m, vector (S, 2) m, squared length (S,) m^2 (>= 1e-12), arc length at the start
+    (S,) m, unit direction (S, 2) and heading (S,) rad; ``cum`` (S + 1,) the path's arc
+    lengths."""
+
+    start: np.ndarray
+    vector: np.ndarray
+    length2: np.ndarray
+    cum_start: np.ndarray
+    unit: np.ndarray
+    heading: np.ndarray
+    cum: np.ndarray
+
+    @staticmethod
+    def of(path: Path) -> Segments:
+        """The segments of ``path``."""
+        start = path.points[:-1]
+        vector = path.points[1:] - start
+        length2 = np.maximum(np.einsum("ij,ij->i", vector, vector), 1e-12)
+        unit = vector / np.maximum(path.cum[1:] - path.cum[:-1], 1e-12)[:, None]
+        heading = np.arctan2(unit[:, 1], unit[:, 0])
+        return Segments(start, vector, length2, path.cum[:-1], unit, heading, path.cum)
+
+
+@dataclass(frozen=True)
+class PathTable:
+    """The segments of V vehicles' paths in one table; vehicle v owns rows ``first[v]`` ..
+    ``first[v] + count[v] - 1``."""
+
+    seg: Segments  # concatenated over the vehicles (``cum`` unused)
+    owner: np.ndarray  # (S,) vehicle index of each row
+    first: np.ndarray  # (V,)
+    count: np.ndarray  # (V,)
+    cum: np.ndarray  # (V, M) each path's arc lengths, padded with +inf
+
+    @staticmethod
+    def of(parts: list[Segments]) -> PathTable:
+        """The table of ``parts`` (one per vehicle)."""
+        count = np.array([len(p.start) for p in parts], int)
+        first = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(int)
+        cum = np.full((len(parts), int(count.max(initial=0)) + 1), np.inf)
+        for v, p in enumerate(parts):
+            cum[v, : len(p.cum)] = p.cum
+
+        def cat(name: str) -> np.ndarray:
+            return np.concatenate([getattr(p, name) for p in parts])
+
+        if not parts:
+            empty = np.zeros((0, 2))
+            seg = Segments(empty, empty, np.zeros(0), np.zeros(0), empty, np.zeros(0), np.zeros(0))
+        else:
+            seg = Segments(
+                cat("start"),
+                cat("vector"),
+                cat("length2"),
+                cat("cum_start"),
+                cat("unit"),
+                cat("heading"),
+                np.zeros(0),
+            )
+        return PathTable(seg, np.repeat(np.arange(len(parts)), count), first, count, cum)
+
+    def project(self, xy: np.ndarray) -> np.ndarray:
+        """(V,) arc length (m) of the point of each vehicle's path nearest to ``xy`` (V, 2);
+        Path.project of each."""
+        s, own = self.seg, self.owner
+        p = xy[own]
+        f = np.clip(np.einsum("ij,ij->i", p - s.start, s.vector) / s.length2, 0.0, 1.0)
+        d = np.linalg.norm(s.start + f[:, None] * s.vector - p, axis=1)
+        # the first segment of each vehicle's at its least distance, as argmin picks it
+        low = np.minimum.reduceat(d, self.first) if len(d) else d
+        hit = np.flatnonzero(d == low[own])
+        k = hit[np.searchsorted(own[hit], np.arange(len(self.first)))]
+        return s.cum_start[k] + f[k] * np.sqrt(s.length2[k])
+
+    def at(self, vehicles: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(xy (..., 2), heading (...)) at arc lengths ``s`` (n, ...) m along the paths of
+        ``vehicles`` (n,) (indices into this table); Path.at of each."""
+        cum = self.cum[vehicles].reshape(len(vehicles), *([1] * (s.ndim - 1)), -1)
+        k = (s[..., None] >= cum).sum(axis=-1) - 1  # searchsorted(cum, s, side="right") - 1
+        last = (self.count[vehicles] - 1).reshape(cum.shape[:-1])
+        k = np.clip(k, 0, last) + self.first[vehicles].reshape(cum.shape[:-1])
+        seg = self.seg
+        xy = seg.start[k] + seg.unit[k] * (s - seg.cum_start[k])[..., None]
+        return xy, seg.heading[k]
 
 
 class SCTModel:
@@ -37,6 +134,7 @@ class SCTModel:
         self.times = config.times
         self._paths: dict[str, Path] = {}
         self._route_paths: dict[tuple[str, ...], Path] = {}
+        self._segments: dict[int, Segments] = {}  # id(route path) -> its segments
 
     def set_route(self, vehicle: str, edges: tuple[str, ...]) -> None:
         """Register the route (edge ids) ``vehicle`` follows; its path is built from the net."""
@@ -45,6 +143,7 @@ class SCTModel:
             path = self._route_paths.get(route)
             if path is None:
                 path = self._route_paths[route] = Path.of(self.geometry.path(route))
+                self._segments[id(path)] = Segments.of(path)
             self._paths[vehicle] = path
 
     def has_route(self, vehicle: str) -> bool:
@@ -62,6 +161,10 @@ class SCTModel:
             path = Path.straight(state.xyz[row, :2], float(state.heading[row]))
         return path
 
+    def _segments_of(self, path: Path) -> Segments:
+        seg = self._segments.get(id(path))
+        return seg if seg is not None else Segments.of(path)  # a straight path: this step only
+
     def prepare(
         self,
         state: WorldState,
@@ -69,7 +172,8 @@ class SCTModel:
         predict_pedestrians: bool = True,
     ) -> StepView:
         """Everything per actor that several metrics of this step share (pedestrian velocity
-        predictions only when ``predict_pedestrians``: SCT and the controller need them)."""
+        predictions and tracks only when ``predict_pedestrians``: SCT and the controller need
+        them)."""
         ped = np.flatnonzero(state.is_pedestrian)
         lanes = state.lane[ped].tolist()
         if self.geometry is None:
@@ -92,34 +196,59 @@ class SCTModel:
                 self.config,
                 open_crossings,
             )
+            tracks = pedestrian_tracks(
+                state.xyz[ped, :2], vel, self.config.speed_factors, self.times
+            )
         else:
             vel, dart = np.full((len(ped), 2), np.nan), np.zeros(len(ped), bool)
+            tracks = None
         veh = np.flatnonzero(state.is_vehicle)
         paths = [self.path_of(state, int(r)) for r in veh]
-        s0 = np.array([p.project(state.xyz[r, :2]) for p, r in zip(paths, veh, strict=True)])
+        table = PathTable.of([self._segments_of(p) for p in paths])
+        s0 = table.project(state.xyz[veh, :2])
         ped_slot = np.full(len(state), -1)
         ped_slot[ped] = np.arange(len(ped))
         veh_slot = np.full(len(state), -1)
         veh_slot[veh] = np.arange(len(veh))
-        return StepView(state, veh, paths, s0, veh_slot, ped, vel, dart, crossing, ped_slot)
+        return StepView(
+            state, veh, paths, s0, veh_slot, ped, vel, dart, crossing, ped_slot, table, tracks
+        )
 
     def vehicle_poses(
-        self, view: StepView, row: int, travel: np.ndarray | None = None
+        self, view: StepView, rows: np.ndarray, travel: np.ndarray | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Predicted rectangle centres (..., K, 2) and headings (..., K) of vehicle ``row``.
+        """Predicted rectangle centres (n, ..., K, 2) and headings (n, ..., K) of vehicle rows
+        ``rows`` (n,) of ``view.state``.
 
-        ``travel`` (..., K): arc length travelled (m) at each sample time; None: the current
-        speed held.
+        ``travel`` (n, ..., K): arc length travelled (m) at each sample time; None: the
+        current speeds held.
         """
-        k = view.veh_slot[row]
+        slots = view.veh_slot[rows]
         if travel is None:
-            travel = view.state.speed[row] * self.times
-        return view.paths[k].at(view.s0[k] + travel)
+            travel = view.state.speed[rows][:, None] * self.times
+        s0 = view.s0[slots].reshape(len(rows), *([1] * (travel.ndim - 1)))
+        return view.table.at(slots, s0 + travel)
 
     @property
     def carriageway(self) -> shapely.Geometry | None:
         """Where pedestrians are exposed (NetGeometry.carriageway), or None: everywhere."""
         return self.geometry.carriageway if self.geometry is not None else None
+
+    def exposed(self, view: StepView, slots: np.ndarray) -> np.ndarray:
+        """(n, H, K) bool: the predicted track points of pedestrian slots ``slots`` (n,) that
+        lie on the carriageway (all True without one). Computed once per pedestrian and step."""
+        road = self.carriageway
+        if road is None or road.is_empty:
+            return np.ones((len(slots), *view.tracks.shape[1:3]), bool)
+        if view.exposed_cache is None:
+            view.exposed_cache = np.zeros(view.tracks.shape[:3], bool)
+            view.exposed_done = np.zeros(len(view.tracks), bool)
+        todo = np.unique(slots[~view.exposed_done[slots]])
+        if len(todo):
+            pts = view.tracks[todo]
+            view.exposed_cache[todo] = shapely.contains_xy(road, pts[..., 0], pts[..., 1])
+            view.exposed_done[todo] = True
+        return view.exposed_cache[slots]
 
     def pair_metrics(
         self,
@@ -134,34 +263,41 @@ class SCTModel:
 
         TTC: pedestrians at constant velocity, shapes ``ttc_contact`` (default: the vehicle
         rectangle as is, a 0.3 m disc). SCT: this model's config
-        (margin, dart-out and speed hypotheses). Pedestrians off the carriageway are protected
-        in both. The gap is the TTC shapes' distance now (<= 0: touching).
-        ``with_sct`` False: SCT is not computed (inf).
+        (margin, dart-out and speed hypotheses), i.e.
+        hiyari.risk.metrics.contact.safety_cushion_time on the step's shared pedestrian
+        tracks. Pedestrians off the carriageway are protected in both. The gap is the TTC
+        shapes' distance now (<= 0: touching). ``with_sct`` False: SCT is not computed (inf).
         """
         if len(vi) == 0:
             return np.zeros(0), np.zeros(0), np.zeros(0)
         ttc_contact = ttc_contact or ContactGeometry()
         state = view.state
         vrows, vinv = np.unique(vi, return_inverse=True)
-        poses = [self.vehicle_poses(view, int(r)) for r in vrows]
-        vxy = np.stack([p[0] for p in poses])[vinv]
-        vh = np.stack([p[1] for p in poses])[vinv]
-        slot = view.ped_slot[pj]
+        vxy, vh = self.vehicle_poses(view, vrows)
+        vxy, vh = vxy[vinv], vh[vinv]
         length, width = state.length[vi], state.width[vi]
-        ped_xy = state.xyz[pj, :2]
         t = self.times
-        speed = state.speed[pj, None]
-        heading = state.heading[pj]
-        cv = heading_vector(heading) * speed
-        ped_cv = ped_xy[:, None, :] + cv[:, None, :] * t[None, :, None]
-        gap = contact_gap(vxy, vh, length[:, None], width[:, None], ped_cv, ttc_contact)
-        gap = unprotected(gap, ped_cv, self.carriageway)
+        # constant-velocity tracks, once per pedestrian
+        prows, pinv = np.unique(pj, return_inverse=True)
+        cv = heading_vector(state.heading[prows]) * state.speed[prows, None]
+        ped_cv = state.xyz[prows, None, :2] + cv[:, None, :] * t[None, :, None]
+        protected = unprotected(np.zeros(ped_cv.shape[:2]), ped_cv, self.carriageway) > 0
+        gap = contact_gap(vxy, vh, length[:, None], width[:, None], ped_cv[pinv], ttc_contact)
+        gap = np.where(protected[pinv], np.inf, gap)
         ttc = first_contact_time(gap, t)
         if not with_sct:
             return ttc, np.full(len(vi), np.inf), gap[:, 0]
-        sct = safety_cushion_time(
-            vxy, vh, length, width, ped_xy, view.ped_velocity[slot], self.config, self.carriageway
+        slot = view.ped_slot[pj]
+        gap_sct = contact_gap(
+            vxy[:, None],
+            vh[:, None],
+            length[:, None, None],
+            width[:, None, None],
+            view.tracks[slot],
+            self.config.contact,
         )
+        gap_sct = np.where(self.exposed(view, slot), gap_sct, np.inf)
+        sct = first_contact_time(gap_sct, t).min(axis=-1)
         return ttc, sct, gap[:, 0]
 
     def crossing_occupancy(
@@ -199,9 +335,10 @@ class SCTModel:
 
 @dataclass
 class StepView:
-    """Per-step shared values: vehicle rows with their paths and arc lengths (m), pedestrian
-    rows with predicted velocities (m/s), dart-out flags and crossing index (-1: not on a
-    crossing); ``*_slot`` map a state row to its index in these lists."""
+    """Per-step shared values: vehicle rows with their paths, path table and arc lengths (m),
+    pedestrian rows with predicted velocities (m/s), dart-out flags, crossing index (-1: not
+    on a crossing) and predicted tracks (P, H, K, 2) m (None when not predicted); ``*_slot``
+    map a state row to its index in these lists."""
 
     state: WorldState
     veh_rows: np.ndarray
@@ -213,3 +350,7 @@ class StepView:
     dart_out: np.ndarray
     crossing: np.ndarray
     ped_slot: np.ndarray
+    table: PathTable
+    tracks: np.ndarray | None
+    exposed_cache: np.ndarray | None = field(default=None, repr=False)
+    exposed_done: np.ndarray | None = field(default=None, repr=False)
