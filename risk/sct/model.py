@@ -30,10 +30,12 @@ from hiyari.risk.metrics.contact import (
     first_contact_time,
     pedestrian_tracks,
     pedestrian_velocity,
-    unprotected,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
+from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
+
+_PEDESTRIAN = np.int8(ActorClass.PEDESTRIAN)  # compared as a numpy scalar: no enum lookup
 
 
 @dataclass(frozen=True)
@@ -116,10 +118,12 @@ class PathTable:
     def at(self, vehicles: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(xy (..., 2), heading (...)) at arc lengths ``s`` (n, ...) m along the paths of
         ``vehicles`` (n,) (indices into this table); Path.at of each."""
-        cum = self.cum[vehicles].reshape(len(vehicles), *([1] * (s.ndim - 1)), -1)
-        k = (s[..., None] >= cum).sum(axis=-1) - 1  # searchsorted(cum, s, side="right") - 1
-        last = (self.count[vehicles] - 1).reshape(cum.shape[:-1])
-        k = np.clip(k, 0, last) + self.first[vehicles].reshape(cum.shape[:-1])
+        shape = (len(vehicles), *([1] * (s.ndim - 1)))
+        cum = self.cum[vehicles].reshape(*shape, -1)
+        # searchsorted(cum, s, side="right") - 1, kept on the path's segments
+        k = np.maximum((s[..., None] >= cum).sum(axis=-1) - 1, 0)
+        k = np.minimum(k, (self.count[vehicles] - 1).reshape(shape))
+        k += self.first[vehicles].reshape(shape)
         seg = self.seg
         xy = seg.start[k] + seg.unit[k] * (s - seg.cum_start[k])[..., None]
         return xy, seg.heading[k]
@@ -135,6 +139,8 @@ class SCTModel:
         self._paths: dict[str, Path] = {}
         self._route_paths: dict[tuple[str, ...], Path] = {}
         self._segments: dict[int, Segments] = {}  # id(route path) -> its segments
+        self._table: tuple[tuple[int, ...], PathTable] | None = None  # the last step's
+        self._crossing_index = geometry.crossings.index() if geometry is not None else {}
 
     def set_route(self, vehicle: str, edges: tuple[str, ...]) -> None:
         """Register the route (edge ids) ``vehicle`` follows; its path is built from the net."""
@@ -161,9 +167,18 @@ class SCTModel:
             path = Path.straight(state.xyz[row, :2], float(state.heading[row]))
         return path
 
-    def _segments_of(self, path: Path) -> Segments:
-        seg = self._segments.get(id(path))
-        return seg if seg is not None else Segments.of(path)  # a straight path: this step only
+    def _path_table(self, paths: list[Path]) -> PathTable:
+        """The table of ``paths``; the last step's when its vehicles follow the same routes."""
+        key = tuple(id(p) for p in paths)
+        if self._table is not None and self._table[0] == key:
+            return self._table[1]
+        parts = [self._segments.get(id(p)) for p in paths]
+        table = PathTable.of(
+            [s if s is not None else Segments.of(p) for s, p in zip(parts, paths, strict=True)]
+        )
+        if all(s is not None for s in parts):  # route paths live as long as the model
+            self._table = (key, table)
+        return table
 
     def prepare(
         self,
@@ -174,7 +189,8 @@ class SCTModel:
         """Everything per actor that several metrics of this step share (pedestrian velocity
         predictions and tracks only when ``predict_pedestrians``: SCT and the controller need
         them)."""
-        ped = np.flatnonzero(state.is_pedestrian)
+        is_ped = state.cls == _PEDESTRIAN
+        ped = np.flatnonzero(is_ped)
         lanes = state.lane[ped].tolist()
         if self.geometry is None:
             on_kerb = np.zeros(len(ped), bool)
@@ -184,7 +200,7 @@ class SCTModel:
             g = self.geometry
             on_kerb = np.array([ln in g.footway_lanes for ln in lanes], bool)
             kerbs = g.kerbs
-            index = g.crossings.index()
+            index = self._crossing_index
             crossing = np.array([index.get(ln, -1) for ln in lanes], int)
         if predict_pedestrians:
             vel, dart = pedestrian_velocity(
@@ -202,9 +218,9 @@ class SCTModel:
         else:
             vel, dart = np.full((len(ped), 2), np.nan), np.zeros(len(ped), bool)
             tracks = None
-        veh = np.flatnonzero(state.is_vehicle)
-        paths = [self.path_of(state, int(r)) for r in veh]
-        table = PathTable.of([self._segments_of(p) for p in paths])
+        veh = np.flatnonzero(~is_ped)
+        paths = [self.path_of(state, r) for r in veh.tolist()]
+        table = self._path_table(paths)
         s0 = table.project(state.xyz[veh, :2])
         ped_slot = np.full(len(state), -1)
         ped_slot[ped] = np.arange(len(ped))
@@ -243,12 +259,52 @@ class SCTModel:
         if view.exposed_cache is None:
             view.exposed_cache = np.zeros(view.tracks.shape[:3], bool)
             view.exposed_done = np.zeros(len(view.tracks), bool)
-        todo = np.unique(slots[~view.exposed_done[slots]])
+        need = np.zeros(len(view.tracks), bool)
+        need[slots] = True
+        todo = np.flatnonzero(need & ~view.exposed_done)
         if len(todo):
-            pts = view.tracks[todo]
-            view.exposed_cache[todo] = shapely.contains_xy(road, pts[..., 0], pts[..., 1])
+            view.exposed_cache[todo] = self._on_road(view.tracks[todo], view.ped_velocity[todo])
             view.exposed_done[todo] = True
         return view.exposed_cache[slots]
+
+    def _on_road(self, tracks: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+        """(n, H, K) bool: track points (n, H, K, 2) inside the carriageway. A track starts at
+        the pedestrian (t = 0) and stays there under a zero speed hypothesis or a zero
+        predicted velocity (``velocity`` (n, 2)): those points are tested once."""
+        road = self.carriageway
+        start = tracks[:, 0, 0]
+        out = np.empty(tracks.shape[:3], bool)
+        out[:] = shapely.contains_xy(road, start[:, 0], start[:, 1])[:, None, None]
+        rows = np.flatnonzero(velocity.any(axis=1))
+        hyp = np.flatnonzero(np.asarray(self.config.speed_factors) != 0)
+        if len(rows) and len(hyp):
+            pts = tracks[rows[:, None], hyp[None, :], 1:]
+            out[rows[:, None], hyp[None, :], 1:] = shapely.contains_xy(
+                road, pts[..., 0], pts[..., 1]
+            )
+        return out
+
+    def _cv_protected(self, view: StepView, prows: np.ndarray, ped_cv: np.ndarray) -> np.ndarray:
+        """(n, K) bool: constant-velocity track points ``ped_cv`` (n, K, 2) of pedestrian rows
+        ``prows`` off the carriageway. A pedestrian without a dart-out prediction walks on at
+        its own velocity, so its track is the speed-factor 1 hypothesis: read from
+        ``exposed``."""
+        road = self.carriageway
+        if road is None or road.is_empty:
+            return np.zeros(ped_cv.shape[:2], bool)
+        factors = list(self.config.speed_factors)
+        slots = view.ped_slot[prows]
+        if view.tracks is None or 1.0 not in factors:
+            reuse = np.zeros(len(prows), bool)
+        else:
+            reuse = ~view.dart_out[slots]
+        out = np.empty(ped_cv.shape[:2], bool)
+        if reuse.any():
+            out[reuse] = ~self.exposed(view, slots[reuse])[:, factors.index(1.0)]
+        if not reuse.all():
+            pts = ped_cv[~reuse]
+            out[~reuse] = ~shapely.contains_xy(road, pts[..., 0], pts[..., 1])
+        return out
 
     def pair_metrics(
         self,
@@ -281,7 +337,7 @@ class SCTModel:
         prows, pinv = np.unique(pj, return_inverse=True)
         cv = heading_vector(state.heading[prows]) * state.speed[prows, None]
         ped_cv = state.xyz[prows, None, :2] + cv[:, None, :] * t[None, :, None]
-        protected = unprotected(np.zeros(ped_cv.shape[:2]), ped_cv, self.carriageway) > 0
+        protected = self._cv_protected(view, prows, ped_cv)
         gap = contact_gap(vxy, vh, length[:, None], width[:, None], ped_cv[pinv], ttc_contact)
         gap = np.where(protected[pinv], np.inf, gap)
         ttc = first_contact_time(gap, t)
