@@ -564,20 +564,3 @@ def run_bare(task: ArmTask, read_state: bool = False) -> float:
         else:
             sim.run_bare(cfg.run_seconds)
         return time.perf_counter() - t0
-
-
-def _bare_state(task: ArmTask) -> float:
-    return run_bare(task, read_state=True)
-
-
-def _bare_only(task: ArmTask) -> float:
-    return run_bare(task, read_state=False)
-
-
-def run_bare_tasks(tasks: list[ArmTask], read_state: bool, jobs: int | None = None) -> list[float]:
-    """run_bare for every task, ``jobs`` processes in parallel; wall times in task order."""
-    pool = PoolOptions(workers=jobs or os.cpu_count() or 1)
-    walls = [0.0] * len(tasks)
-    for i, wall in run_all(_bare_state if read_state else _bare_only, tasks, pool):
-        walls[i] = wall
-    return walls
