@@ -241,13 +241,26 @@ class SCTController:
         a crossing."""
         areas = self.model.geometry.crossings if self.model.geometry is not None else None
         stopped = v_end <= 0.0
+        blocks = np.zeros(stopped.size, bool)
         if areas is None or len(areas) == 0 or not stopped.any():
-            return np.zeros(stopped.shape, bool)
-        n, a = stopped.size, len(areas)
-        shape = (slice(None), None)
-        rect = footprint_corners(xy, heading, length[shape], width[shape]).reshape(n, 4, 2)
-        depth = overlap_depth(np.repeat(rect, a, 0), np.tile(areas.corners, (n, 1, 1)))
-        return stopped & (depth.reshape(stopped.shape + (a,)) > 0).any(axis=-1)
+            return blocks.reshape(stopped.shape)
+        c = np.flatnonzero(stopped)  # stopped candidates, flat over (W, C)
+        veh = c // stopped.shape[1]
+        xy = xy.reshape(-1, 2)[c]
+        # only crossings within reach of the rectangle can overlap it (bounding circles, with
+        # a margin far above rounding: disjoint convex shapes have a separating edge axis)
+        reach = 0.5 * np.hypot(length, width)[veh, None] + np.hypot(
+            areas.half_length, areas.half_width
+        )
+        d = np.linalg.norm(xy[:, None, :] - areas.centre[None], axis=2)
+        k, a = np.nonzero(d <= reach + 1e-3)
+        if len(k):
+            rect = footprint_corners(
+                xy[k], heading.reshape(-1)[c[k]], length[veh[k]], width[veh[k]]
+            )
+            depth = overlap_depth(rect, areas.corners[a])
+            blocks[c[k[depth > 0]]] = True
+        return blocks.reshape(stopped.shape)
 
     def step(self, sim: Commands, view: StepView, present: set[str] | None = None) -> None:
         """Plan and command every in-scope vehicle of ``view``; vehicles controlled before but

@@ -328,13 +328,13 @@ class SCTModel:
             return np.zeros(0), np.zeros(0), np.zeros(0)
         ttc_contact = ttc_contact or ContactGeometry()
         state = view.state
-        vrows, vinv = np.unique(vi, return_inverse=True)
-        vxy, vh = self.vehicle_poses(view, vrows)
-        vxy, vh = vxy[vinv], vh[vinv]
+        # poses once per vehicle of the view, tracks once per pedestrian of the pairs
+        vxy, vh = self.vehicle_poses(view, view.veh_rows)
+        vslot = view.veh_slot[vi]
+        vxy, vh = vxy[vslot], vh[vslot]
         length, width = state.length[vi], state.width[vi]
         t = self.times
-        # constant-velocity tracks, once per pedestrian
-        prows, pinv = np.unique(pj, return_inverse=True)
+        prows, pinv = _distinct(pj, len(state))
         cv = heading_vector(state.heading[prows]) * state.speed[prows, None]
         ped_cv = state.xyz[prows, None, :2] + cv[:, None, :] * t[None, :, None]
         protected = self._cv_protected(view, prows, ped_cv)
@@ -387,6 +387,16 @@ class SCTModel:
             )
             has[sel], vin[sel], pin[sel] = h, v, p
         return has, vin, pin
+
+
+def _distinct(rows: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """np.unique(rows, return_inverse=True) for row indices below ``n``, without sorting."""
+    used = np.zeros(n, bool)
+    used[rows] = True
+    distinct = np.flatnonzero(used)
+    index = np.empty(n, int)
+    index[distinct] = np.arange(len(distinct))
+    return distinct, index[rows]
 
 
 @dataclass
