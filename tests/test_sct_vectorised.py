@@ -1,119 +1,34 @@
 """The batched SCT model and controller give exactly the per-vehicle results.
 
-The reference below is the per-vehicle planner and the per-pair metric as they were before
-they were batched (each vehicle's Path sampled on its own, contact.safety_cushion_time per
-pair); the batched code must reproduce them bit for bit on many random scenes around a real
-intersection, so the incident study's results do not depend on how steps are batched.
+The reference (tests/sct_reference.py) is the per-vehicle planner and the per-pair metrics as
+they were before they were batched; the batched code must reproduce them bit for bit, on many
+random scenes around a real intersection and in a short SCT arm of the incident study on real
+SUMO, so the study's results do not depend on how steps are batched.
 """
 
 from __future__ import annotations
 
+from concurrent.futures import ProcessPoolExecutor
+from multiprocessing import get_context
+from pathlib import Path
+
 import numpy as np
 import pytest
-import shapely
+from sct_reference import reference_decide, reference_pair_metrics
 
+from hiyari.bridge.campaign.sct_study import StudyConfig, build_inputs, run_arm
 from hiyari.net.sumo.build import IntersectionParams, build_intersection
-from hiyari.risk.metrics.contact import (
-    ContactGeometry,
-    contact_gap,
-    first_contact_time,
-    pedestrian_tracks,
-    safety_cushion_time,
-    unprotected,
-)
+from hiyari.risk.metrics.incidents import write_encounters_csv
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
-from hiyari.risk.sct.controller import SCTController, ramp_profiles, travel
-from hiyari.risk.sct.model import SCTModel, StepView
+from hiyari.risk.sct.controller import SCTController
+from hiyari.risk.sct.model import SCTModel
 from hiyari.traffic.actor_class import ActorClass
+from hiyari.traffic.commands import Commands
 from hiyari.traffic.world_state import WorldState
 
+pytestmark = pytest.mark.timeout(180)
+
 ARMS = ("n", "e", "s", "w")
-
-
-def reference_poses(view: StepView, row: int, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    k = view.veh_slot[row]
-    return view.paths[k].at(view.s0[k] + s)
-
-
-def reference_decide(
-    ctrl: SCTController, view: StepView, row: int, v_max: float, a_free: float, engaged: bool
-) -> float | None:
-    """The SCT driver's plan for one vehicle, as planned one vehicle at a time."""
-    cfg, model = ctrl.config, ctrl.model
-    state = view.state
-    times = model.times
-    dt = float(times[1] - times[0])
-    v0, a0 = float(state.speed[row]), float(state.accel[row])
-    v_max = max(v_max, v0)
-    _, s_free = travel(np.full((1, len(times)), a_free), v0, v_max, dt)
-    xy, hd = reference_poses(view, row, s_free)
-    now = state.xyz[view.ped_rows, :2]
-    d = now[:, None, :] - xy[0, ::5][None]
-    keep = np.einsum("pkj,pkj->pk", d, d).min(axis=1) <= cfg.act_distance**2
-    if not keep.any():
-        return None
-    slots = np.flatnonzero(keep)
-    ped = pedestrian_tracks(now[slots], view.ped_velocity[slots], model.config.speed_factors, times)
-    ped = ped.reshape(-1, len(times), 2)
-    road = model.carriageway
-    protected = ~shapely.contains_xy(road, ped[..., 0], ped[..., 1])
-    length, width = state.length[row], state.width[row]
-    contact = model.config.contact
-    gap = contact_gap(xy[:, None], hd[:, None], length, width, ped[None], contact)
-    gap = np.where(protected[None], np.inf, gap)
-    apart = gap[0, :, 0] > 0
-    if not apart.any():
-        return None
-    sct_free = first_contact_time(gap[:, apart], times).min()
-    if np.isinf(sct_free) or (sct_free >= cfg.sct_safe and not engaged):
-        return None
-    accel = ramp_profiles(a0, ctrl._targets, times, cfg.jerk_limit)
-    v, s = travel(accel, v0, v_max, dt, cfg.stop_speed)
-    xy, hd = reference_poses(view, row, s)
-    gap = contact_gap(xy[:, None], hd[:, None], length, width, ped[apart][None], contact)
-    gap = np.where(protected[apart][None], np.inf, gap)
-    sct = first_contact_time(gap, times).min(axis=1)
-    w = np.array([width])
-    blocks = ctrl._stops_on_crossing(
-        xy[None, :, -1], hd[None, :, -1], v[None, :, -1], np.array([length]), w
-    )[0]
-    if not blocks.all():
-        sct = np.where(blocks, -1.0, sct)
-    ordered = sct[ctrl._order]
-    clear = np.flatnonzero(np.isinf(ordered))
-    ok = clear if len(clear) else np.flatnonzero(ordered >= cfg.sct_safe)
-    if len(ok):
-        pick = ctrl._order[ok[0]]
-    else:
-        best = np.flatnonzero(sct == sct.max())
-        pick = best[np.argmin(ctrl._targets[best])]
-    return float(v[pick, 1])
-
-
-def reference_pair_metrics(model: SCTModel, view: StepView, vi: np.ndarray, pj: np.ndarray):
-    state = view.state
-    t = model.times
-    poses = [reference_poses(view, int(r), state.speed[r] * t) for r in vi]
-    vxy, vh = np.stack([p[0] for p in poses]), np.stack([p[1] for p in poses])
-    length, width = state.length[vi], state.width[vi]
-    cv = (
-        np.stack([np.cos(state.heading[pj]), np.sin(state.heading[pj])], -1) * state.speed[pj, None]
-    )
-    ped_cv = state.xyz[pj, None, :2] + cv[:, None, :] * t[None, :, None]
-    gap = contact_gap(vxy, vh, length[:, None], width[:, None], ped_cv, ContactGeometry())
-    gap = unprotected(gap, ped_cv, model.carriageway)
-    slot = view.ped_slot[pj]
-    sct = safety_cushion_time(
-        vxy,
-        vh,
-        length,
-        width,
-        state.xyz[pj, :2],
-        view.ped_velocity[slot],
-        model.config,
-        model.carriageway,
-    )
-    return first_contact_time(gap, t), sct, gap[:, 0]
 
 
 @pytest.fixture(scope="module")
@@ -176,13 +91,16 @@ def test_batched_controller_and_metrics_match_the_per_vehicle_reference(geometry
     model = SCTModel(geometry)
     ctrl = SCTController(model)
     commands = planned = finite_sct = pairs = 0
-    for _ in range(300):
+    for _ in range(200):
         state = random_scene(rng, geometry, model)
         view = model.prepare(state, rng.random(len(geometry.crossings)) > 0.3)
         rows = view.veh_rows
         v_max = rng.uniform(8, 14, len(rows))
         a_free = rng.uniform(1.5, 3.0, len(rows))
         engaged = rng.random(len(rows)) > 0.5
+        paths = [view.paths[view.veh_slot[r]] for r in rows]
+        s0 = [p.project(state.xyz[r, :2]) for p, r in zip(paths, rows, strict=True)]
+        assert view.s0.tolist() == s0
         got = ctrl.decide(view, rows, v_max, a_free, engaged)
         for k, r in enumerate(rows.tolist()):
             want = reference_decide(ctrl, view, r, v_max[k], a_free[k], bool(engaged[k]))
@@ -202,3 +120,51 @@ def test_batched_controller_and_metrics_match_the_per_vehicle_reference(geometry
         pairs += len(vi)
     # the scenes exercise the planner, not only its early exits
     assert commands > 0.2 * planned and finite_sct > 0.2 * pairs
+
+
+def short_sct_arm(folder: Path, reference: bool) -> tuple[bytes, list, int, np.ndarray]:
+    """Three simulated minutes of the study's SCT arm: encounters CSV, every speed command and
+    hand-back (time, vehicle, speed or None), the evaluated steps and the vehicles' travel
+    times; with ``reference``, planned and measured by the per-vehicle reference."""
+    commands: list[tuple[float, str, float | None]] = []
+    set_speed, release = Commands.set_speed, Commands.release_speed
+
+    def log_set(sim: Commands, vid: str, speed: float) -> None:
+        commands.append((sim.time, vid, speed))
+        set_speed(sim, vid, speed)
+
+    def log_release(sim: Commands, vid: str) -> None:
+        commands.append((sim.time, vid, None))
+        release(sim, vid)
+
+    def decide_each(ctrl, view, rows, v_max, a_free, engaged) -> np.ndarray:
+        plans = [
+            reference_decide(ctrl, view, int(r), float(v), float(a), bool(e))
+            for r, v, a, e in zip(rows, v_max, a_free, engaged, strict=True)
+        ]
+        return np.array([np.nan if p is None else p for p in plans])
+
+    Commands.set_speed, Commands.release_speed = log_set, log_release
+    if reference:
+        SCTController.decide = decide_each
+        SCTModel.pair_metrics = reference_pair_metrics
+    config = StudyConfig(days=180 / 86400, runs=1, seed=3)
+    task = next(t for t in build_inputs(config, folder) if t.arm == "sct")
+    result = run_arm(task)
+    csv = write_encounters_csv(folder / "encounters.csv", result.encounters).read_bytes()
+    order = sorted(commands, key=lambda c: (c[0], c[1]))  # hand-backs come from a set
+    return csv, order, result.evaluated_steps, result.travel_time
+
+
+def test_short_sct_arm_is_the_per_vehicle_reference_run(tmp_path):
+    with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
+        batched = pool.submit(short_sct_arm, tmp_path / "batched", False)
+        reference = pool.submit(short_sct_arm, tmp_path / "reference", True)
+        csv, commands, evaluated, travel = batched.result()
+        csv_ref, commands_ref, evaluated_ref, travel_ref = reference.result()
+    assert sum(c[2] is not None for c in commands) > 50  # the controller was busy
+    assert csv.count(b"\n") > 2  # and there were encounters to log
+    assert commands == commands_ref
+    assert csv == csv_ref
+    assert evaluated == evaluated_ref
+    assert np.array_equal(travel, travel_ref)
