@@ -183,9 +183,16 @@ class SCTController:
         # every pedestrian speed hypothesis as its own track: (P * H, K, 2)
         h = len(model.config.speed_factors)
         ped = view.tracks[slots].reshape(-1, len(times), 2)
-        exposed = model.exposed(view, slots).reshape(len(ped), len(times))
         mine = np.repeat(near, h, axis=1)  # (V, P * H): the tracks each vehicle plans for
         length, width = state.length[rows], state.width[rows]
+        # a vehicle not engaged needs a plan only for a contact before sct_safe
+        keep = np.flatnonzero(engaged | self._may_touch(xy[:, 0], length, width, ped, mine))
+        if len(keep) == 0:
+            return out
+        rows, xy, hd, mine = rows[keep], xy[keep], hd[keep], mine[keep]
+        length, width, v0, a0 = length[keep], width[keep], v0[keep], a0[keep]
+        v_max, engaged = v_max[keep], engaged[keep]
+        exposed = model.exposed(view, slots).reshape(len(ped), len(times))
         dims = (slice(None), None, None, None)
         contact = model.config.contact
         gap = contact_gap(xy[:, :, None], hd[:, :, None], length[dims], width[dims], ped, contact)
@@ -207,8 +214,32 @@ class SCTController:
         blocks = self._stops_on_crossing(xy[:, :, -1], hd[:, :, -1], v[:, :, -1], length, width)
         # keep crossings clear: never plan to stop on one (unless every plan does)
         sct = np.where(blocks & ~blocks.all(axis=1, keepdims=True), -1.0, sct)
-        out[w] = v[np.arange(len(w)), self._pick(sct), 1]
+        out[keep[w]] = v[np.arange(len(w)), self._pick(sct), 1]
         return out
+
+    def _may_touch(
+        self,
+        xy: np.ndarray,
+        length: np.ndarray,
+        width: np.ndarray,
+        ped: np.ndarray,
+        mine: np.ndarray,
+    ) -> np.ndarray:
+        """(V,) bool: vehicles (centres ``xy`` (V, K, 2) under their own driver, sizes (V,) m)
+        that may touch one of their pedestrian tracks (``ped`` (T, K, 2), ``mine`` (V, T))
+        at a sample up to the first at or after sct_safe. A contact first found later is at
+        or after sct_safe (contact times are interpolated back to the previous sample at
+        most), so the others keep SCT >= sct_safe. Bound: a point touches the grown rectangle
+        only within its circumscribed circle plus the disc (a micrometre of slack, far above
+        rounding)."""
+        times = self.model.times
+        upto = min(int(np.searchsorted(times, self.config.sct_safe)) + 1, len(times))
+        c = self.model.config
+        reach = np.hypot(0.5 * length + c.vehicle_margin, 0.5 * width + c.vehicle_margin)
+        reach += c.pedestrian_radius + 1e-6
+        d = ped[None, :, :upto] - xy[:, None, :upto]  # (V, T, upto, 2)
+        close = np.einsum("vtkj,vtkj->vtk", d, d).min(axis=2) <= (reach**2)[:, None]
+        return (close & mine).any(axis=1)
 
     def _pick(self, sct: np.ndarray) -> np.ndarray:
         """(W,) the candidate each vehicle drives, from SCTs (W, C) of its candidates.
