@@ -25,7 +25,7 @@ import numpy as np
 from hiyari.errors import HiyariError
 from hiyari.kinematics import footprint_corners, overlap_depth
 from hiyari.risk.metrics.contact import contact_gap, first_contact_time
-from hiyari.risk.sct.model import SCTModel, StepView
+from hiyari.risk.sct.model import SCTModel, StepView, near_contact
 from hiyari.traffic.commands import Commands
 from hiyari.units import G
 
@@ -227,19 +227,17 @@ class SCTController:
     ) -> np.ndarray:
         """(V,) bool: vehicles (centres ``xy`` (V, K, 2) under their own driver, sizes (V,) m)
         that may touch one of their pedestrian tracks (``ped`` (T, K, 2), ``mine`` (V, T))
-        at a sample up to the first at or after sct_safe. A contact first found later is at
-        or after sct_safe (contact times are interpolated back to the previous sample at
-        most), so the others keep SCT >= sct_safe. Bound: a point touches the grown rectangle
-        only within its circumscribed circle plus the disc (a micrometre of slack, far above
-        rounding)."""
+        at a sample up to the first at or after sct_safe (model.near_contact). A contact first
+        found later is at or after sct_safe (contact times are interpolated back to the
+        previous sample at most), so the others keep SCT >= sct_safe."""
         times = self.model.times
         upto = min(int(np.searchsorted(times, self.config.sct_safe)) + 1, len(times))
-        c = self.model.config
-        reach = np.hypot(0.5 * length + c.vehicle_margin, 0.5 * width + c.vehicle_margin)
-        reach += c.pedestrian_radius + 1e-6
-        d = ped[None, :, :upto] - xy[:, None, :upto]  # (V, T, upto, 2)
-        close = np.einsum("vtkj,vtkj->vtk", d, d).min(axis=2) <= (reach**2)[:, None]
-        return (close & mine).any(axis=1)
+        contact = self.model.config.contact
+        shape = (slice(None), None)
+        near = near_contact(
+            xy[:, None, :upto], length[shape], width[shape], ped[None, :, :upto], contact
+        )
+        return (near & mine).any(axis=1)
 
     def _pick(self, sct: np.ndarray) -> np.ndarray:
         """(W,) the candidate each vehicle drives, from SCTs (W, C) of its candidates.

@@ -286,7 +286,7 @@ class SCTModel:
 
     def _cv_protected(self, view: StepView, prows: np.ndarray, ped_cv: np.ndarray) -> np.ndarray:
         """(n, K) bool: constant-velocity track points ``ped_cv`` (n, K, 2) of pedestrian rows
-        ``prows`` off the carriageway. A pedestrian without a dart-out prediction walks on at
+        ``prows`` (n,) off the carriageway. A pedestrian without a dart-out prediction walks on at
         its own velocity, so its track is the speed-factor 1 hypothesis: read from
         ``exposed``."""
         road = self.carriageway
@@ -323,8 +323,11 @@ class SCTModel:
         hiyari.risk.metrics.contact.safety_cushion_time on the step's shared pedestrian
         tracks. Pedestrians off the carriageway are protected in both. The gap is the TTC
         shapes' distance now (<= 0: touching). ``with_sct`` False: SCT is not computed (inf).
+        Pairs whose tracks never come near enough to touch (near_contact) are inf without
+        further work.
         """
-        if len(vi) == 0:
+        n = len(vi)
+        if n == 0:
             return np.zeros(0), np.zeros(0), np.zeros(0)
         ttc_contact = ttc_contact or ContactGeometry()
         state = view.state
@@ -336,25 +339,35 @@ class SCTModel:
         t = self.times
         prows, pinv = _distinct(pj, len(state))
         cv = heading_vector(state.heading[prows]) * state.speed[prows, None]
-        ped_cv = state.xyz[prows, None, :2] + cv[:, None, :] * t[None, :, None]
-        protected = self._cv_protected(view, prows, ped_cv)
-        gap = contact_gap(vxy, vh, length[:, None], width[:, None], ped_cv[pinv], ttc_contact)
-        gap = np.where(protected[pinv], np.inf, gap)
-        ttc = first_contact_time(gap, t)
+        ped_cv = (state.xyz[prows, None, :2] + cv[:, None, :] * t[None, :, None])[pinv]
+        gap = contact_gap(vxy[:, 0], vh[:, 0], length, width, ped_cv[:, 0], ttc_contact)
+        road = self.carriageway
+        if road is not None and not road.is_empty:
+            now = state.xyz[prows, :2]
+            on_road = shapely.contains_xy(road, now[:, 0], now[:, 1])[pinv]
+            gap = np.where(on_road, gap, np.inf)
+        ttc = np.full(n, np.inf)
+        c = np.flatnonzero(near_contact(vxy, length, width, ped_cv, ttc_contact))
+        if len(c):
+            g = contact_gap(vxy[c], vh[c], length[c, None], width[c, None], ped_cv[c], ttc_contact)
+            g = np.where(self._cv_protected(view, pj[c], ped_cv[c]), np.inf, g)
+            ttc[c] = first_contact_time(g, t)
+        sct = np.full(n, np.inf)
         if not with_sct:
-            return ttc, np.full(len(vi), np.inf), gap[:, 0]
+            return ttc, sct, gap
         slot = view.ped_slot[pj]
-        gap_sct = contact_gap(
-            vxy[:, None],
-            vh[:, None],
-            length[:, None, None],
-            width[:, None, None],
-            view.tracks[slot],
-            self.config.contact,
-        )
-        gap_sct = np.where(self.exposed(view, slot), gap_sct, np.inf)
-        sct = first_contact_time(gap_sct, t).min(axis=-1)
-        return ttc, sct, gap[:, 0]
+        contact = self.config.contact
+        tracks = view.tracks[slot]
+        near = near_contact(vxy[:, None], length[:, None], width[:, None], tracks, contact)
+        c = np.flatnonzero(near.any(axis=1))
+        if len(c):
+            shape = (slice(None), None, None)
+            g = contact_gap(
+                vxy[c, None], vh[c, None], length[c][shape], width[c][shape], tracks[c], contact
+            )
+            g = np.where(self.exposed(view, slot[c]), g, np.inf)
+            sct[c] = first_contact_time(g, t).min(axis=-1)
+        return ttc, sct, gap
 
     def crossing_occupancy(
         self, view: StepView, vi: np.ndarray, pj: np.ndarray, ped_radius: float = 0.3
@@ -387,6 +400,24 @@ class SCTModel:
             )
             has[sel], vin[sel], pin[sel] = h, v, p
         return has, vin, pin
+
+
+def near_contact(
+    centre: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    points: np.ndarray,
+    contact: ContactGeometry,
+) -> np.ndarray:
+    """(...) bool: whether ``points`` (..., K, 2) come within reach of rectangles (centres
+    (..., K, 2) m, ``length`` / ``width`` (...) m, broadcasting) at some sample: the
+    rectangle grown by the margin lies within its circumscribed circle, so contact_gap <= 0
+    needs the point within that circle plus the disc. False: no contact at any sample. A
+    micrometre of slack keeps rounding from ever excluding a contact."""
+    m = contact.vehicle_margin
+    reach = np.hypot(0.5 * length + m, 0.5 * width + m) + contact.pedestrian_radius + 1e-6
+    d = points - centre
+    return (d * d).sum(axis=-1).min(axis=-1) <= reach * reach
 
 
 def _distinct(rows: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
