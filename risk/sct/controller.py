@@ -185,8 +185,7 @@ class SCTController:
         ped = view.tracks[slots].reshape(-1, len(times), 2)
         mine = np.repeat(near, h, axis=1)  # (V, P * H): the tracks each vehicle plans for
         length, width = state.length[rows], state.width[rows]
-        # a vehicle not engaged needs a plan only for a contact before sct_safe
-        keep = np.flatnonzero(engaged | self._may_touch(xy[:, 0], length, width, ped, mine))
+        keep = np.flatnonzero(self._may_touch(xy[:, 0], length, width, ped, mine, engaged))
         if len(keep) == 0:
             return out
         rows, xy, hd, mine = rows[keep], xy[keep], hd[keep], mine[keep]
@@ -224,12 +223,15 @@ class SCTController:
         width: np.ndarray,
         ped: np.ndarray,
         mine: np.ndarray,
+        engaged: np.ndarray,
     ) -> np.ndarray:
         """(V,) bool: vehicles (centres ``xy`` (V, K, 2) under their own driver, sizes (V,) m)
         that may touch one of their pedestrian tracks (``ped`` (T, K, 2), ``mine`` (V, T))
-        at a sample up to the first at or after sct_safe (model.near_contact). A contact first
-        found later is at or after sct_safe (contact times are interpolated back to the
-        previous sample at most), so the others keep SCT >= sct_safe."""
+        (model.near_contact); the others need no plan. A vehicle not ``engaged`` (V,) needs
+        one only for a contact before sct_safe: it is tested up to the first sample at or
+        after sct_safe (a contact first found later is interpolated back to the previous
+        sample at most). An engaged one is handed back only when no contact is predicted
+        within the horizon: it is tested at every sample."""
         times = self.model.times
         upto = min(int(np.searchsorted(times, self.config.sct_safe)) + 1, len(times))
         contact = self.model.config.contact
@@ -237,6 +239,9 @@ class SCTController:
         near = near_contact(
             xy[:, None, :upto], length[shape], width[shape], ped[None, :, :upto], contact
         )
+        e = np.flatnonzero(engaged)
+        if len(e):
+            near[e] = near_contact(xy[e, None], length[e][shape], width[e][shape], ped, contact)
         return (near & mine).any(axis=1)
 
     def _pick(self, sct: np.ndarray) -> np.ndarray:
