@@ -77,7 +77,12 @@ def reference_decide(
 
 
 def _stops_on_crossing(
-    model: SCTModel, xy: np.ndarray, heading: np.ndarray, v_end: np.ndarray, length, width
+    model: SCTModel,
+    xy: np.ndarray,
+    heading: np.ndarray,
+    v_end: np.ndarray,
+    length: float,
+    width: float,
 ) -> np.ndarray:
     from hiyari.kinematics import footprint_corners, overlap_depth
 

@@ -21,7 +21,7 @@ from hiyari.net.sumo.build import IntersectionParams, build_intersection
 from hiyari.risk.metrics.incidents import write_encounters_csv
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
 from hiyari.risk.sct.controller import SCTController
-from hiyari.risk.sct.model import SCTModel
+from hiyari.risk.sct.model import SCTModel, StepView
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.commands import Commands
 from hiyari.traffic.world_state import WorldState
@@ -32,7 +32,7 @@ ARMS = ("n", "e", "s", "w")
 
 
 @pytest.fixture(scope="module")
-def geometry(tmp_path_factory):
+def geometry(tmp_path_factory: pytest.TempPathFactory) -> NetGeometry:
     net = build_intersection(tmp_path_factory.mktemp("vec") / "x.net.xml", IntersectionParams())
     return NetGeometry.from_net(net)
 
@@ -86,7 +86,9 @@ def random_scene(rng: np.random.Generator, geometry: NetGeometry, model: SCTMode
     )
 
 
-def test_batched_controller_and_metrics_match_the_per_vehicle_reference(geometry):
+def test_batched_controller_and_metrics_match_the_per_vehicle_reference(
+    geometry: NetGeometry,
+) -> None:
     rng = np.random.default_rng(7)
     model = SCTModel(geometry)
     ctrl = SCTController(model)
@@ -137,7 +139,14 @@ def short_sct_arm(folder: Path, reference: bool) -> tuple[bytes, list, int, np.n
         commands.append((sim.time, vid, None))
         release(sim, vid)
 
-    def decide_each(ctrl, view, rows, v_max, a_free, engaged) -> np.ndarray:
+    def decide_each(
+        ctrl: SCTController,
+        view: StepView,
+        rows: np.ndarray,
+        v_max: np.ndarray,
+        a_free: np.ndarray,
+        engaged: np.ndarray,
+    ) -> np.ndarray:
         plans = [
             reference_decide(ctrl, view, int(r), float(v), float(a), bool(e))
             for r, v, a, e in zip(rows, v_max, a_free, engaged, strict=True)
@@ -156,7 +165,7 @@ def short_sct_arm(folder: Path, reference: bool) -> tuple[bytes, list, int, np.n
     return csv, order, result.evaluated_steps, result.travel_time
 
 
-def test_short_sct_arm_is_the_per_vehicle_reference_run(tmp_path):
+def test_short_sct_arm_is_the_per_vehicle_reference_run(tmp_path: Path) -> None:
     with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
         batched = pool.submit(short_sct_arm, tmp_path / "batched", False)
         reference = pool.submit(short_sct_arm, tmp_path / "reference", True)
