@@ -1,77 +1,87 @@
-"""Wall time of the full SCT incident study against the same SUMO runs without metrics.
+"""SCT arm of the incident study against bare SUMO stepping of the same demand.
 
-Runs, in this process's pool (same number of parallel processes each time):
-1. the full study (default: unsignalised variant, both arms, 2 simulated days each, in 2 runs
-   of 24 h per arm) with metrics, incident detection and, in the SCT arm, the controller;
-2. the same SUMO runs bare: libsumo.simulationStep in a loop, nothing read;
-3. the same SUMO runs stepped through hiyari's Simulation, one WorldState per step.
-Prints the study's wall time and the SCT arm's time against the bare runs as ratios.
-Targets: the whole study under 10 minutes; the SCT arm <= 1.5 x the bare SUMO time.
+One run of the unsignalised zebra-crossing variant (200 cars/h, 300 pedestrians/h, 0.1 s
+steps, seed 1), ``--hours`` simulated hours, measured ``--repeats`` times in this process,
+interleaved so that load changes hit both sides alike:
 
-Run: .venv/bin/python benchmarks/sct_study.py [--days 2] [--variants unsignalised]
+1. bare SUMO: libsumo.simulationStep in a loop, nothing read (the baseline);
+2. SUMO stepped through hiyari's Simulation with a full WorldState read every step (what
+   reading alone costs);
+3. the SCT arm (hiyari.bridge.campaign.sct_study.run_arm): zone and pair bounds, metrics,
+   incident detection and the SCT controller on every vehicle.
+
+Prints the median wall times, the ratios to bare SUMO, the target (SCT arm <= 3 x bare SUMO)
+and the load average. ``--profile`` adds a cProfile of one SCT arm run (top functions).
+
+Run: .venv/bin/python benchmarks/sct_study.py [--hours 1] [--repeats 3] [--profile]
 """
 
 from __future__ import annotations
 
 import argparse
+import cProfile
+import os
+import pstats
+import statistics
 import tempfile
 import time
 from pathlib import Path
 
-from hiyari.bridge.campaign.sct_report import summarise
-from hiyari.bridge.campaign.sct_study import StudyConfig, build_inputs, run_bare_tasks, run_study
+from hiyari.bridge.campaign.sct_study import StudyConfig, build_inputs, run_arm, run_bare
+
+TARGET = 3.0
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--days", type=float, default=StudyConfig.days, help="simulated days per arm")
-    ap.add_argument("--variants", default="unsignalised", help="comma-separated variants")
-    ap.add_argument("--jobs", type=int, help="parallel processes (default: CPU count)")
+    ap.add_argument("--hours", type=float, default=1.0, help="simulated hours per run")
+    ap.add_argument("--repeats", type=int, default=3, help="interleaved repetitions")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--profile", action="store_true", help="cProfile one SCT arm run")
     args = ap.parse_args()
-    config = StudyConfig(days=args.days, variants=tuple(args.variants.split(",")))
+    config = StudyConfig(days=args.hours / 24.0, runs=1, seed=args.seed)
+    load0 = os.getloadavg()
+    walls: dict[str, list[float]] = {"bare": [], "read": [], "sct": []}
     with tempfile.TemporaryDirectory(prefix="hiyari-bench-") as tmp:
-        results, study_wall = run_study(config, Path(tmp), args.jobs, progress=True)
-        tasks = build_inputs(config, Path(tmp) / "inputs")
-        t0 = time.perf_counter()
-        bare = run_bare_tasks(tasks, read_state=False, jobs=args.jobs)
-        bare_wall = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        read = run_bare_tasks(tasks, read_state=True, jobs=args.jobs)
-        read_wall = time.perf_counter() - t0
-    arm = [t.arm for t in tasks]
-    study_runs = {a: sum(r.wall_seconds for r in results if r.arm == a) for a in set(arm)}
-    bare_runs = {a: sum(w for w, x in zip(bare, arm, strict=True) if x == a) for a in set(arm)}
-    read_runs = {a: sum(w for w, x in zip(read, arm, strict=True) if x == a) for a in set(arm)}
-    days = config.days
+        task = next(t for t in build_inputs(config, Path(tmp)) if t.arm == "sct")
+        for _ in range(args.repeats):
+            walls["bare"].append(run_bare(task))
+            walls["read"].append(run_bare(task, read_state=True))
+            result = run_arm(task)
+            walls["sct"].append(result.wall_seconds)
+        if args.profile:
+            prof = cProfile.Profile()
+            prof.runcall(run_arm, task)
+    med = {k: statistics.median(v) for k, v in walls.items()}
+    load1 = os.getloadavg()
     print(
-        f"SCT incident study: {', '.join(config.variants)}, {days:g} simulated days per arm, "
-        f"{config.runs} run(s) per arm, step {config.step_length:g} s"
+        f"SCT arm vs bare SUMO: unsignalised zebra crossings, {args.hours:g} simulated h, "
+        f"step {config.step_length:g} s, seed {args.seed}, median of {args.repeats} "
+        f"interleaved runs"
     )
-    print(f"{'':46s} {'wall s':>8s} {'x bare':>8s}")
-    print(f"{'bare SUMO (libsumo.simulationStep), all runs':46s} {bare_wall:8.1f} {1.0:8.2f}")
+    print(f"load average (1 min) {load0[0]:.1f} at start, {load1[0]:.1f} at end")
+    print(f"{'':44s} {'wall s':>8s} {'x bare':>8s}")
+    rows = [
+        ("bare SUMO (libsumo.simulationStep)", "bare"),
+        ("SUMO + WorldState read every step", "read"),
+        ("SCT arm (metrics, incidents, controller)", "sct"),
+    ]
+    for label, key in rows:
+        print(f"{label:44s} {med[key]:8.2f} {med[key] / med['bare']:8.2f}")
+    steps = result.steps
     print(
-        f"{'SUMO + WorldState per step, all runs':46s} {read_wall:8.1f} "
-        f"{read_wall / bare_wall:8.2f}"
+        f"SCT arm: {result.evaluated_steps} of {steps} steps evaluated "
+        f"({100 * result.evaluated_steps / steps:.0f} %), {result.interventions} commands, "
+        f"{len(result.encounters)} encounters, {len(result.incidents)} incidents"
     )
-    print(
-        f"{'full study (metrics, incidents, controller)':46s} {study_wall:8.1f} "
-        f"{study_wall / bare_wall:8.2f}"
-    )
-    for a in ("baseline", "sct"):
-        print(
-            f"  {a + ' arm, summed over its runs':44s} {study_runs[a]:8.1f} "
-            f"{study_runs[a] / bare_runs[a]:8.2f}   (bare {bare_runs[a]:.1f} s, "
-            f"with WorldState {read_runs[a]:.1f} s: x{study_runs[a] / read_runs[a]:.2f})"
-        )
-    verdict = "met" if study_wall < 600 else "MISSED"
-    ratio = study_runs["sct"] / bare_runs["sct"]
-    print(f"target: whole study < 600 s: {study_wall:.0f} s ({verdict})")
-    print(
-        f"target: SCT arm <= 1.5 x bare SUMO: x{ratio:.2f} ({'met' if ratio <= 1.5 else 'MISSED'})"
-    )
-    for s in summarise(config, results):
-        print(f"  {s.variant} {s.arm}: {s.incidents} incidents, {s.vehicles} vehicles")
+    ratio = med["sct"] / med["bare"]
+    verdict = "met" if ratio <= TARGET else "NOT met"
+    print(f"target: SCT arm <= {TARGET:g} x bare SUMO: x{ratio:.1f} ({verdict})")
+    if args.profile:
+        pstats.Stats(prof).sort_stats("tottime").print_stats(25)
 
 
 if __name__ == "__main__":
+    started = time.perf_counter()
     main()
+    print(f"benchmark wall time {time.perf_counter() - started:.0f} s")

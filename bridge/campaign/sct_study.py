@@ -49,6 +49,7 @@ from hiyari.traffic.simulation import SimConfig, Simulation
 from hiyari.traffic.world_state import WorldState
 
 VARIANTS = {"unsignalised": False, "signalised": True}
+_PEDESTRIAN = np.int8(ActorClass.PEDESTRIAN)  # compared as a numpy scalar: no enum lookup
 ARMS = ("baseline", "sct")
 
 
@@ -334,7 +335,7 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
                     reported = now
                 xy = st.xyz[:, :2]
                 d2 = ((xy[:, None, :] - centres[None]) ** 2).sum(-1).min(axis=1)
-                is_ped = st.cls == ActorClass.PEDESTRIAN
+                is_ped = st.cls == _PEDESTRIAN
                 vin = np.flatnonzero(~is_ped & (d2 <= rv2))
                 pin = np.flatnonzero(is_ped & (d2 <= rp2))
                 t_pairs = math.inf
@@ -480,15 +481,19 @@ def _evaluate(
     keys = [(ids[vi[k]], ids[pj[k]]) for k in zone.tolist()]
     events = pet.update(s.time, keys, v_in[zone], p_in[zone])
     # SUMO's own contact reports, except its corner walking-area overlaps (geometry)
-    lane = dict(zip(ids.tolist(), s.lane.tolist(), strict=True))
-    collisions = [
-        (collider, victim)
-        for collider, victim in sim.sumo_contacts()
-        if lane.get(victim) not in walkingareas and lane.get(collider) not in walkingareas
-    ]
+    collisions = sim.sumo_contacts()
+    if collisions:
+        lane = dict(zip(ids.tolist(), s.lane.tolist(), strict=True))
+        collisions = [
+            (collider, victim)
+            for collider, victim in collisions
+            if lane.get(victim) not in walkingareas and lane.get(collider) not in walkingareas
+        ]
     detector.update(s, vi, pj, ttc, gap < -icfg.collision_depth, sct, events, collisions)
     if controller is not None:
-        controller.step(sim, view, set(st.ids[st.is_vehicle].tolist()))
+        # vehicles still in the simulation, for hand-backs (only controlled ones are handed back)
+        present = set(st.ids[st.cls != _PEDESTRIAN].tolist()) if controller.controlled else set()
+        controller.step(sim, view, present)
 
 
 def _read_tripinfo(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -564,20 +569,3 @@ def run_bare(task: ArmTask, read_state: bool = False) -> float:
         else:
             sim.run_bare(cfg.run_seconds)
         return time.perf_counter() - t0
-
-
-def _bare_state(task: ArmTask) -> float:
-    return run_bare(task, read_state=True)
-
-
-def _bare_only(task: ArmTask) -> float:
-    return run_bare(task, read_state=False)
-
-
-def run_bare_tasks(tasks: list[ArmTask], read_state: bool, jobs: int | None = None) -> list[float]:
-    """run_bare for every task, ``jobs`` processes in parallel; wall times in task order."""
-    pool = PoolOptions(workers=jobs or os.cpu_count() or 1)
-    walls = [0.0] * len(tasks)
-    for i, wall in run_all(_bare_state if read_state else _bare_only, tasks, pool):
-        walls[i] = wall
-    return walls

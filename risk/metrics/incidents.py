@@ -176,43 +176,60 @@ class IncidentDetector:
         their time to contact (s), whether they touch now, their SCT (s) if computed, this
         step's PET events and SUMO-reported collisions."""
         if len(vi):
-            if sct is None:
-                sct = np.full(len(vi), np.inf)
-            keep = np.flatnonzero(np.isfinite(ttc) | np.isfinite(sct) | touching)
-            ids = state.ids
-            t = state.time
-            for k in keep.tolist():
-                v, p = int(vi[k]), int(pj[k])
-                e = self._get(ids[v], ids[p], t)
-                if sct[k] < e.min_sct:
-                    e.min_sct = float(sct[k])
-                if touching[k] and not e.collision:
-                    e.collision = True
-                    e._snapshot(state, v, p)
-                if ttc[k] < e.min_ttc:
-                    e.min_ttc = float(ttc[k])
-                    if not e.collision:
-                        e._snapshot(state, v, p)
+            self._add_pairs(state, vi, pj, ttc, touching, sct)
         if pet_events:
-            row = {a: k for k, a in enumerate(state.ids.tolist())}
-            for ev in pet_events:
-                e = self._get(ev.vehicle, ev.pedestrian, ev.time)
-                if ev.pet < e.min_pet:
-                    e.min_pet = ev.pet
-                    v, p = row.get(ev.vehicle), row.get(ev.pedestrian)
-                    if math.isnan(e.time) and v is not None and p is not None:
-                        e._snapshot(state, v, p)
+            self._add_pet(state, pet_events)
         if sumo_collisions:
-            row = {a: k for k, a in enumerate(state.ids.tolist())}
-            for a, b in sumo_collisions:
-                ra, rb = row.get(a), row.get(b)
-                if ra is None or rb is None or state.is_pedestrian[ra] == state.is_pedestrian[rb]:
-                    continue  # not a vehicle–pedestrian pair in this state
-                v, p = (ra, rb) if state.is_pedestrian[rb] else (rb, ra)
-                e = self._get(state.ids[v], state.ids[p], state.time)
+            self._add_collisions(state, sumo_collisions)
+
+    def _add_pairs(
+        self,
+        state: WorldState,
+        vi: np.ndarray,
+        pj: np.ndarray,
+        ttc: np.ndarray,
+        touching: np.ndarray,
+        sct: np.ndarray | None,
+    ) -> None:
+        if sct is None:
+            sct = np.full(len(vi), np.inf)
+        keep = np.flatnonzero(np.isfinite(ttc) | np.isfinite(sct) | touching)
+        ids = state.ids
+        t = state.time
+        for k in keep.tolist():
+            v, p = int(vi[k]), int(pj[k])
+            e = self._get(ids[v], ids[p], t)
+            if sct[k] < e.min_sct:
+                e.min_sct = float(sct[k])
+            if touching[k] and not e.collision:
+                e.collision = True
+                e._snapshot(state, v, p)
+            if ttc[k] < e.min_ttc:
+                e.min_ttc = float(ttc[k])
                 if not e.collision:
-                    e.collision = True
                     e._snapshot(state, v, p)
+
+    def _add_pet(self, state: WorldState, pet_events: list[PetEvent]) -> None:
+        row = {a: k for k, a in enumerate(state.ids.tolist())}
+        for ev in pet_events:
+            e = self._get(ev.vehicle, ev.pedestrian, ev.time)
+            if ev.pet < e.min_pet:
+                e.min_pet = ev.pet
+                v, p = row.get(ev.vehicle), row.get(ev.pedestrian)
+                if math.isnan(e.time) and v is not None and p is not None:
+                    e._snapshot(state, v, p)
+
+    def _add_collisions(self, state: WorldState, sumo_collisions: list[tuple[str, str]]) -> None:
+        row = {a: k for k, a in enumerate(state.ids.tolist())}
+        for a, b in sumo_collisions:
+            ra, rb = row.get(a), row.get(b)
+            if ra is None or rb is None or state.is_pedestrian[ra] == state.is_pedestrian[rb]:
+                continue  # not a vehicle–pedestrian pair in this state
+            v, p = (ra, rb) if state.is_pedestrian[rb] else (rb, ra)
+            e = self._get(state.ids[v], state.ids[p], state.time)
+            if not e.collision:
+                e.collision = True
+                e._snapshot(state, v, p)
 
     @property
     def encounters(self) -> list[Encounter]:

@@ -24,6 +24,9 @@ from pathlib import Path
 import numpy as np
 import shapely
 import sumolib
+from sumolib.net import Net
+from sumolib.net.edge import Edge
+from sumolib.net.lane import Lane
 
 from hiyari.errors import HiyariError
 
@@ -133,11 +136,11 @@ class NetGeometry:
         return cached
 
 
-def _pedestrian_only(lane) -> bool:
+def _pedestrian_only(lane: Lane) -> bool:
     return lane.allows("pedestrian") and not lane.allows("passenger")
 
 
-def _vehicle_lanes(edge) -> list:
+def _vehicle_lanes(edge: Edge) -> list[Lane]:
     return [ln for ln in edge.getLanes() if ln.allows("passenger")]
 
 
@@ -145,7 +148,7 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / max(float(np.linalg.norm(v)), 1e-12)
 
 
-def _kerbs(net, crossings) -> KerbSegments:
+def _kerbs(net: Net, crossings: list[Edge]) -> KerbSegments:
     a, b, inward, idx = [], [], [], []
     for e in net.getEdges(withInternal=False):
         lanes = _vehicle_lanes(e)
@@ -181,7 +184,7 @@ def _kerbs(net, crossings) -> KerbSegments:
     )
 
 
-def _carriageway(net, extend: float = 15.0):
+def _carriageway(net: Net, extend: float = 15.0) -> shapely.Geometry:
     """Union of the vehicle lanes of the arms, each continued ``extend`` m straight into the
     junction at its junction end (so the junction box is covered but the corners are not)."""
     strips = []
@@ -200,7 +203,7 @@ def _carriageway(net, extend: float = 15.0):
     return area
 
 
-def _crossing_shapes(crossings) -> Crossings:
+def _crossing_shapes(crossings: list[Edge]) -> Crossings:
     centre, direction, hl, hw, corners, lanes = [], [], [], [], [], []
     for c in crossings:
         lane = c.getLanes()[0]
@@ -227,7 +230,7 @@ def _crossing_shapes(crossings) -> Crossings:
     )
 
 
-def _route_path(net, route: tuple[str, ...]) -> np.ndarray:
+def _route_path(net: Net, route: tuple[str, ...]) -> np.ndarray:
     edges = []
     for eid in route:
         try:

@@ -16,18 +16,17 @@ checks left on, so a controlled vehicle is never less careful than SUMO's own dr
 
 from __future__ import annotations
 
+import math
 import zlib
 from dataclasses import dataclass
 
 import numpy as np
-import shapely
 
 from hiyari.errors import HiyariError
 from hiyari.kinematics import footprint_corners, overlap_depth
-from hiyari.risk.metrics.contact import contact_gap, first_contact_time, pedestrian_tracks
-from hiyari.risk.sct.model import SCTModel, StepView
+from hiyari.risk.metrics.contact import contact_gap, first_contact_time
+from hiyari.risk.sct.model import SCTModel, StepView, near_contact
 from hiyari.traffic.commands import Commands
-from hiyari.traffic.world_state import WorldState
 from hiyari.units import G
 
 
@@ -80,32 +79,39 @@ class SCTControllerConfig:
 
 
 def ramp_profiles(
-    a0: float, targets: np.ndarray, times: np.ndarray, jerk_limit: float
+    a0: float | np.ndarray, targets: np.ndarray, times: np.ndarray, jerk_limit: float
 ) -> np.ndarray:
-    """(C, K) acceleration, m/s^2, of cubic ramps from ``a0`` to each target at ``times`` s:
-    a(t) = aT - (aT - a0) (1 - t / T)^3 up to T, then aT. The jerk is largest at the start,
-    3 |aT - a0| / T, and T is chosen to make that the jerk limit; it fades to 0 at the
-    plateau. (Re-planned every step, a ramp that started with zero jerk would never leave a0.)"""
-    delta = targets - a0
+    """(..., C, K) acceleration, m/s^2, of cubic ramps from ``a0`` (a float, or (...) one per
+    vehicle) to each target at ``times`` s: a(t) = aT - (aT - a0) (1 - t / T)^3 up to T, then
+    aT. The jerk is largest at the start, 3 |aT - a0| / T, and T is chosen to make that the
+    jerk limit; it fades to 0 at the plateau. (Re-planned every step, a ramp that started with
+    zero jerk would never leave a0.)"""
+    delta = targets - np.asarray(a0, float)[..., None]
     ramp = np.maximum(3.0 * np.abs(delta) / jerk_limit, 1e-6)
-    tau = np.minimum(times[None, :] / ramp[:, None], 1.0)
-    return targets[:, None] - delta[:, None] * (1.0 - tau) ** 3
+    tau = np.minimum(times / ramp[..., None], 1.0)
+    return targets[:, None] - delta[..., None] * (1.0 - tau) ** 3
 
 
 def travel(
-    accel: np.ndarray, v0: float, v_max: float, dt: float, stop_speed: float = 0.0
+    accel: np.ndarray,
+    v0: float | np.ndarray,
+    v_max: float | np.ndarray,
+    dt: float,
+    stop_speed: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Speeds (C, K) m/s and distance travelled (C, K) m of acceleration profiles (C, K) sampled
-    every ``dt`` s from speed ``v0``; speeds are kept within 0 .. ``v_max`` (a stopped vehicle
-    stays stopped while the profile brakes). A profile that ends braking comes to a full stop
-    once it is slower than ``stop_speed`` m/s."""
-    dv = 0.5 * (accel[:, 1:] + accel[:, :-1]) * dt
-    v = np.clip(v0 + np.concatenate([np.zeros((len(accel), 1)), np.cumsum(dv, 1)], 1), 0, v_max)
+    """Speeds (..., C, K) m/s and distance travelled (..., C, K) m of acceleration profiles
+    (..., C, K) sampled every ``dt`` s from speed ``v0``; speeds are kept within 0 ..
+    ``v_max`` (``v0`` and ``v_max`` broadcast against the profiles' leading axes: (..., 1, 1)
+    per vehicle). A stopped vehicle stays stopped while the profile brakes. A profile that ends
+    braking comes to a full stop once it is slower than ``stop_speed`` m/s."""
+    zero = np.zeros((*accel.shape[:-1], 1))
+    dv = 0.5 * (accel[..., 1:] + accel[..., :-1]) * dt
+    v = np.clip(v0 + np.concatenate([zero, np.cumsum(dv, -1)], -1), 0, v_max)
     if stop_speed > 0:
-        slow = (v < stop_speed) & (accel[:, -1:] <= 0)
-        v = np.where(np.logical_or.accumulate(slow, axis=1), 0.0, v)
-    ds = 0.5 * (v[:, 1:] + v[:, :-1]) * dt
-    return v, np.concatenate([np.zeros((len(accel), 1)), np.cumsum(ds, 1)], 1)
+        slow = (v < stop_speed) & (accel[..., -1:] <= 0)
+        v = np.where(np.logical_or.accumulate(slow, axis=-1), 0.0, v)
+    ds = 0.5 * (v[..., 1:] + v[..., :-1]) * dt
+    return v, np.concatenate([zero, np.cumsum(ds, -1)], -1)
 
 
 class SCTController:
@@ -135,90 +141,160 @@ class SCTController:
         return hit
 
     def decide(
-        self, view: StepView, row: int, v_max: float, a_free: float, engaged: bool = False
-    ) -> float | None:
-        """Speed (m/s) to command for the next step for vehicle ``row`` of ``view.state``, or
-        None to leave it to its own driver. ``v_max`` m/s: its allowed speed; ``a_free``
-        m/s^2: its own driver's maximum acceleration; ``engaged``: the SCT driver had it on
-        the previous step.
+        self,
+        view: StepView,
+        rows: np.ndarray,
+        v_max: np.ndarray,
+        a_free: np.ndarray,
+        engaged: np.ndarray,
+    ) -> np.ndarray:
+        """(V,) speeds (m/s) to command for the next step to vehicle rows ``rows`` (V,) of
+        ``view.state``, NaN where the vehicle is left to its own driver. Per vehicle: ``v_max``
+        m/s its allowed speed, ``a_free`` m/s^2 its own driver's maximum acceleration,
+        ``engaged`` whether the SCT driver had it on the previous step.
 
         The SCT driver takes over when even full acceleration by the vehicle's own driver
         would bring SCT below sct_safe, and hands back only once that predicts no contact at
         all within the horizon: in between, handing back would let the own driver speed up
-        towards the pedestrian and the two drivers would alternate.
+        towards the pedestrian and the two drivers would alternate. All vehicles and
+        pedestrians are planned together (one set of array operations per step); each
+        vehicle's plan depends only on its own pedestrians, as if planned alone.
         """
         cfg, model = self.config, self.model
         state = view.state
         times = model.times
         dt = float(times[1] - times[0])
-        v0, a0 = float(state.speed[row]), float(state.accel[row])
-        v_max = max(v_max, v0)
+        out = np.full(len(rows), np.nan)
+        if len(rows) == 0 or len(view.ped_rows) == 0:
+            return out
+        v0, a0 = state.speed[rows], state.accel[rows]
+        v_max = np.maximum(v_max, v0)[:, None, None]
         # the vehicle's own driver at its most demanding: full acceleration to its allowed speed
-        _, s_free = travel(np.full((1, len(times)), a_free), v0, v_max, dt)
-        xy, hd = model.vehicle_poses(view, row, s_free)
+        free = np.broadcast_to(np.asarray(a_free, float)[:, None, None], (len(rows), 1, len(times)))
+        _, s_free = travel(free, v0[:, None, None], v_max, dt)
+        xy, hd = model.vehicle_poses(view, rows, s_free)  # (V, 1, K, 2)
         now = state.xyz[view.ped_rows, :2]
-        d = now[:, None, :] - xy[0, ::5][None]
-        keep = np.einsum("pkj,pkj->pk", d, d).min(axis=1) <= cfg.act_distance**2
-        if not keep.any():
-            return None
-        slots = np.flatnonzero(keep)
+        d = now[None, :, None, :] - xy[:, :, ::5]
+        near = np.einsum("vpkj,vpkj->vpk", d, d).min(axis=2) <= cfg.act_distance**2  # (V, P)
+        slots = np.flatnonzero(near.any(axis=0))
+        if len(slots) == 0:
+            return out
+        near = near[:, slots]
         # every pedestrian speed hypothesis as its own track: (P * H, K, 2)
-        ped = pedestrian_tracks(
-            now[slots], view.ped_velocity[slots], model.config.speed_factors, times
-        )
-        ped = ped.reshape(-1, len(times), 2)
-        # pedestrians off the carriageway are protected (SUMO's corner geometry)
-        road = model.carriageway
-        protected = (
-            ~shapely.contains_xy(road, ped[..., 0], ped[..., 1])
-            if road is not None and not road.is_empty
-            else np.zeros(ped.shape[:2], bool)
-        )
-        length, width = state.length[row], state.width[row]
+        h = len(model.config.speed_factors)
+        ped = view.tracks[slots].reshape(-1, len(times), 2)
+        mine = np.repeat(near, h, axis=1)  # (V, P * H): the tracks each vehicle plans for
+        length, width = state.length[rows], state.width[rows]
+        keep = np.flatnonzero(self._may_touch(xy[:, 0], length, width, ped, mine, engaged))
+        if len(keep) == 0:
+            return out
+        rows, xy, hd, mine = rows[keep], xy[keep], hd[keep], mine[keep]
+        length, width, v0, a0 = length[keep], width[keep], v0[keep], a0[keep]
+        v_max, engaged = v_max[keep], engaged[keep]
+        exposed = model.exposed(view, slots).reshape(len(ped), len(times))
+        dims = (slice(None), None, None, None)
         contact = model.config.contact
-        gap = contact_gap(xy[:, None], hd[:, None], length, width, ped[None], contact)
-        gap = np.where(protected[None], np.inf, gap)
+        gap = contact_gap(xy[:, :, None], hd[:, :, None], length[dims], width[dims], ped, contact)
+        gap = np.where(exposed, gap, np.inf)[:, 0]  # (V, P * H, K)
         # pedestrians already touching the vehicle cannot be helped by any profile
-        apart = gap[0, :, 0] > 0
-        if not apart.any():
-            return None
-        sct_free = first_contact_time(gap[:, apart], times).min()
-        if np.isinf(sct_free) or (sct_free >= cfg.sct_safe and not engaged):
-            return None
-        accel = ramp_profiles(a0, self._targets, times, cfg.jerk_limit)
-        v, s = travel(accel, v0, v_max, dt, cfg.stop_speed)
-        xy, hd = model.vehicle_poses(view, row, s)
-        gap = contact_gap(xy[:, None], hd[:, None], length, width, ped[apart][None], contact)
-        gap = np.where(protected[apart][None], np.inf, gap)
-        sct = first_contact_time(gap, times).min(axis=1)  # (C,)
-        blocks = self._stops_on_crossing(xy[:, -1], hd[:, -1], v[:, -1], state, row)
-        if not blocks.all():  # keep crossings clear: never plan to stop on one
-            sct = np.where(blocks, -1.0, sct)
-        ordered = sct[self._order]
-        # once the cushion is threatened: no contact within the horizon if possible (a plan that
-        # merely postpones contact beyond sct_safe creeps towards a waiting pedestrian step by
-        # step), else a cushion of at least sct_safe, else the largest cushion
-        clear = np.flatnonzero(np.isinf(ordered))
-        ok = clear if len(clear) else np.flatnonzero(ordered >= cfg.sct_safe)
-        if len(ok):
-            pick = self._order[ok[0]]
-        else:
-            best = np.flatnonzero(sct == sct.max())
-            pick = best[np.argmin(self._targets[best])]  # equal SCT: brake hardest
-        return float(v[pick, 1])
+        apart = mine & (gap[..., 0] > 0)
+        sct_free = first_contact_time(np.where(apart[..., None], gap, np.inf), times).min(axis=1)
+        plan = apart.any(axis=1) & np.isfinite(sct_free) & ((sct_free < cfg.sct_safe) | engaged)
+        w = np.flatnonzero(plan)
+        if len(w) == 0:
+            return out
+        rows, apart, length, width = rows[w], apart[w], length[w], width[w]
+        accel = ramp_profiles(a0[w], self._targets, times, cfg.jerk_limit)  # (W, C, K)
+        v, s = travel(accel, v0[w, None, None], v_max[w], dt, cfg.stop_speed)
+        xy, hd = model.vehicle_poses(view, rows, s)  # (W, C, K, 2)
+        gap = contact_gap(xy[:, :, None], hd[:, :, None], length[dims], width[dims], ped, contact)
+        gap = np.where(exposed & apart[:, None, :, None], gap, np.inf)
+        sct = first_contact_time(gap, times).min(axis=2)  # (W, C)
+        blocks = self._stops_on_crossing(xy[:, :, -1], hd[:, :, -1], v[:, :, -1], length, width)
+        # keep crossings clear: never plan to stop on one (unless every plan does)
+        sct = np.where(blocks & ~blocks.all(axis=1, keepdims=True), -1.0, sct)
+        out[keep[w]] = v[np.arange(len(w)), self._pick(sct), 1]
+        return out
+
+    def _may_touch(
+        self,
+        xy: np.ndarray,
+        length: np.ndarray,
+        width: np.ndarray,
+        ped: np.ndarray,
+        mine: np.ndarray,
+        engaged: np.ndarray,
+    ) -> np.ndarray:
+        """(V,) bool: vehicles (centres ``xy`` (V, K, 2) under their own driver, sizes (V,) m)
+        that may touch one of their pedestrian tracks (``ped`` (T, K, 2), ``mine`` (V, T))
+        (model.near_contact); the others need no plan. A vehicle not ``engaged`` (V,) needs
+        one only for a contact before sct_safe: it is tested up to the first sample at or
+        after sct_safe (a contact first found later is interpolated back to the previous
+        sample at most). An engaged one is handed back only when no contact is predicted
+        within the horizon: it is tested at every sample."""
+        times = self.model.times
+        upto = min(int(np.searchsorted(times, self.config.sct_safe)) + 1, len(times))
+        contact = self.model.config.contact
+        shape = (slice(None), None)
+        near = near_contact(
+            xy[:, None, :upto], length[shape], width[shape], ped[None, :, :upto], contact
+        )
+        e = np.flatnonzero(engaged)
+        if len(e):
+            near[e] = near_contact(xy[e, None], length[e][shape], width[e][shape], ped, contact)
+        return (near & mine).any(axis=1)
+
+    def _pick(self, sct: np.ndarray) -> np.ndarray:
+        """(W,) the candidate each vehicle drives, from SCTs (W, C) of its candidates.
+
+        Once the cushion is threatened: no contact within the horizon if possible (a plan that
+        merely postpones contact beyond sct_safe creeps towards a waiting pedestrian step by
+        step), the mildest such; else the mildest with a cushion of at least sct_safe; else
+        the largest cushion, braking hardest among equals."""
+        ordered = sct[:, self._order]
+        clear = np.isinf(ordered)
+        ok = ordered >= self.config.sct_safe
+        best = sct == sct.max(axis=1, keepdims=True)
+        hardest = np.argmin(np.where(best, self._targets, np.inf), axis=1)
+        return np.where(
+            clear.any(axis=1),
+            self._order[np.argmax(clear, axis=1)],
+            np.where(ok.any(axis=1), self._order[np.argmax(ok, axis=1)], hardest),
+        )
 
     def _stops_on_crossing(
-        self, xy: np.ndarray, heading: np.ndarray, v_end: np.ndarray, state: WorldState, row: int
+        self,
+        xy: np.ndarray,
+        heading: np.ndarray,
+        v_end: np.ndarray,
+        length: np.ndarray,
+        width: np.ndarray,
     ) -> np.ndarray:
-        """(C,) bool: candidates that end stopped with the vehicle over a crossing."""
+        """(W, C) bool: candidates (end poses ``xy`` (W, C, 2), ``heading`` (W, C), speed
+        ``v_end`` (W, C)) that end stopped with the vehicle (``length``, ``width`` (W,) m) over
+        a crossing."""
         areas = self.model.geometry.crossings if self.model.geometry is not None else None
         stopped = v_end <= 0.0
+        blocks = np.zeros(stopped.size, bool)
         if areas is None or len(areas) == 0 or not stopped.any():
-            return np.zeros(len(xy), bool)
-        rect = footprint_corners(xy, heading, state.length[row], state.width[row])
-        n, a = len(rect), len(areas)
-        depth = overlap_depth(np.repeat(rect, a, 0), np.tile(areas.corners, (n, 1, 1)))
-        return stopped & (depth.reshape(n, a) > 0).any(axis=1)
+            return blocks.reshape(stopped.shape)
+        c = np.flatnonzero(stopped)  # stopped candidates, flat over (W, C)
+        veh = c // stopped.shape[1]
+        xy = xy.reshape(-1, 2)[c]
+        # only crossings within reach of the rectangle can overlap it (bounding circles, with
+        # a margin far above rounding: disjoint convex shapes have a separating edge axis)
+        reach = 0.5 * np.hypot(length, width)[veh, None] + np.hypot(
+            areas.half_length, areas.half_width
+        )
+        d = np.linalg.norm(xy[:, None, :] - areas.centre[None], axis=2)
+        k, a = np.nonzero(d <= reach + 1e-3)
+        if len(k):
+            rect = footprint_corners(
+                xy[k], heading.reshape(-1)[c[k]], length[veh[k]], width[veh[k]]
+            )
+            depth = overlap_depth(rect, areas.corners[a])
+            blocks[c[k[depth > 0]]] = True
+        return blocks.reshape(stopped.shape)
 
     def step(self, sim: Commands, view: StepView, present: set[str] | None = None) -> None:
         """Plan and command every in-scope vehicle of ``view``; vehicles controlled before but
@@ -228,19 +304,25 @@ class SCTController:
         decided: set[str] = set()
         if len(view.ped_rows):
             reach = self._within_reach(view)
+            rows, ids, v_max, a_free = [], [], [], []
             for k, r in enumerate(view.veh_rows.tolist()):
                 vid = state.ids[r]
                 if not (reach[k] or vid in self.controlled) or not self.in_scope(vid):
                     continue
                 if state.speed[r] < cfg.stop_speed and _held_by_signal(sim, vid):
                     continue  # SUMO keeps it standing at a red light anyway
-                v_max = sim.allowed_speed(vid)
-                a_free = self._accel.get(vid)
-                if a_free is None:
-                    a_free = self._accel[vid] = sim.max_accel(vid)
-                cmd = self.decide(view, r, v_max, a_free, vid in self.controlled)
-                if cmd is not None:
-                    sim.set_speed(vid, cmd)
+                a = self._accel.get(vid)
+                if a is None:
+                    a = self._accel[vid] = sim.max_accel(vid)
+                rows.append(r)
+                ids.append(vid)
+                v_max.append(sim.allowed_speed(vid))
+                a_free.append(a)
+            engaged = np.array([vid in self.controlled for vid in ids], bool)
+            cmd = self.decide(view, np.array(rows, int), np.array(v_max), np.array(a_free), engaged)
+            for vid, c in zip(ids, cmd.tolist(), strict=True):
+                if not math.isnan(c):
+                    sim.set_speed(vid, c)
                     decided.add(vid)
                     self.interventions += 1
         if present is None:

@@ -3,11 +3,19 @@
 Glue between WorldState rows and the metrics in hiyari.risk.metrics.contact: it keeps each
 vehicle's route path (registered by the caller, who knows the routes) and turns the current
 state into predicted vehicle poses and pedestrian velocities.
+
+Every step's work is batched over all vehicles and pedestrians in the view (a fixed number of
+numpy calls per step, whatever the number of pairs): the vehicles' paths are sampled from one
+table of their segments (per-segment values computed once per route), and the pedestrians'
+predicted tracks and whether each track point is on the carriageway are computed once per
+step and shared by the metrics and the controller. The values are exactly those of sampling
+each vehicle's hiyari.risk.metrics.contact.Path on its own (the same float operations on the
+same operands), so batching changes no result.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -20,12 +28,105 @@ from hiyari.risk.metrics.contact import (
     contact_gap,
     crossing_conflict,
     first_contact_time,
+    pedestrian_tracks,
     pedestrian_velocity,
-    safety_cushion_time,
-    unprotected,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
+from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
+
+_PEDESTRIAN = np.int8(ActorClass.PEDESTRIAN)  # compared as a numpy scalar: no enum lookup
+
+
+@dataclass(frozen=True)
+class Segments:
+    """A path's segments with the values Path.project and Path.at derive from them: start
+    (S, 2) m, vector (S, 2) m, squared length (S,) m^2 (>= 1e-12), arc length at the start
+    (S,) m, unit direction (S, 2) and heading (S,) rad; ``cum`` (S + 1,) the path's arc
+    lengths."""
+
+    start: np.ndarray
+    vector: np.ndarray
+    length2: np.ndarray
+    cum_start: np.ndarray
+    unit: np.ndarray
+    heading: np.ndarray
+    cum: np.ndarray
+
+    @staticmethod
+    def of(path: Path) -> Segments:
+        """The segments of ``path``."""
+        start = path.points[:-1]
+        vector = path.points[1:] - start
+        length2 = np.maximum(np.einsum("ij,ij->i", vector, vector), 1e-12)
+        unit = vector / np.maximum(path.cum[1:] - path.cum[:-1], 1e-12)[:, None]
+        heading = np.arctan2(unit[:, 1], unit[:, 0])
+        return Segments(start, vector, length2, path.cum[:-1], unit, heading, path.cum)
+
+
+@dataclass(frozen=True)
+class PathTable:
+    """The segments of V vehicles' paths in one table; vehicle v owns rows ``first[v]`` ..
+    ``first[v] + count[v] - 1``."""
+
+    seg: Segments  # concatenated over the vehicles (``cum`` unused)
+    owner: np.ndarray  # (S,) vehicle index of each row
+    first: np.ndarray  # (V,)
+    count: np.ndarray  # (V,)
+    cum: np.ndarray  # (V, M) each path's arc lengths, padded with +inf
+
+    @staticmethod
+    def of(parts: list[Segments]) -> PathTable:
+        """The table of ``parts`` (one per vehicle)."""
+        count = np.array([len(p.start) for p in parts], int)
+        first = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(int)
+        cum = np.full((len(parts), int(count.max(initial=0)) + 1), np.inf)
+        for v, p in enumerate(parts):
+            cum[v, : len(p.cum)] = p.cum
+
+        def cat(name: str) -> np.ndarray:
+            return np.concatenate([getattr(p, name) for p in parts])
+
+        if not parts:
+            empty = np.zeros((0, 2))
+            seg = Segments(empty, empty, np.zeros(0), np.zeros(0), empty, np.zeros(0), np.zeros(0))
+        else:
+            seg = Segments(
+                cat("start"),
+                cat("vector"),
+                cat("length2"),
+                cat("cum_start"),
+                cat("unit"),
+                cat("heading"),
+                np.zeros(0),
+            )
+        return PathTable(seg, np.repeat(np.arange(len(parts)), count), first, count, cum)
+
+    def project(self, xy: np.ndarray) -> np.ndarray:
+        """(V,) arc length (m) of the point of each vehicle's path nearest to ``xy`` (V, 2);
+        Path.project of each."""
+        s, own = self.seg, self.owner
+        p = xy[own]
+        f = np.clip(np.einsum("ij,ij->i", p - s.start, s.vector) / s.length2, 0.0, 1.0)
+        d = np.linalg.norm(s.start + f[:, None] * s.vector - p, axis=1)
+        # the first segment of each vehicle's at its least distance, as argmin picks it
+        low = np.minimum.reduceat(d, self.first) if len(d) else d
+        hit = np.flatnonzero(d == low[own])
+        k = hit[np.searchsorted(own[hit], np.arange(len(self.first)))]
+        return s.cum_start[k] + f[k] * np.sqrt(s.length2[k])
+
+    def at(self, vehicles: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(xy (..., 2), heading (...)) at arc lengths ``s`` (n, ...) m along the paths of
+        ``vehicles`` (n,) (indices into this table); Path.at of each."""
+        shape = (len(vehicles), *([1] * (s.ndim - 1)))
+        cum = self.cum[vehicles].reshape(*shape, -1)
+        # searchsorted(cum, s, side="right") - 1, kept on the path's segments
+        k = np.maximum((s[..., None] >= cum).sum(axis=-1) - 1, 0)
+        k = np.minimum(k, (self.count[vehicles] - 1).reshape(shape))
+        k += self.first[vehicles].reshape(shape)
+        seg = self.seg
+        xy = seg.start[k] + seg.unit[k] * (s - seg.cum_start[k])[..., None]
+        return xy, seg.heading[k]
 
 
 class SCTModel:
@@ -37,6 +138,9 @@ class SCTModel:
         self.times = config.times
         self._paths: dict[str, Path] = {}
         self._route_paths: dict[tuple[str, ...], Path] = {}
+        self._segments: dict[int, Segments] = {}  # id(route path) -> its segments
+        self._table: tuple[tuple[int, ...], PathTable] | None = None  # the last step's
+        self._crossing_index = geometry.crossings.index() if geometry is not None else {}
 
     def set_route(self, vehicle: str, edges: tuple[str, ...]) -> None:
         """Register the route (edge ids) ``vehicle`` follows; its path is built from the net."""
@@ -45,6 +149,7 @@ class SCTModel:
             path = self._route_paths.get(route)
             if path is None:
                 path = self._route_paths[route] = Path.of(self.geometry.path(route))
+                self._segments[id(path)] = Segments.of(path)
             self._paths[vehicle] = path
 
     def has_route(self, vehicle: str) -> bool:
@@ -62,6 +167,19 @@ class SCTModel:
             path = Path.straight(state.xyz[row, :2], float(state.heading[row]))
         return path
 
+    def _path_table(self, paths: list[Path]) -> PathTable:
+        """The table of ``paths``; the last step's when its vehicles follow the same routes."""
+        key = tuple(id(p) for p in paths)
+        if self._table is not None and self._table[0] == key:
+            return self._table[1]
+        parts = [self._segments.get(id(p)) for p in paths]
+        table = PathTable.of(
+            [s if s is not None else Segments.of(p) for s, p in zip(parts, paths, strict=True)]
+        )
+        if all(s is not None for s in parts):  # route paths live as long as the model
+            self._table = (key, table)
+        return table
+
     def prepare(
         self,
         state: WorldState,
@@ -69,8 +187,10 @@ class SCTModel:
         predict_pedestrians: bool = True,
     ) -> StepView:
         """Everything per actor that several metrics of this step share (pedestrian velocity
-        predictions only when ``predict_pedestrians``: SCT and the controller need them)."""
-        ped = np.flatnonzero(state.is_pedestrian)
+        predictions and tracks only when ``predict_pedestrians``: SCT and the controller need
+        them)."""
+        is_ped = state.cls == _PEDESTRIAN
+        ped = np.flatnonzero(is_ped)
         lanes = state.lane[ped].tolist()
         if self.geometry is None:
             on_kerb = np.zeros(len(ped), bool)
@@ -80,7 +200,7 @@ class SCTModel:
             g = self.geometry
             on_kerb = np.array([ln in g.footway_lanes for ln in lanes], bool)
             kerbs = g.kerbs
-            index = g.crossings.index()
+            index = self._crossing_index
             crossing = np.array([index.get(ln, -1) for ln in lanes], int)
         if predict_pedestrians:
             vel, dart = pedestrian_velocity(
@@ -92,34 +212,99 @@ class SCTModel:
                 self.config,
                 open_crossings,
             )
+            tracks = pedestrian_tracks(
+                state.xyz[ped, :2], vel, self.config.speed_factors, self.times
+            )
         else:
             vel, dart = np.full((len(ped), 2), np.nan), np.zeros(len(ped), bool)
-        veh = np.flatnonzero(state.is_vehicle)
-        paths = [self.path_of(state, int(r)) for r in veh]
-        s0 = np.array([p.project(state.xyz[r, :2]) for p, r in zip(paths, veh, strict=True)])
+            tracks = None
+        veh = np.flatnonzero(~is_ped)
+        paths = [self.path_of(state, r) for r in veh.tolist()]
+        table = self._path_table(paths)
+        s0 = table.project(state.xyz[veh, :2])
         ped_slot = np.full(len(state), -1)
         ped_slot[ped] = np.arange(len(ped))
         veh_slot = np.full(len(state), -1)
         veh_slot[veh] = np.arange(len(veh))
-        return StepView(state, veh, paths, s0, veh_slot, ped, vel, dart, crossing, ped_slot)
+        return StepView(
+            state, veh, paths, s0, veh_slot, ped, vel, dart, crossing, ped_slot, table, tracks
+        )
 
     def vehicle_poses(
-        self, view: StepView, row: int, travel: np.ndarray | None = None
+        self, view: StepView, rows: np.ndarray, travel: np.ndarray | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Predicted rectangle centres (..., K, 2) and headings (..., K) of vehicle ``row``.
+        """Predicted rectangle centres (n, ..., K, 2) and headings (n, ..., K) of vehicle rows
+        ``rows`` (n,) of ``view.state``.
 
-        ``travel`` (..., K): arc length travelled (m) at each sample time; None: the current
-        speed held.
+        ``travel`` (n, ..., K): arc length travelled (m) at each sample time; None: the
+        current speeds held.
         """
-        k = view.veh_slot[row]
+        slots = view.veh_slot[rows]
         if travel is None:
-            travel = view.state.speed[row] * self.times
-        return view.paths[k].at(view.s0[k] + travel)
+            travel = view.state.speed[rows][:, None] * self.times
+        s0 = view.s0[slots].reshape(len(rows), *([1] * (travel.ndim - 1)))
+        return view.table.at(slots, s0 + travel)
 
     @property
     def carriageway(self) -> shapely.Geometry | None:
         """Where pedestrians are exposed (NetGeometry.carriageway), or None: everywhere."""
         return self.geometry.carriageway if self.geometry is not None else None
+
+    def exposed(self, view: StepView, slots: np.ndarray) -> np.ndarray:
+        """(n, H, K) bool: the predicted track points of pedestrian slots ``slots`` (n,) that
+        lie on the carriageway (all True without one). Computed once per pedestrian and step."""
+        road = self.carriageway
+        if road is None or road.is_empty:
+            return np.ones((len(slots), *view.tracks.shape[1:3]), bool)
+        if view.exposed_cache is None:
+            view.exposed_cache = np.zeros(view.tracks.shape[:3], bool)
+            view.exposed_done = np.zeros(len(view.tracks), bool)
+        need = np.zeros(len(view.tracks), bool)
+        need[slots] = True
+        todo = np.flatnonzero(need & ~view.exposed_done)
+        if len(todo):
+            view.exposed_cache[todo] = self._on_road(view.tracks[todo], view.ped_velocity[todo])
+            view.exposed_done[todo] = True
+        return view.exposed_cache[slots]
+
+    def _on_road(self, tracks: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+        """(n, H, K) bool: track points (n, H, K, 2) inside the carriageway. A track starts at
+        the pedestrian (t = 0) and stays there under a zero speed hypothesis or a zero
+        predicted velocity (``velocity`` (n, 2)): those points are tested once."""
+        road = self.carriageway
+        start = tracks[:, 0, 0]
+        out = np.empty(tracks.shape[:3], bool)
+        out[:] = shapely.contains_xy(road, start[:, 0], start[:, 1])[:, None, None]
+        rows = np.flatnonzero(velocity.any(axis=1))
+        hyp = np.flatnonzero(np.asarray(self.config.speed_factors) != 0)
+        if len(rows) and len(hyp):
+            pts = tracks[rows[:, None], hyp[None, :], 1:]
+            out[rows[:, None], hyp[None, :], 1:] = shapely.contains_xy(
+                road, pts[..., 0], pts[..., 1]
+            )
+        return out
+
+    def _cv_protected(self, view: StepView, prows: np.ndarray, ped_cv: np.ndarray) -> np.ndarray:
+        """(n, K) bool: constant-velocity track points ``ped_cv`` (n, K, 2) of pedestrian rows
+        ``prows`` (n,) off the carriageway. A pedestrian without a dart-out prediction walks on at
+        its own velocity, so its track is the speed-factor 1 hypothesis: read from
+        ``exposed``."""
+        road = self.carriageway
+        if road is None or road.is_empty:
+            return np.zeros(ped_cv.shape[:2], bool)
+        factors = list(self.config.speed_factors)
+        slots = view.ped_slot[prows]
+        if view.tracks is None or 1.0 not in factors:
+            reuse = np.zeros(len(prows), bool)
+        else:
+            reuse = ~view.dart_out[slots]
+        out = np.empty(ped_cv.shape[:2], bool)
+        if reuse.any():
+            out[reuse] = ~self.exposed(view, slots[reuse])[:, factors.index(1.0)]
+        if not reuse.all():
+            pts = ped_cv[~reuse]
+            out[~reuse] = ~shapely.contains_xy(road, pts[..., 0], pts[..., 1])
+        return out
 
     def pair_metrics(
         self,
@@ -134,35 +319,55 @@ class SCTModel:
 
         TTC: pedestrians at constant velocity, shapes ``ttc_contact`` (default: the vehicle
         rectangle as is, a 0.3 m disc). SCT: this model's config
-        (margin, dart-out and speed hypotheses). Pedestrians off the carriageway are protected
-        in both. The gap is the TTC shapes' distance now (<= 0: touching).
-        ``with_sct`` False: SCT is not computed (inf).
+        (margin, dart-out and speed hypotheses), i.e.
+        hiyari.risk.metrics.contact.safety_cushion_time on the step's shared pedestrian
+        tracks. Pedestrians off the carriageway are protected in both. The gap is the TTC
+        shapes' distance now (<= 0: touching). ``with_sct`` False: SCT is not computed (inf).
+        Pairs whose tracks never come near enough to touch (near_contact) are inf without
+        further work.
         """
-        if len(vi) == 0:
+        n = len(vi)
+        if n == 0:
             return np.zeros(0), np.zeros(0), np.zeros(0)
         ttc_contact = ttc_contact or ContactGeometry()
         state = view.state
-        vrows, vinv = np.unique(vi, return_inverse=True)
-        poses = [self.vehicle_poses(view, int(r)) for r in vrows]
-        vxy = np.stack([p[0] for p in poses])[vinv]
-        vh = np.stack([p[1] for p in poses])[vinv]
-        slot = view.ped_slot[pj]
+        # poses once per vehicle of the view, tracks once per pedestrian of the pairs
+        vxy, vh = self.vehicle_poses(view, view.veh_rows)
+        vslot = view.veh_slot[vi]
+        vxy, vh = vxy[vslot], vh[vslot]
         length, width = state.length[vi], state.width[vi]
-        ped_xy = state.xyz[pj, :2]
         t = self.times
-        speed = state.speed[pj, None]
-        heading = state.heading[pj]
-        cv = heading_vector(heading) * speed
-        ped_cv = ped_xy[:, None, :] + cv[:, None, :] * t[None, :, None]
-        gap = contact_gap(vxy, vh, length[:, None], width[:, None], ped_cv, ttc_contact)
-        gap = unprotected(gap, ped_cv, self.carriageway)
-        ttc = first_contact_time(gap, t)
+        prows, pinv = _distinct(pj, len(state))
+        cv = heading_vector(state.heading[prows]) * state.speed[prows, None]
+        ped_cv = (state.xyz[prows, None, :2] + cv[:, None, :] * t[None, :, None])[pinv]
+        gap = contact_gap(vxy[:, 0], vh[:, 0], length, width, ped_cv[:, 0], ttc_contact)
+        road = self.carriageway
+        if road is not None and not road.is_empty:
+            now = state.xyz[prows, :2]
+            on_road = shapely.contains_xy(road, now[:, 0], now[:, 1])[pinv]
+            gap = np.where(on_road, gap, np.inf)
+        ttc = np.full(n, np.inf)
+        c = np.flatnonzero(near_contact(vxy, length, width, ped_cv, ttc_contact))
+        if len(c):
+            g = contact_gap(vxy[c], vh[c], length[c, None], width[c, None], ped_cv[c], ttc_contact)
+            g = np.where(self._cv_protected(view, pj[c], ped_cv[c]), np.inf, g)
+            ttc[c] = first_contact_time(g, t)
+        sct = np.full(n, np.inf)
         if not with_sct:
-            return ttc, np.full(len(vi), np.inf), gap[:, 0]
-        sct = safety_cushion_time(
-            vxy, vh, length, width, ped_xy, view.ped_velocity[slot], self.config, self.carriageway
-        )
-        return ttc, sct, gap[:, 0]
+            return ttc, sct, gap
+        slot = view.ped_slot[pj]
+        contact = self.config.contact
+        tracks = view.tracks[slot]
+        near = near_contact(vxy[:, None], length[:, None], width[:, None], tracks, contact)
+        c = np.flatnonzero(near.any(axis=1))
+        if len(c):
+            shape = (slice(None), None, None)
+            g = contact_gap(
+                vxy[c, None], vh[c, None], length[c][shape], width[c][shape], tracks[c], contact
+            )
+            g = np.where(self.exposed(view, slot[c]), g, np.inf)
+            sct[c] = first_contact_time(g, t).min(axis=-1)
+        return ttc, sct, gap
 
     def crossing_occupancy(
         self, view: StepView, vi: np.ndarray, pj: np.ndarray, ped_radius: float = 0.3
@@ -197,11 +402,40 @@ class SCTModel:
         return has, vin, pin
 
 
+def near_contact(
+    centre: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    points: np.ndarray,
+    contact: ContactGeometry,
+) -> np.ndarray:
+    """(...) bool: whether ``points`` (..., K, 2) come within reach of rectangles (centres
+    (..., K, 2) m, ``length`` / ``width`` (...) m, broadcasting) at some sample: the
+    rectangle grown by the margin lies within its circumscribed circle, so contact_gap <= 0
+    needs the point within that circle plus the disc. False: no contact at any sample. A
+    micrometre of slack keeps rounding from ever excluding a contact."""
+    m = contact.vehicle_margin
+    reach = np.hypot(0.5 * length + m, 0.5 * width + m) + contact.pedestrian_radius + 1e-6
+    d = points - centre
+    return (d * d).sum(axis=-1).min(axis=-1) <= reach * reach
+
+
+def _distinct(rows: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """np.unique(rows, return_inverse=True) for row indices below ``n``, without sorting."""
+    used = np.zeros(n, bool)
+    used[rows] = True
+    distinct = np.flatnonzero(used)
+    index = np.empty(n, int)
+    index[distinct] = np.arange(len(distinct))
+    return distinct, index[rows]
+
+
 @dataclass
 class StepView:
-    """Per-step shared values: vehicle rows with their paths and arc lengths (m), pedestrian
-    rows with predicted velocities (m/s), dart-out flags and crossing index (-1: not on a
-    crossing); ``*_slot`` map a state row to its index in these lists."""
+    """Per-step shared values: vehicle rows with their paths, path table and arc lengths (m),
+    pedestrian rows with predicted velocities (m/s), dart-out flags, crossing index (-1: not
+    on a crossing) and predicted tracks (P, H, K, 2) m (None when not predicted); ``*_slot``
+    map a state row to its index in these lists."""
 
     state: WorldState
     veh_rows: np.ndarray
@@ -213,3 +447,7 @@ class StepView:
     dart_out: np.ndarray
     crossing: np.ndarray
     ped_slot: np.ndarray
+    table: PathTable
+    tracks: np.ndarray | None
+    exposed_cache: np.ndarray | None = field(default=None, repr=False)
+    exposed_done: np.ndarray | None = field(default=None, repr=False)
