@@ -33,6 +33,7 @@ from hiyari.bridge.campaign.pool import PoolOptions, run_all
 from hiyari.bridge.campaign.sweep import run_one
 from hiyari.bridge.scenario.result import JUDGE_KEYS
 from hiyari.bridge.scenario.toml_file import SENSOR_NAMES, ConcreteScenario
+from hiyari.bridge.scenario.warm import ProcessCache
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import cut_out_boundary
 from hiyari.risk.cc.evaluator import cut_out_lead_clear_gap
@@ -58,6 +59,7 @@ class JudgeOptions:
     seed: int = 1
     lane_width: float = 3.5
     params: CCParams = field(default_factory=CCParams)  # the C&C model of the expectations
+    warm: bool = True  # each worker builds the road, scene and rig once (same verdicts)
 
 
 def check_expectations(points: list[R157Point], params: CCParams) -> None:
@@ -146,6 +148,16 @@ def point_scenario(
     )
 
 
+#: This process's roads, ray-cast scenes and rigs: each pool worker fills its own on its
+#: first point and reuses them for the rest (the only state a worker keeps between runs).
+WORKER_CACHE = ProcessCache()
+
+
+def run_point_warm(cs: ConcreteScenario) -> tuple[dict, float]:
+    """:func:`~hiyari.bridge.campaign.sweep.run_one` on this process's warm cache."""
+    return run_one(cs, WORKER_CACHE.for_this_process())
+
+
 def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True) -> JudgeReport:
     """Run every point under every condition; return the report (rows in point order)."""
     from tqdm import tqdm
@@ -167,10 +179,14 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
     report = JudgeReport([c for c in dict.fromkeys(m[1] for m in meta)], params=options.params)
     results: dict[int, dict] = {}
     pool = PoolOptions(workers=options.workers, backend=options.backend)
-    with tqdm(total=len(runs), unit="run", disable=not progress, desc="r157 judge") as bar:
-        for _, (row, _) in run_all(run_one, runs, pool):
-            results[row["index"]] = row
-            bar.update(1)
+    task = run_point_warm if options.warm else run_one
+    try:
+        with tqdm(total=len(runs), unit="run", disable=not progress, desc="r157 judge") as bar:
+            for _, (row, _) in run_all(task, runs, pool):
+                results[row["index"]] = row
+                bar.update(1)
+    finally:
+        WORKER_CACHE.clear()  # runs made in this process (one worker) leave nothing behind
     for i, (point, cond) in enumerate(meta):
         r = results[i]
         if r["status"] != "ok":

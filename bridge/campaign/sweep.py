@@ -27,6 +27,7 @@ from hiyari.atomic import atomic_path
 from hiyari.bridge.campaign.pool import PoolOptions, run_all
 from hiyari.bridge.scenario.result import RESULT_KEYS
 from hiyari.bridge.scenario.toml_file import ConcreteScenario, LogicalScenario
+from hiyari.bridge.scenario.warm import WarmCache
 from hiyari.bridge.scenario.xosc_runs import XoscPlan, XoscRun
 from hiyari.errors import HiyariError
 
@@ -64,15 +65,16 @@ class SweepSummary:
     table: Path
 
 
-def run_one(cs: ConcreteScenario | XoscRun) -> tuple[dict, float]:
-    """Run one concrete scenario; never raises: failures become a row with the error."""
+def run_one(cs: ConcreteScenario | XoscRun, warm: WarmCache | None = None) -> tuple[dict, float]:
+    """Run one concrete scenario; never raises: failures become a row with the error.
+    ``warm``: this process's cache of roads and scenes for TOML scenarios (same results)."""
     from hiyari.bridge.scenario.run import run_concrete
     from hiyari.bridge.scenario.xosc_runs import run_xosc
 
     t0 = time.perf_counter()
     row: dict = {"index": cs.index, "seed": cs.seed, **cs.params}
     try:
-        res = run_xosc(cs) if isinstance(cs, XoscRun) else run_concrete(cs)
+        res = run_xosc(cs) if isinstance(cs, XoscRun) else run_concrete(cs, warm=warm)
         row.update(status="ok", error="", **res.row())
     except Exception as exc:  # one failing run must not stop the sweep
         msg = " ".join(f"{type(exc).__name__}: {exc}".split())
