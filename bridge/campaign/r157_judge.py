@@ -30,8 +30,8 @@ from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.campaign.pool import PoolOptions, run_all
-from hiyari.bridge.campaign.sweep import run_one
-from hiyari.bridge.scenario.result import JUDGE_KEYS
+from hiyari.bridge.scenario.result import JUDGE_KEYS, RESULT_KEYS
+from hiyari.bridge.scenario.run import RunOptions, run_concrete
 from hiyari.bridge.scenario.toml_file import SENSOR_NAMES, ConcreteScenario
 from hiyari.bridge.scenario.warm import ProcessCache
 from hiyari.errors import HiyariError
@@ -59,7 +59,8 @@ class JudgeOptions:
     seed: int = 1
     lane_width: float = 3.5
     params: CCParams = field(default_factory=CCParams)  # the C&C model of the expectations
-    warm: bool = True  # each worker builds the road, scene and rig once (same verdicts)
+    warm: bool = True  # each worker builds the road, scene and rig once (same rows)
+    end_when_decided: bool = True  # stop a run once its judged values cannot change
 
 
 def check_expectations(points: list[R157Point], params: CCParams) -> None:
@@ -84,6 +85,8 @@ class JudgeReport:
     conditions: list[str]
     rows: list[dict] = field(default_factory=list)
     params: CCParams = field(default_factory=CCParams)
+    sim_seconds: float = 0.0  # simulated, summed over the runs
+    loop_seconds: float = 0.0  # wall time of the closed loops, summed over the runs
 
     def summary(self) -> dict[str, dict]:
         out = {}
@@ -153,9 +156,30 @@ def point_scenario(
 WORKER_CACHE = ProcessCache()
 
 
-def run_point_warm(cs: ConcreteScenario) -> tuple[dict, float]:
-    """:func:`~hiyari.bridge.campaign.sweep.run_one` on this process's warm cache."""
-    return run_one(cs, WORKER_CACHE.for_this_process())
+@dataclass(frozen=True)
+class PointRun:
+    """One run of the judge: the point's scenario and how to run it (JudgeOptions)."""
+
+    scenario: ConcreteScenario
+    warm: bool
+    end_when_decided: bool
+
+
+def run_point(task: PointRun) -> dict:
+    """Run one point in this process; never raises (a failure is a row with the error).
+    Besides the result columns: ``sim_seconds`` and ``loop_seconds`` (closed-loop wall time)."""
+    cs = task.scenario
+    warm = WORKER_CACHE.for_this_process() if task.warm else None
+    options = RunOptions(end_when_decided=task.end_when_decided)
+    row: dict = {"index": cs.index}
+    try:
+        res = run_concrete(cs, options, warm=warm)
+    except Exception as exc:  # one failing point must not stop the judge
+        msg = " ".join(f"{type(exc).__name__}: {exc}".split())
+        row.update(status="failed", error=msg, sim_seconds=0.0, loop_seconds=0.0)
+        return row | dict.fromkeys(RESULT_KEYS, "")
+    row.update(status="ok", error="", sim_seconds=res.sim_seconds, loop_seconds=res.wall_seconds)
+    return row | res.row()
 
 
 def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True) -> JudgeReport:
@@ -179,11 +203,13 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
     report = JudgeReport([c for c in dict.fromkeys(m[1] for m in meta)], params=options.params)
     results: dict[int, dict] = {}
     pool = PoolOptions(workers=options.workers, backend=options.backend)
-    task = run_point_warm if options.warm else run_one
+    tasks = [PointRun(cs, options.warm, options.end_when_decided) for cs in runs]
     try:
         with tqdm(total=len(runs), unit="run", disable=not progress, desc="r157 judge") as bar:
-            for _, (row, _) in run_all(task, runs, pool):
+            for _, row in run_all(run_point, tasks, pool):
                 results[row["index"]] = row
+                report.sim_seconds += row["sim_seconds"]
+                report.loop_seconds += row["loop_seconds"]
                 bar.update(1)
     finally:
         WORKER_CACHE.clear()  # runs made in this process (one worker) leave nothing behind

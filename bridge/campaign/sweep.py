@@ -27,7 +27,6 @@ from hiyari.atomic import atomic_path
 from hiyari.bridge.campaign.pool import PoolOptions, run_all
 from hiyari.bridge.scenario.result import RESULT_KEYS
 from hiyari.bridge.scenario.toml_file import ConcreteScenario, LogicalScenario
-from hiyari.bridge.scenario.warm import WarmCache
 from hiyari.bridge.scenario.xosc_runs import XoscPlan, XoscRun
 from hiyari.errors import HiyariError
 
@@ -65,16 +64,15 @@ class SweepSummary:
     table: Path
 
 
-def run_one(cs: ConcreteScenario | XoscRun, warm: WarmCache | None = None) -> tuple[dict, float]:
-    """Run one concrete scenario; never raises: failures become a row with the error.
-    ``warm``: this process's cache of roads and scenes for TOML scenarios (same results)."""
+def run_one(cs: ConcreteScenario | XoscRun) -> tuple[dict, float]:
+    """Run one concrete scenario; never raises: failures become a row with the error."""
     from hiyari.bridge.scenario.run import run_concrete
     from hiyari.bridge.scenario.xosc_runs import run_xosc
 
     t0 = time.perf_counter()
     row: dict = {"index": cs.index, "seed": cs.seed, **cs.params}
     try:
-        res = run_xosc(cs) if isinstance(cs, XoscRun) else run_concrete(cs, warm=warm)
+        res = run_xosc(cs) if isinstance(cs, XoscRun) else run_concrete(cs)
         row.update(status="ok", error="", **res.row())
     except Exception as exc:  # one failing run must not stop the sweep
         msg = " ".join(f"{type(exc).__name__}: {exc}".split())

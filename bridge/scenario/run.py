@@ -15,7 +15,8 @@ from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.scenario.closed_loop import OnStep, run_closed_loop
-from hiyari.bridge.scenario.presets import build_scenario
+from hiyari.bridge.scenario.decided import DecidedEnd
+from hiyari.bridge.scenario.presets import Scenario, build_scenario
 from hiyari.bridge.scenario.result import RunResult, TimeSeries
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
 from hiyari.bridge.scenario.warm import WarmCache
@@ -43,6 +44,8 @@ class RunOptions:
     plot: bool = True
     record: bool = False  # write out_dir/run.mcap (needs out_dir)
     camera_image_every: int = 10  # when recording: render every Nth camera frame (0: none)
+    #: end once the rest of the run cannot change its judged values (bridge.scenario.decided)
+    end_when_decided: bool = False
 
 
 def build_stack(
@@ -118,6 +121,7 @@ def run_concrete(
                 signals = sim.signal_states if links else None
                 step_recorder = StepRecorder(recorder, stack, sc.ego_id, signals)
                 on_step = chain(step_recorder, on_step)
+            decided = decided_end(sc, stack, cs.step_length) if options.end_when_decided else None
             try:
                 result = run_closed_loop(
                     sim,
@@ -127,6 +131,7 @@ def run_concrete(
                     label=cs.label(),
                     on_step=on_step,
                     progress=options.progress,
+                    decided=decided,
                 )
             except BaseException:
                 if recorder is not None:
@@ -137,6 +142,14 @@ def run_concrete(
     if options.out_dir is not None:
         write_result(result, cs, options.out_dir, plot=options.plot)
     return result
+
+
+def decided_end(sc: Scenario, stack: EgoStack, step: float) -> DecidedEnd | None:
+    """The decided-end test of a scripted run on an empty road driven by the default planner
+    (None for anything else: SUMO traffic, pedestrians, another planner)."""
+    if sc.routes or not sc.scripted or not isinstance(stack.planner, AEBPlanner):
+        return None
+    return DecidedEnd(stack.planner.acc, step, sc.scripted, sc.target_id, sc.start_time, sc.lead_in)
 
 
 def chain(first: OnStep, second: OnStep | None) -> OnStep:
