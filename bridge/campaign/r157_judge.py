@@ -19,6 +19,7 @@ from __future__ import annotations
 import csv
 import json
 import textwrap
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -85,8 +86,12 @@ class JudgeReport:
     conditions: list[str]
     rows: list[dict] = field(default_factory=list)
     params: CCParams = field(default_factory=CCParams)
-    sim_seconds: float = 0.0  # simulated, summed over the runs
-    loop_seconds: float = 0.0  # wall time of the closed loops, summed over the runs
+    # summed over the runs: simulated seconds, wall seconds of the closed loops and of the
+    # whole runs (road, scene, SUMO start included), CPU seconds of the runs (cast threads too)
+    sim_seconds: float = 0.0
+    loop_seconds: float = 0.0
+    run_seconds: float = 0.0
+    cpu_seconds: float = 0.0
 
     def summary(self) -> dict[str, dict]:
         out = {}
@@ -167,19 +172,27 @@ class PointRun:
 
 def run_point(task: PointRun) -> dict:
     """Run one point in this process; never raises (a failure is a row with the error).
-    Besides the result columns: ``sim_seconds`` and ``loop_seconds`` (closed-loop wall time)."""
+    Besides the result columns, the run's costs (:data:`TIMING_KEYS`, seconds)."""
     cs = task.scenario
     warm = WORKER_CACHE.for_this_process() if task.warm else None
     options = RunOptions(end_when_decided=task.end_when_decided)
-    row: dict = {"index": cs.index}
+    wall, cpu = time.perf_counter(), time.process_time()
+    row: dict = {"index": cs.index, "sim_seconds": 0.0, "loop_seconds": 0.0}
     try:
         res = run_concrete(cs, options, warm=warm)
     except Exception as exc:  # one failing point must not stop the judge
         msg = " ".join(f"{type(exc).__name__}: {exc}".split())
-        row.update(status="failed", error=msg, sim_seconds=0.0, loop_seconds=0.0)
-        return row | dict.fromkeys(RESULT_KEYS, "")
-    row.update(status="ok", error="", sim_seconds=res.sim_seconds, loop_seconds=res.wall_seconds)
-    return row | res.row()
+        row.update(status="failed", error=msg, **dict.fromkeys(RESULT_KEYS, ""))
+    else:
+        row.update(status="ok", error="", sim_seconds=res.sim_seconds, **res.row())
+        row["loop_seconds"] = res.wall_seconds
+    row["run_seconds"] = time.perf_counter() - wall
+    row["cpu_seconds"] = time.process_time() - cpu
+    return row
+
+
+#: The cost columns of :func:`run_point`'s rows, summed into the JudgeReport's fields.
+TIMING_KEYS = ("sim_seconds", "loop_seconds", "run_seconds", "cpu_seconds")
 
 
 def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True) -> JudgeReport:
@@ -208,8 +221,8 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
         with tqdm(total=len(runs), unit="run", disable=not progress, desc="r157 judge") as bar:
             for _, row in run_all(run_point, tasks, pool):
                 results[row["index"]] = row
-                report.sim_seconds += row["sim_seconds"]
-                report.loop_seconds += row["loop_seconds"]
+                for key in TIMING_KEYS:
+                    setattr(report, key, getattr(report, key) + row[key])
                 bar.update(1)
     finally:
         WORKER_CACHE.clear()  # runs made in this process (one worker) leave nothing behind

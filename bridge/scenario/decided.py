@@ -65,7 +65,7 @@ class DecidedEnd:
     target_id: str
     start_time: float
     lead_in: float
-    every: float = 0.5
+    every: float = 0.25
     grid: float = 0.25
     truth: TruthConfig = TruthConfig()
     _next: float = -math.inf
