@@ -3,6 +3,7 @@ same judge rows as the per-run path, and the decided end's speed bound holds for
 
 from __future__ import annotations
 
+import os
 from dataclasses import replace
 
 import numpy as np
@@ -15,12 +16,12 @@ from hiyari.bridge.stack.aeb import ACCConfig, AEBConfig, AEBPlanner
 from hiyari.kinematics import Pose
 from hiyari.net.sumo.build import R157RoadParams, build_r157_road
 from hiyari.risk.cc.boundary import Grid
-from hiyari.risk.cc.r157_points import R157Config, generate_points
+from hiyari.risk.cc.r157_points import R157Config, R157Point, generate_points
 from hiyari.sensors.outputs import ObjectList
 
 
 @pytest.fixture(scope="module")
-def points():
+def points() -> dict[str, R157Point]:
     cfg = R157Config(
         ve0_kmh=Grid(40, 40, 10),
         dv_kmh=Grid(0, 20, 20),
@@ -31,7 +32,7 @@ def points():
     return {p.id: p for p in generate_points(cfg).points}
 
 
-def test_warm_decided_judge_rows_equal_the_per_run_path(points):
+def test_warm_decided_judge_rows_equal_the_per_run_path(points: dict[str, R157Point]) -> None:
     # a cut-in at equal speeds (decided once the other car is in lane ahead at the ego's
     # speed) and one the AEB must stop; two presets: a worker reuses its scene under another
     ids = ("cut-in/ve40/vo40/vy2/boundary+30m", "cut-in/ve40/vo20/vy2/boundary")
@@ -48,7 +49,7 @@ def test_warm_decided_judge_rows_equal_the_per_run_path(points):
     assert fast.sim_seconds < cold.sim_seconds - 2 * 3.0
 
 
-def test_speed_envelope_is_the_acc_recurrence_and_bounds_the_planner():
+def test_speed_envelope_is_the_acc_recurrence_and_bounds_the_planner() -> None:
     acc = ACCConfig(set_speed=16.0)
     dt = 0.05
     rng = np.random.default_rng(5)
@@ -80,7 +81,7 @@ def test_speed_envelope_is_the_acc_recurrence_and_bounds_the_planner():
         assert v + cmd.accel * dt <= speed_envelope(acc, v, dt, 1)[0] + 1e-12
 
 
-def test_warm_cache_builds_once_per_process(tmp_path):
+def test_warm_cache_builds_once_per_process() -> None:
     holder = ProcessCache()
     cache = holder.for_this_process()
     net = cache.road("r157.net.xml", build_r157_road, R157RoadParams())
@@ -91,13 +92,13 @@ def test_warm_cache_builds_once_per_process(tmp_path):
     cache.pid = -1  # as if inherited through fork: the child gets its own
     assert holder.for_this_process() is not cache
     holder.clear()
-    cache.pid = __import__("os").getpid()
+    cache.pid = os.getpid()
     cache.clear()
     assert not net.path.exists()
 
 
 @pytest.mark.parametrize("warm", [True, False])
-def test_failed_point_is_a_row_not_a_crash(points, warm):
+def test_failed_point_is_a_row_not_a_crash(points: dict[str, R157Point], warm: bool) -> None:
     bad = points["decel/ve40/gx1/thw2"]
     report = judge([bad], JudgeOptions(workers=1, warm=warm, step_length=-1.0), progress=False)
     assert report.rows[0]["verdict"] == "error" and "step length" in report.rows[0]["error"]
