@@ -19,6 +19,7 @@ from __future__ import annotations
 import csv
 import json
 import textwrap
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -30,9 +31,10 @@ from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.campaign.pool import PoolOptions, run_all
-from hiyari.bridge.campaign.sweep import run_one
-from hiyari.bridge.scenario.result import JUDGE_KEYS
+from hiyari.bridge.scenario.result import JUDGE_KEYS, RESULT_KEYS
+from hiyari.bridge.scenario.run import RunOptions, run_concrete
 from hiyari.bridge.scenario.toml_file import SENSOR_NAMES, ConcreteScenario
+from hiyari.bridge.scenario.warm import ProcessCache
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import cut_out_boundary
 from hiyari.risk.cc.evaluator import cut_out_lead_clear_gap
@@ -58,6 +60,8 @@ class JudgeOptions:
     seed: int = 1
     lane_width: float = 3.5
     params: CCParams = field(default_factory=CCParams)  # the C&C model of the expectations
+    warm: bool = True  # each worker builds the road, scene and rig once (same rows)
+    end_when_decided: bool = True  # stop a run once its judged values cannot change
 
 
 def check_expectations(points: list[R157Point], params: CCParams) -> None:
@@ -82,6 +86,12 @@ class JudgeReport:
     conditions: list[str]
     rows: list[dict] = field(default_factory=list)
     params: CCParams = field(default_factory=CCParams)
+    # summed over the runs: simulated seconds, wall seconds of the closed loops and of the
+    # whole runs (road, scene, SUMO start included), CPU seconds of the runs (cast threads too)
+    sim_seconds: float = 0.0
+    loop_seconds: float = 0.0
+    run_seconds: float = 0.0
+    cpu_seconds: float = 0.0
 
     def summary(self) -> dict[str, dict]:
         out = {}
@@ -146,6 +156,45 @@ def point_scenario(
     )
 
 
+#: This process's roads, ray-cast scenes and rigs: each pool worker fills its own on its
+#: first point and reuses them for the rest (the only state a worker keeps between runs).
+WORKER_CACHE = ProcessCache()
+
+
+@dataclass(frozen=True)
+class PointRun:
+    """One run of the judge: the point's scenario and how to run it (JudgeOptions)."""
+
+    scenario: ConcreteScenario
+    warm: bool
+    end_when_decided: bool
+
+
+def run_point(task: PointRun) -> dict:
+    """Run one point in this process; never raises (a failure is a row with the error).
+    Besides the result columns, the run's costs (:data:`TIMING_KEYS`, seconds)."""
+    cs = task.scenario
+    warm = WORKER_CACHE.for_this_process() if task.warm else None
+    options = RunOptions(end_when_decided=task.end_when_decided)
+    wall, cpu = time.perf_counter(), time.process_time()
+    row: dict = {"index": cs.index, "sim_seconds": 0.0, "loop_seconds": 0.0}
+    try:
+        res = run_concrete(cs, options, warm=warm)
+    except Exception as exc:  # one failing point must not stop the judge
+        msg = " ".join(f"{type(exc).__name__}: {exc}".split())
+        row.update(status="failed", error=msg, **dict.fromkeys(RESULT_KEYS, ""))
+    else:
+        row.update(status="ok", error="", sim_seconds=res.sim_seconds, **res.row())
+        row["loop_seconds"] = res.wall_seconds
+    row["run_seconds"] = time.perf_counter() - wall
+    row["cpu_seconds"] = time.process_time() - cpu
+    return row
+
+
+#: The cost columns of :func:`run_point`'s rows, summed into the JudgeReport's fields.
+TIMING_KEYS = ("sim_seconds", "loop_seconds", "run_seconds", "cpu_seconds")
+
+
 def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True) -> JudgeReport:
     """Run every point under every condition; return the report (rows in point order)."""
     from tqdm import tqdm
@@ -167,10 +216,16 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
     report = JudgeReport([c for c in dict.fromkeys(m[1] for m in meta)], params=options.params)
     results: dict[int, dict] = {}
     pool = PoolOptions(workers=options.workers, backend=options.backend)
-    with tqdm(total=len(runs), unit="run", disable=not progress, desc="r157 judge") as bar:
-        for _, (row, _) in run_all(run_one, runs, pool):
-            results[row["index"]] = row
-            bar.update(1)
+    tasks = [PointRun(cs, options.warm, options.end_when_decided) for cs in runs]
+    try:
+        with tqdm(total=len(runs), unit="run", disable=not progress, desc="r157 judge") as bar:
+            for _, row in run_all(run_point, tasks, pool):
+                results[row["index"]] = row
+                for key in TIMING_KEYS:
+                    setattr(report, key, getattr(report, key) + row[key])
+                bar.update(1)
+    finally:
+        WORKER_CACHE.clear()  # runs made in this process (one worker) leave nothing behind
     for i, (point, cond) in enumerate(meta):
         r = results[i]
         if r["status"] != "ok":

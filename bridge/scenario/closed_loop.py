@@ -23,6 +23,9 @@ from hiyari.traffic.world_state import WorldState
 
 #: Called after every stack step with (world, ego step, this step's collisions).
 OnStep = Callable[[WorldState, EgoStep, list[Collision]], None]
+#: Called after every scored step with (result so far, world, ego row, seconds left): True when
+#: nothing still to simulate can change the judged values (bridge.scenario.decided).
+Decided = Callable[[RunResult, WorldState, int, float], bool]
 
 
 class ScenarioHooks:
@@ -70,8 +73,10 @@ def run_closed_loop(
     label: str = "",
     on_step: OnStep | None = None,
     progress: bool = False,
+    decided: Decided | None = None,
 ) -> RunResult:
-    """Run until ``duration`` (s of simulation time from now), a collision or ``hooks.done``.
+    """Run until ``duration`` (s of simulation time from now), a collision, ``hooks.done`` or
+    ``decided`` (when given).
 
     ``on_step(world, ego_step, collisions)`` is called after every stack step (recording,
     custom metrics).
@@ -120,6 +125,8 @@ def run_closed_loop(
                 sim.set_speed(ego_id, max(0.0, ego.speed + step.command.accel * dt))
             res.sim_seconds = world.time
             if hooks.done(world, ego, hooks.script_time(world.time)):
+                break
+            if decided is not None and decided(res, world, row, t_end - world.time):
                 break
     finally:
         bar.close()

@@ -13,13 +13,16 @@ starts ``lead_in`` seconds earlier so that tracks are established.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from hiyari.bridge.scenario.closed_loop import ScenarioHooks
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.bridge.scenario.warm import WarmCache
 from hiyari.errors import HiyariError
 from hiyari.kinematics import Pose
 from hiyari.net.road.lane_frame import RoadFrame
@@ -266,6 +269,13 @@ class _Build:
     z: ActorSizes
     seed: int
     duration: float
+    roads: WarmCache | None = None  # reuse roads built earlier in this process
+
+    def road(self, name: str, build: Callable[[Path, Any], Path], params: Hashable) -> RoadNetwork:
+        """The network ``build(workdir / name, params)`` writes (or the cache's copy)."""
+        if self.roads is not None:
+            return self.roads.road(name, build, params)
+        return RoadNetwork(build(self.workdir / name, params))
 
     def base(self, ve0: float) -> dict:
         k = self.k
@@ -280,11 +290,10 @@ class _Build:
 
 def _r157(b: _Build, ve0: float) -> tuple[Scenario, RoadFrame]:
     """The R157 road's Scenario with the ego in the right lane; the right lane's frame."""
-    net = build_r157_road(b.workdir / "r157.net.xml", R157RoadParams())
-    network = RoadNetwork(net)
+    network = b.road("r157.net.xml", build_r157_road, R157RoadParams())
     right, _, route = _road_lanes(network)
     sc = Scenario(
-        net=net,
+        net=network.path,
         network=network,
         ego_route=route,
         ego_lane=right.lane_index,
@@ -351,10 +360,9 @@ def _stationary(p: Stationary, b: _Build) -> Scenario:
 
 def _dart_out(p: DartOut, b: _Build) -> Scenario:
     k, z = b.k, b.z
-    net = build_intersection(
-        b.workdir / "street.net.xml", IntersectionParams(lane_width=k.lane_width)
+    network = b.road(
+        "street.net.xml", build_intersection, IntersectionParams(lane_width=k.lane_width)
     )
-    network = RoadNetwork(net)
     lane = next(ln for ln in network.sumo.getEdge("w_in").getLanes() if ln.allows("passenger"))
     frame = network.lane_frame(lane.getID())
     vp = p.ped_speed
@@ -373,7 +381,7 @@ def _dart_out(p: DartOut, b: _Build) -> Scenario:
     s_parked = s_path - k.parked_gap_to_path - z.other_length / 2
     d_parked = -(k.lane_width / 2 + k.kerb_offset)
     sc = Scenario(
-        net=net,
+        net=network.path,
         network=network,
         ego_route=["w_in", "e_out"],
         ego_lane=lane.getIndex(),
@@ -439,11 +447,15 @@ def build_scenario(
     workdir: Path,
     k: ScenarioConstants | None = None,
     sizes: ActorSizes | None = None,
+    roads: WarmCache | None = None,
 ) -> Scenario:
-    """The Scenario for one concrete scenario; road files are written into ``workdir``."""
+    """The Scenario for one concrete scenario; road files are written into ``workdir``, or
+    taken from ``roads`` (built there once per process) when given."""
     params = typed_parameters(cs)
     workdir.mkdir(parents=True, exist_ok=True)
-    b = _Build(workdir, k or ScenarioConstants(), sizes or ActorSizes(), cs.seed, cs.duration)
+    b = _Build(
+        workdir, k or ScenarioConstants(), sizes or ActorSizes(), cs.seed, cs.duration, roads
+    )
     return BUILDERS[type(params)](params, b)
 
 

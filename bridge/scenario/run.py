@@ -16,9 +16,11 @@ from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.scenario.closed_loop import OnStep, run_closed_loop
-from hiyari.bridge.scenario.presets import build_scenario
+from hiyari.bridge.scenario.decided import DecidedEnd
+from hiyari.bridge.scenario.presets import Scenario, build_scenario
 from hiyari.bridge.scenario.result import RunResult, TimeSeries
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.bridge.scenario.warm import WarmCache
 from hiyari.bridge.stack.aeb import ACCConfig, AEBConfig, AEBPlanner
 from hiyari.bridge.stack.fusion import KalmanFusion
 from hiyari.bridge.stack.interfaces import EgoStack
@@ -26,11 +28,15 @@ from hiyari.bridge.stack.perception_sensors import SensorPerception
 from hiyari.bridge.stack.perception_truth import NoPerception, PerfectPerception
 from hiyari.errors import HiyariError
 from hiyari.net.road.network import RoadNetwork
+from hiyari.sensors.environment.presets import disturbance_preset
 from hiyari.traffic.simulation import SimConfig, Simulation
 from hiyari.units import G, kmh_to_mps, mps_to_kmh
 
 if TYPE_CHECKING:
     from hiyari.bridge.record.recorder import RecorderConfig
+
+#: Threads each run's static ray casts are split over (same hits for any number).
+CAST_WORKERS = 2
 
 
 @dataclass(frozen=True)
@@ -43,11 +49,16 @@ class RunOptions:
     record: bool = False  # write out_dir/run.mcap (needs out_dir)
     camera_image_every: int = 10  # when recording: render every Nth camera frame (0: none)
     recorder: RecorderConfig | None = None  # when recording: how (None: the defaults)
+    #: end once the rest of the run cannot change its judged values (bridge.scenario.decided)
+    end_when_decided: bool = False
 
 
-def build_stack(cs: ConcreteScenario, net: Path | RoadNetwork) -> EgoStack:
+def build_stack(
+    cs: ConcreteScenario, net: Path | RoadNetwork, warm: WarmCache | None = None
+) -> EgoStack:
     """The default ego stack for a scenario on ``net`` (a .net.xml, or the run's RoadNetwork),
-    or the user's class named in ``cs.stack`` (called as ``cls(cs, net_file)``)."""
+    or the user's class named in ``cs.stack`` (called as ``cls(cs, net_file)``); sensors cast
+    into ``warm``'s scene of the road when given (built once per process)."""
     network = net if isinstance(net, RoadNetwork) else RoadNetwork(net)
     if cs.stack:
         module, _, name = cs.stack.partition(":")
@@ -60,9 +71,14 @@ def build_stack(cs: ConcreteScenario, net: Path | RoadNetwork) -> EgoStack:
         perception = PerfectPerception()
     elif cs.perception == "none":
         perception = NoPerception()
+    elif warm is not None:
+        scene = warm.scene(network, buildings=False, workers=CAST_WORKERS)
+        preset = disturbance_preset(cs.environment)
+        rig = warm.rig(cs.sensors)
+        perception = SensorPerception(scene, rig, preset, "ego", cs.step_length, cs.seed)
     else:
         perception = SensorPerception.default_rig(
-            network, cs.sensors, cs.environment, cs.step_length, cs.seed
+            network, cs.sensors, cs.environment, cs.step_length, cs.seed, workers=CAST_WORKERS
         )
     set_speed = kmh_to_mps(cs.params.get("ve0_kmh", 40.0))
     planner = AEBPlanner(ACCConfig(set_speed=set_speed), AEBConfig(actuation_delay=cs.aeb_delay))
@@ -70,15 +86,22 @@ def build_stack(cs: ConcreteScenario, net: Path | RoadNetwork) -> EgoStack:
 
 
 def run_concrete(
-    cs: ConcreteScenario, options: RunOptions | None = None, on_step: OnStep | None = None
+    cs: ConcreteScenario,
+    options: RunOptions | None = None,
+    on_step: OnStep | None = None,
+    warm: WarmCache | None = None,
 ) -> RunResult:
-    """Run one concrete scenario in this process (one libsumo simulation at a time)."""
+    """Run one concrete scenario in this process (one libsumo simulation at a time).
+
+    ``warm``: take the road, its ray-cast scene and the sensor rig from this process's cache
+    (built by the first run on that road) instead of building them; same results.
+    """
     options = options or RunOptions()
     with tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
         work = options.out_dir / "roads" if options.out_dir else Path(tmp)
-        sc = build_scenario(cs, work)
+        sc = build_scenario(cs, work, roads=warm)
         network = sc.network or RoadNetwork(sc.net)
-        stack = build_stack(cs, network)
+        stack = build_stack(cs, network, warm)
         cfg = SimConfig(
             net=sc.net,
             routes=sc.routes,
@@ -105,6 +128,7 @@ def run_concrete(
                 signals = sim.signal_states if links else None
                 step_recorder = StepRecorder(recorder, stack, sc.ego_id, signals)
                 on_step = chain(step_recorder, on_step)
+            decided = decided_end(sc, stack, cs.step_length) if options.end_when_decided else None
             try:
                 result = run_closed_loop(
                     sim,
@@ -114,6 +138,7 @@ def run_concrete(
                     label=cs.label(),
                     on_step=on_step,
                     progress=options.progress,
+                    decided=decided,
                 )
             except BaseException:
                 if recorder is not None:
@@ -124,6 +149,14 @@ def run_concrete(
     if options.out_dir is not None:
         write_result(result, cs, options.out_dir, plot=options.plot)
     return result
+
+
+def decided_end(sc: Scenario, stack: EgoStack, step: float) -> DecidedEnd | None:
+    """The decided-end test of a scripted run on an empty road driven by the default planner
+    (None for anything else: SUMO traffic, pedestrians, another planner)."""
+    if sc.routes or not sc.scripted or not isinstance(stack.planner, AEBPlanner):
+        return None
+    return DecidedEnd(stack.planner.acc, step, sc.scripted, sc.target_id, sc.start_time, sc.lead_in)
 
 
 def chain(first: OnStep, second: OnStep | None) -> OnStep:
