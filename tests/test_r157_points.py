@@ -9,8 +9,8 @@ from collections import Counter
 import numpy as np
 import pytest
 
-from hiyari.bridge.cli.commands import boundary as cmd_boundary
-from hiyari.bridge.cli.commands import r157 as cmd_r157
+from hiyari.bridge.cli.commands.evaluation import boundary as cmd_boundary
+from hiyari.bridge.cli.commands.evaluation import r157 as cmd_r157
 from hiyari.bridge.cli.main import main
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import Grid, cut_in_boundary
