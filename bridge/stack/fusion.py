@@ -62,6 +62,10 @@ class FusionConfig:
     use_unpaired_camera: bool = True  # camera-only objects (camera range) become tracks
 
 
+#: Association cost of a pair outside the gate.
+_NO_PAIR = 1e6
+
+
 @dataclass
 class _Track:
     tid: int
@@ -94,6 +98,8 @@ class KalmanFusion:
 
     def __init__(self, config: FusionConfig | None = None) -> None:
         self.config = config or FusionConfig()
+        # gate per measurement size: position (2), + radial speed (3), + velocity (4)
+        self._gates = {n: float(chi2.ppf(self.config.gate_probability, n)) for n in (2, 3, 4, 5)}
         self._tracks: list[_Track] = []
         self._next_id = 1
 
@@ -192,29 +198,43 @@ class KalmanFusion:
 
     def _associate(self, obs: list[_Obs], ego: Pose, time: float) -> None:
         world = [_to_world(o, ego) for o in obs]  # (xy, cov, unit line of sight)
-        nt, nm = len(self._tracks), len(obs)
-        cost = np.full((nt, nm), 1e6)
-        gates = {n: float(chi2.ppf(self.config.gate_probability, n)) for n in (2, 3, 4)}
         measured = [self._measurement(o, w, ego) for o, w in zip(obs, world, strict=True)]
-        for i, tr in enumerate(self._tracks):
-            for j, (h, z, r) in enumerate(measured):
-                d = z - h @ tr.x
-                s = h @ tr.p @ h.T + r
-                maha = float(d @ np.linalg.solve(s, d))
-                if maha <= gates[len(z)]:
-                    # negative log-likelihood, not the bare distance: with the distance alone
-                    # a vague track (e.g. fed by radar bearings) wins every observation it
-                    # can reach from a precise track of the same object
-                    cost[i, j] = maha + float(np.log(np.linalg.det(s)))
+        cost = self._cost(measured)
         used: set[int] = set()
-        if nt:
+        if len(self._tracks):
             for i, j in zip(*linear_sum_assignment(cost), strict=True):
-                if cost[i, j] < 1e6:
+                if cost[i, j] < _NO_PAIR:
                     self._update(self._tracks[i], obs[j], world[j], ego, time)
                     used.add(int(j))
-        for j in range(nm):
+        for j in range(len(obs)):
             if j not in used:
                 self._spawn(obs[j], world[j], ego, time)
+
+    def _cost(self, measured: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> np.ndarray:
+        """(tracks, observations) association cost: the negative log-likelihood of each pair
+        inside the chi-square gate of its measured dimensions, else _NO_PAIR. Every pair of a
+        measurement size in one batch of numpy calls."""
+        cost = np.full((len(self._tracks), len(measured)), _NO_PAIR)
+        if not self._tracks:
+            return cost
+        x = np.array([t.x for t in self._tracks])  # (T, 4)
+        p = np.array([t.p for t in self._tracks])  # (T, 4, 4)
+        by_size: dict[int, list[int]] = {}
+        for j, (_, z, _) in enumerate(measured):
+            by_size.setdefault(len(z), []).append(j)
+        for size, cols in by_size.items():
+            h = np.array([measured[j][0] for j in cols])  # (G, m, 4)
+            z = np.array([measured[j][1] for j in cols])  # (G, m)
+            r = np.array([measured[j][2] for j in cols])  # (G, m, m)
+            d = z[None] - np.einsum("gmk,tk->tgm", h, x)
+            s = np.einsum("tgml,gnl->tgmn", np.einsum("gmk,tkl->tgml", h, p), h) + r[None]
+            maha = np.einsum("tgm,tgm->tg", d, np.linalg.solve(s, d[..., None])[..., 0])
+            # negative log-likelihood, not the bare distance: with the distance alone a vague
+            # track (e.g. fed by radar bearings) wins every observation it can reach from a
+            # precise track of the same object
+            nll = maha + np.log(np.linalg.det(s))
+            cost[:, cols] = np.where(maha <= self._gates[size], nll, _NO_PAIR)
+        return cost
 
     def _measurement(
         self, o: _Obs, w: _World, ego: Pose
