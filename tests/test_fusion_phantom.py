@@ -113,25 +113,3 @@ def test_stationary_radar_ghost_does_not_stop_the_track_of_a_moving_truck():
     assert truck.any() and out.velocity[truck, 0] == pytest.approx(4.0, abs=0.5)
     cmd = AEBPlanner(ACCConfig(set_speed=20.0)).plan(out, ego, 2.0)
     assert cmd.aeb_stage == 0
-
-
-def test_aeb_does_not_brake_for_a_truck_already_beside_the_ego():
-    """A truck track beside the ego (rear behind the ego's front bumper) drifting 1 m/s toward
-    it: braking cannot avoid a side contact and keeps the ego alongside, so the AEB (as the
-    C&C driver) leaves it; the same truck ahead of the bumper cutting in is braked for. In the
-    blind-spot catalogue the LiDAR cluster centre of a long truck beside the ego drifts sideways
-    as the visible faces change, and the AEB braked fully in 18 of 46 cases with no conflict."""
-    from dataclasses import replace
-
-    from hiyari.bridge.stack.aeb import AEBConfig
-
-    ego = Pose(0.0, 0.0, speed=20.0, length=4.8, width=1.9)
-
-    def truck(x: float, vx: float) -> ObjectList:
-        return _objs([[x, -2.6]], [[vx, 1.0]], [[10.0, 2.5, 3.4]], "fusion", 1, "truck")
-
-    assert AEBPlanner().plan(truck(-1.0, 1.0), ego, 0.0).aeb_stage == 0
-    old = AEBPlanner(aeb=replace(AEBConfig(), ignore_alongside=False))
-    assert old.plan(truck(-1.0, 1.0), ego, 0.0).aeb_stage == 3  # what it did
-    ahead = AEBPlanner().plan(truck(8.0, -5.0), ego, 0.0)  # its rear 0.6 m ahead, closing
-    assert ahead.aeb_stage == 3 and ahead.threat == "truck"

@@ -44,7 +44,6 @@ class AEBConfig:
     require_classified: bool = True  # act on camera / LiDAR-classified tracks, not radar-only
     hold_after_stop: bool = True  # keep full brake once stopped with a threat ahead
     latch_until_stop: bool = True  # once braking, brake to standstill (as production AEBs do)
-    ignore_alongside: bool = True  # no braking for an object already beside the ego (see plan)
 
 
 @dataclass(frozen=True)
@@ -150,13 +149,6 @@ class AEBPlanner:
             # resolution): like production AEBs, act on objects another sensor classified
             tracks = select(tracks, tracks.cls >= 0)
         ttc = time_to_collision(tracks, ego, self.aeb)
-        if self.aeb.ignore_alongside and len(ttc):
-            # an object whose rear is already behind the ego's front bumper is beside (or
-            # behind) it: braking cannot avoid a contact from the side, and it keeps the ego
-            # alongside a car moving into its lane (the C&C driver's rule, risk/cc/model.py).
-            # It also keeps LiDAR centre drift along a long truck beside the ego from braking.
-            ext_x, _ = track_extent(tracks, ego)
-            ttc = np.where(tracks.position[:, 0] - ext_x < ego.length / 2, np.inf, ttc)
         k = int(np.argmin(ttc)) if len(ttc) else -1
         ttc_min = float(ttc[k]) if k >= 0 else float("inf")
         stage = self._stage(ttc_min, ego)
