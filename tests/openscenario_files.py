@@ -5,7 +5,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-SHARED = Path(__file__).resolve().parents[2] / "shared" / "data" / "openscenario"
+# resolved: ../shared may be a symlink, and the reader reports resolved paths
+SHARED = (Path(__file__).resolve().parents[2] / "shared").resolve() / "data" / "openscenario"
 ALKS = SHARED / "alks"
 ROADS = ALKS / "road_networks"
 STRAIGHT = ROADS / "alks_road_straight.xodr"
