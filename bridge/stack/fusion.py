@@ -25,6 +25,8 @@ from hiyari.traffic.actor_class import ActorClass
 
 #: An observation in the network frame: position, covariance, line-of-sight unit vector.
 _World = tuple[np.ndarray, np.ndarray, np.ndarray]
+#: A linear measurement of the track state (x, y, vx, vy): matrix H, value z, noise R.
+_Measurement = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -204,13 +206,13 @@ class KalmanFusion:
         if len(self._tracks):
             for i, j in zip(*linear_sum_assignment(cost), strict=True):
                 if cost[i, j] < _NO_PAIR:
-                    self._update(self._tracks[i], obs[j], world[j], ego, time)
+                    self._update(self._tracks[i], obs[j], measured[j], time)
                     used.add(int(j))
         for j in range(len(obs)):
             if j not in used:
-                self._spawn(obs[j], world[j], ego, time)
+                self._spawn(obs[j], world[j], measured[j], time)
 
-    def _cost(self, measured: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> np.ndarray:
+    def _cost(self, measured: list[_Measurement]) -> np.ndarray:
         """(tracks, observations) association cost: the negative log-likelihood of each pair
         inside the chi-square gate of its measured dimensions, else _NO_PAIR. Every pair of a
         measurement size in one batch of numpy calls."""
@@ -236,9 +238,7 @@ class KalmanFusion:
             cost[:, cols] = np.where(maha <= self._gates[size], nll, _NO_PAIR)
         return cost
 
-    def _measurement(
-        self, o: _Obs, w: _World, ego: Pose
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _measurement(self, o: _Obs, w: _World, ego: Pose) -> _Measurement:
         """The observation as one linear measurement of the track state (x, y, vx, vy):
         position, plus the velocity or the radar's radial speed when measured. Gating on the
         speeds too keeps a stationary radar ghost at a moving car's position (guard-rail
@@ -256,8 +256,8 @@ class KalmanFusion:
             rs.append(np.array([[self.config.radial_speed_sigma**2]]))
         return np.vstack(rows), np.concatenate(zs), block_diag(*rs)
 
-    def _update(self, tr: _Track, o: _Obs, w: _World, ego: Pose, time: float) -> None:
-        _kalman(tr, *self._measurement(o, w, ego))
+    def _update(self, tr: _Track, o: _Obs, measurement: _Measurement, time: float) -> None:
+        _kalman(tr, *measurement)
         tr.hits += 1
         tr.last_update = time
         if o.cls >= 0:
@@ -267,7 +267,7 @@ class KalmanFusion:
         if o.truth:
             tr.truth = o.truth
 
-    def _spawn(self, o: _Obs, w: _World, ego: Pose, time: float) -> None:
+    def _spawn(self, o: _Obs, w: _World, measurement: _Measurement, time: float) -> None:
         xy, cov, _ = w
         p = np.zeros((4, 4))
         p[:2, :2] = cov
@@ -277,7 +277,7 @@ class KalmanFusion:
             self._next_id, np.concatenate([xy, np.zeros(2)]), p, time, 0, o.cls, size, o.truth, time
         )
         self._next_id += 1
-        self._update(tr, o, w, ego, time)
+        self._update(tr, o, measurement, time)
         self._tracks.append(tr)
 
     def _output(self, ego: Pose, time: float) -> ObjectList:

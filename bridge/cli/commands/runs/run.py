@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import argparse
 import csv
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.cli import numbers
@@ -15,6 +16,7 @@ from hiyari.errors import HiyariError, about
 if TYPE_CHECKING:
     from hiyari.bridge.scenario.engine_run import EgoSetup
     from hiyari.bridge.scenario.result import RunResult
+    from hiyari.bridge.scenario.run import RunOptions
 
 
 def run(args: argparse.Namespace) -> int:
@@ -41,7 +43,6 @@ def ego_setup(args: argparse.Namespace) -> EgoSetup:
 def _run_xosc(args: argparse.Namespace) -> int:
     import tempfile
 
-    from hiyari.bridge.scenario.run import RunOptions
     from hiyari.bridge.scenario.xosc_runs import load_plan, run_xosc
 
     plan = load_plan(args.scenario, ego_setup(args))
@@ -52,24 +53,38 @@ def _run_xosc(args: argparse.Namespace) -> int:
         )
     runs = plan.expand()
     if args.dry_run:
-        for xr in runs:
-            print(xr.label())
-        print(f"{len(runs)} run(s); nothing run (--dry-run)")
-        return 0
-    out = Path(args.out)
-    record = len(runs) == 1 if args.record is None else args.record
-    rows = []
+        return _dry_run(runs)
     with tempfile.TemporaryDirectory(prefix="hiyari-road-") as tmp:
         # the road is imported before anything is written: a bad road leaves no output
         runs = plan.with_road_imported(Path(tmp)).expand()
-        for xr in runs:
-            folder = out / f"run{xr.index:04d}" if len(runs) > 1 else out
-            options = RunOptions(out_dir=folder, progress=not args.quiet, record=record)
-            res = run_xosc(xr, options)
-            rows.append({"index": xr.index, "seed": xr.seed, **xr.params, **res.row()})
-            _print_run(xr.label(), res, folder, record)
-    _write_table(out, rows)
+        _run_each(runs, run_xosc, args)
     return 0
+
+
+def _dry_run(runs: Sequence[Any]) -> int:
+    """Print the labels of the runs a file expands to, run nothing."""
+    for run in runs:
+        print(run.label())
+    print(f"{len(runs)} run(s); nothing run (--dry-run)")
+    return 0
+
+
+def _run_each(
+    runs: Sequence[Any], run_one: Callable[[Any, RunOptions], RunResult], args: argparse.Namespace
+) -> None:
+    """Run every concrete run (a ConcreteScenario or an .xosc run: ``index``, ``seed``,
+    ``params``, ``label()``) into its folder, print each verdict and write results.csv."""
+    from hiyari.bridge.scenario.run import RunOptions
+
+    out = Path(args.out)
+    record = len(runs) == 1 if args.record is None else args.record
+    rows = []
+    for run in runs:
+        folder = out / f"run{run.index:04d}" if len(runs) > 1 else out
+        res = run_one(run, RunOptions(out_dir=folder, progress=not args.quiet, record=record))
+        rows.append({"index": run.index, "seed": run.seed, **run.params, **res.row()})
+        _print_run(run.label(), res, folder, record)
+    _write_table(out, rows)
 
 
 def _print_run(label: str, res: RunResult, folder: Path, record: bool) -> None:
@@ -100,7 +115,7 @@ def _run(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
     from hiyari.bridge.campaign.sweep import count_runs
-    from hiyari.bridge.scenario.run import RunOptions, run_concrete
+    from hiyari.bridge.scenario.run import run_concrete
     from hiyari.bridge.scenario.toml_file import load_scenario
 
     logical = load_scenario(args.scenario)
@@ -114,22 +129,10 @@ def _run(args: argparse.Namespace) -> int:
     if not runs:
         raise HiyariError(f"{args.scenario}: the parameters expand to no run")
     if args.dry_run:
-        for cs in runs:
-            print(cs.label())
-        print(f"{len(runs)} run(s); nothing run (--dry-run)")
-        return 0
-    out = Path(args.out)
-    record = len(runs) == 1 if args.record is None else args.record
-    rows = []
-    for cs in runs:
-        if args.perception:
-            cs = replace(cs, perception=args.perception)
-        folder = out / f"run{cs.index:04d}" if len(runs) > 1 else out
-        options = RunOptions(out_dir=folder, progress=not args.quiet, record=record)
-        res = run_concrete(cs, options)
-        rows.append({"index": cs.index, "seed": cs.seed, **cs.params, **res.row()})
-        _print_run(cs.label(), res, folder, record)
-    _write_table(out, rows)
+        return _dry_run(runs)
+    if args.perception:
+        runs = [replace(cs, perception=args.perception) for cs in runs]
+    _run_each(runs, run_concrete, args)
     return 0
 
 
