@@ -15,7 +15,6 @@ from hiyari.sensors.environment.conditions import Environment
 from hiyari.sensors.frames import Mount
 from hiyari.sensors.lidar.box_fit import BoxFitConfig, complete_boxes, fit_rectangles
 from hiyari.sensors.lidar.config import LidarConfig
-from hiyari.sensors.lidar.recognition import recognise_lidar
 from hiyari.sensors.lidar.sensor import Lidar
 from hiyari.sensors.scene.ray_scene import RayScene
 from hiyari.sensors.scene.synthetic import StraightRoad, actor_world
