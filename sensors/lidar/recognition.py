@@ -2,9 +2,13 @@
 
 Rule-based, like the seed's PSSI recogniser (divp-H section 3.3): points near the local ground
 are removed, the rest are binned on a bird's-eye grid whose connected cells form objects, an
-object needs a minimum number of points, and its class comes from its box size. Ground truth is
-attached afterwards (the most frequent ground-truth id among an object's points) and never used
-by the algorithm.
+object needs a minimum number of points, and its class comes from its box size. Each object
+then gets an oriented box (L-shape fit, completed to its class's size prior where only one or
+two sides are visible: sensors/lidar/box_fit.py), whose centre is the object's position: the
+centroid or the axis-aligned box of the visible points moves as more of a vehicle comes into
+view, which a tracker reads as speed. Ground truth is attached afterwards (the most frequent
+ground-truth id among an object's points) and never used by the algorithm. The passes over
+the points are compiled (sensors/lidar/clustering.py).
 """
 
 from __future__ import annotations
@@ -12,9 +16,18 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
-from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC, ObjectList, PointCloud
+from hiyari.sensors.lidar.box_fit import BoxFitConfig, complete_boxes, fit_rectangles
+from hiyari.sensors.lidar.clustering import (
+    Clusters,
+    cluster_sums,
+    ground_pass,
+    label_cells,
+    majority_code,
+    min_filter_3x3,
+    object_cells,
+)
+from hiyari.sensors.outputs import HIT_STATIC, ObjectList, PointCloud
 from hiyari.traffic.actor_class import ActorClass
 
 
@@ -76,148 +89,134 @@ def _ground_reference(
     nearby ground, else the plane (far away a dark road returns nothing, and the lowest point of
     a car must not pass for ground)."""
     centre = (np.arange(ng) + 0.5) * cfg.ground_cell_m - h
-    cx, cy = (a.ravel() for a in np.meshgrid(centre, centre, indexing="ij"))
-    design = np.stack([np.ones_like(cx), cx, cy], 1)
-    near = np.isfinite(zmin) & (np.hypot(cx, cy) < cfg.ground_fit_radius_m)
+    # only a window of cells around the sensor can lie within the fit radius
+    win = np.flatnonzero(np.abs(centre) < cfg.ground_fit_radius_m)
+    cx, cy = (a.ravel() for a in np.meshgrid(centre[win], centre[win], indexing="ij"))
+    z = zmin[(win[:, None] * ng + win[None, :]).ravel()]
+    near = np.isfinite(z) & (np.hypot(cx, cy) < cfg.ground_fit_radius_m)
     if near.sum() < 3:
         return np.where(np.isfinite(zmin), zmin, np.min(zmin[np.isfinite(zmin)], initial=0.0))
-    coef = np.linalg.lstsq(design[near], zmin[near], rcond=None)[0]
-    inlier = near & (np.abs(design @ coef - zmin) < cfg.ground_tolerance_m)
+    design, z = np.stack([np.ones_like(cx), cx, cy], 1)[near], z[near]
+    coef = np.linalg.lstsq(design, z, rcond=None)[0]
+    inlier = np.abs(design @ coef - z) < cfg.ground_tolerance_m
     if inlier.sum() >= 3:
-        coef = np.linalg.lstsq(design[inlier], zmin[inlier], rcond=None)[0]
-    plane = design @ coef
+        coef = np.linalg.lstsq(design[inlier], z[inlier], rcond=None)[0]
+    plane = (coef[0] + centre[:, None] * coef[1] + centre[None, :] * coef[2]).ravel()
     return np.where(zmin < plane + cfg.ground_plane_tolerance_m, zmin, plane).astype(np.float32)
 
 
-def _dilate_3x3(occ: np.ndarray) -> np.ndarray:
-    """Binary dilation by a 3 x 3 square (zero border), as two shifted ORs per axis: the
-    square is separable, and shifting is ~20x faster than ndimage.binary_dilation."""
-    rows = occ.copy()
-    rows[1:] |= occ[:-1]
-    rows[:-1] |= occ[1:]
-    out = rows.copy()
-    out[:, 1:] |= rows[:, :-1]
-    out[:, :-1] |= rows[:, 1:]
-    return out
+def find_clusters(cloud: PointCloud, cfg: LidarRecognitionConfig) -> Clusters:
+    """Ground removal and bird's-eye clustering of ``cloud``: every connected object, unfiltered.
 
-
-def _label_cells(occ: np.ndarray) -> tuple[np.ndarray, int]:
-    """8-connected components of the occupied cells grown by one cell: labels (0 = empty) on
-    the full grid and their count. Labelling runs only on the bounding box of the occupied
-    cells plus the one-cell growth (outside it the grid is empty, so dilating the crop with a
-    zero border is exact); ndimage numbers components in raster order, which the crop keeps,
-    so the labels equal those of the full grid."""
-    rows, cols = np.flatnonzero(occ.any(1)), np.flatnonzero(occ.any(0))
-    labels = np.zeros(occ.shape, np.int32)
-    if not len(rows):
-        return labels, 0
-    r0, r1 = max(rows[0] - 1, 0), min(rows[-1] + 2, occ.shape[0])
-    c0, c1 = max(cols[0] - 1, 0), min(cols[-1] + 2, occ.shape[1])
-    sub, count = ndimage.label(_dilate_3x3(occ[r0:r1, c0:c1]), structure=np.ones((3, 3), bool))
-    labels[r0:r1, c0:c1] = sub
-    return labels, int(count)
-
-
-def _extents(
-    xyz: np.ndarray, above: np.ndarray, lab: np.ndarray, count: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Per object label 0..count-1 of the points: point count, low and high corners (count, 3)
-    of the sensor-frame points ``xyz`` and the greatest height ``above`` ground.
-
-    Points are grouped by a stable counting sort of their labels and reduced segment by
-    segment: ufunc.at into few targets (one object holding a whole building) is up to ~100x
-    slower. A label without points gets a meaningless box and a count of 0.
+    Points within ``roi_half_size_m`` of the sensor (network axes) are compared with the local
+    ground; those between ``ground_tolerance_m`` and ``max_height_m`` above it are binned on
+    the ``cluster_cell_m`` grid, cells with fewer than ``min_cell_points`` are dropped, and
+    cells up to three apart (one cell of dilation, then 8-connectivity) form one object.
     """
-    order = np.argsort(lab.astype(np.uint16 if count < 2**16 else np.int64), kind="stable")
-    start = np.searchsorted(lab[order], np.arange(count))
-    n_pts = np.diff(np.append(start, len(lab)))
-    values = np.concatenate([xyz, above[:, None]], 1)[order]
-    start = np.minimum(start, len(lab) - 1)
-    lo = np.minimum.reduceat(values, start, axis=0)
-    hi = np.maximum.reduceat(values, start, axis=0)
-    return n_pts, lo[:, :3].astype(np.float64), hi[:, :3].astype(np.float64), hi[:, 3]
-
-
-def recognise_lidar(cloud: PointCloud, config: LidarRecognitionConfig | None = None) -> ObjectList:
-    """Objects in ``cloud`` (positions and sizes in the sensor frame; no velocity)."""
-    cfg = config or LidarRecognitionConfig()
-    empty = ObjectList.empty(cloud.time, "lidar", cloud.sensor_to_world)
-    if len(cloud) == 0:
-        return empty
-    rot, t = cloud.sensor_to_world[:3, :3], cloud.sensor_to_world[:3, 3]
-    x, y, z = (cloud.xyz[:, k] for k in range(3))
-    wx = rot[0, 0] * x + rot[0, 1] * y + rot[0, 2] * z  # offsets from the sensor, network axes
-    wy = rot[1, 0] * x + rot[1, 1] * y + rot[1, 2] * z
-    wz = (rot[2, 0] * x + rot[2, 1] * y + rot[2, 2] * z + t[2]).astype(np.float32)
+    rot = np.ascontiguousarray(cloud.sensor_to_world[:3, :3], dtype=np.float64)
     h = cfg.roi_half_size_m
-    inside = (np.abs(wx) < h) & (np.abs(wy) < h)
-    if not inside.all():
-        idx = np.flatnonzero(inside)
-        wx, wy, wz = wx[idx], wy[idx], wz[idx]
-    else:
-        idx = np.arange(len(wx))
-
     ng = int(np.ceil(2 * h / cfg.ground_cell_m))
-    gi = ((wx + h) / cfg.ground_cell_m).astype(np.int64).clip(0, ng - 1)
-    gj = ((wy + h) / cfg.ground_cell_m).astype(np.int64).clip(0, ng - 1)
-    cell = gi * ng + gj
-    zmin = np.full(ng * ng, np.inf, np.float32)
-    np.minimum.at(zmin, cell, wz)
-    # a car can fill a whole cell: the ground is the lowest point in the 3 x 3 neighbourhood
-    zmin = ndimage.minimum_filter(zmin.reshape(ng, ng), size=3, mode="nearest").ravel()
-    ground = _ground_reference(zmin, ng, h, cfg)
-    above = wz - ground[cell]
-    obj = np.flatnonzero((above > cfg.ground_tolerance_m) & (above < cfg.max_height_m))
-    idx, wx, wy, above = idx[obj], wx[obj], wy[obj], above[obj]
-    if len(idx) < cfg.min_points:
-        return empty
-
     nc = int(np.ceil(2 * h / cfg.cluster_cell_m))
-    ci = ((wx + h) / cfg.cluster_cell_m).astype(np.int64).clip(0, nc - 1)
-    cj = ((wy + h) / cfg.cluster_cell_m).astype(np.int64).clip(0, nc - 1)
-    # isolated returns (rain drops, dust) leave single points in a cell: drop such cells
-    cell_count = np.bincount(ci * nc + cj, minlength=nc * nc).reshape(nc, nc)
-    occ = cell_count >= cfg.min_cell_points
-    solid = np.flatnonzero(occ[ci, cj])
-    idx, ci, cj, above = idx[solid], ci[solid], cj[solid], above[solid]
-    if len(idx) < cfg.min_points:
-        return empty
-    # one cell of dilation bridges the gaps a sparse scan leaves on one object (trunk lids)
-    labels, count = _label_cells(occ)
-    lab = labels[ci, cj] - 1
+    idx, wz, cell, bev, zmin = ground_pass(
+        cloud.xyz, rot, float(cloud.sensor_to_world[2, 3]), h,
+        (cfg.ground_cell_m, ng, cfg.cluster_cell_m, nc),
+    )  # fmt: skip
+    # a car can fill a whole cell: the ground is the lowest point in the 3 x 3 neighbourhood
+    zmin = min_filter_3x3(zmin.reshape(ng, ng)).ravel()
+    ground = _ground_reference(zmin, ng, h, cfg)
+    sel, above, counts = object_cells(
+        wz, cell, bev, ground, np.float32(cfg.ground_tolerance_m), np.float32(cfg.max_height_m),
+        nc * nc,
+    )  # fmt: skip
+    # isolated returns (rain drops, dust) leave single points in a cell: such cells are dropped
+    lab, count = label_cells(bev[sel], counts, cfg.min_cell_points, nc, 3)
+    point = idx[sel]
+    n_pts, lo, hi, top, start, members, offset = cluster_sums(
+        cloud.xyz, point, above, lab, count, rot
+    )
+    return Clusters(
+        n_points=n_pts,
+        lo=lo.astype(np.float64),
+        hi=hi.astype(np.float64),
+        top=top,
+        start=start,
+        members=members,
+        point=point,
+        offset_xy=offset,
+    )
 
-    n_pts, lo, hi, top = _extents(cloud.xyz[idx], above.astype(np.float32), lab, count)
-    ext = hi - lo
-    length = np.maximum(ext[:, 0], ext[:, 1])
-    width = np.minimum(ext[:, 0], ext[:, 1])
-    good = (n_pts >= cfg.min_points) & (top >= cfg.min_height_m) & (length <= cfg.max_extent_m)
-    keep = np.flatnonzero(good)
-    if len(keep) == 0:
-        return empty
 
-    # ground truth: most frequent hit code per object (actor rows shifted past the two flags)
-    hit = cloud.hit[idx].astype(np.int64)
-    codes = len(cloud.actor_ids) + 2
-    votes = np.bincount(lab * codes + (hit + 2), minlength=count * codes).reshape(count, codes)
-    best = votes.argmax(1) - 2
-    truth = np.full(count, "", dtype=object)
+def _truth(cloud: PointCloud, cl: Clusters, keep: np.ndarray) -> np.ndarray:
+    """Ground truth of the kept objects: the most frequent hit among their points (SUMO id,
+    'static', or '' for returns from nothing)."""
+    codes = cloud.hit[cl.point].astype(np.int64) + 2  # actor rows shifted past the two flags
+    best = majority_code(codes, cl.members, cl.start, keep, len(cloud.actor_ids) + 2) - 2
+    truth = np.full(len(keep), "", dtype=object)
     truth[best == HIT_STATIC] = "static"
     actor = best >= 0
     truth[actor] = cloud.actor_ids[best[actor]]
-    truth[best == HIT_NONE] = ""
+    return truth
 
-    centre = (lo + hi) / 2
-    size = np.stack([length, width, top], 1)
+
+def _boxes(
+    cloud: PointCloud, cl: Clusters, keep: np.ndarray, cls: np.ndarray, cfg: BoxFitConfig
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Oriented boxes of the kept objects: centre (K, 3) and heading (K,) in the sensor frame
+    (m, rad about the sensor z axis), and length and width (K, 2), m."""
+    rect = fit_rectangles(
+        cl.offset_xy, cl.members, cl.start, keep,
+        (cfg.merge_cell_m, cfg.closeness_floor_m, np.radians(cfg.coarse_step_deg),
+         np.radians(cfg.fine_step_deg)),
+    )  # fmt: skip
+    prior = np.full((len(keep), 2), np.nan)
+    for k, c in enumerate(cls):
+        if c >= 0:
+            prior[k] = ActorClass(c).size.as_tuple()[:2]
+    rot = cloud.sensor_to_world[:3, :3]
+    yaw = float(np.arctan2(rot[1, 0], rot[0, 0]))
+    centre_xy, heading, dims = complete_boxes(
+        rect, prior[:, 0], prior[:, 1], yaw, cfg.length_margin_m
+    )
+    # the height of the box stays the one of the sensor-frame extents
+    offsets = ((cl.lo[keep] + cl.hi[keep]) / 2) @ rot.T
+    offsets[:, :2] = centre_xy
+    heading = (heading - yaw + np.pi / 2) % np.pi - np.pi / 2
+    return offsets @ rot, heading, dims
+
+
+def recognise_lidar(
+    cloud: PointCloud,
+    config: LidarRecognitionConfig | None = None,
+    box_fit: BoxFitConfig | None = None,
+) -> ObjectList:
+    """Objects in ``cloud``: oriented boxes in the sensor frame (centre m, heading rad about
+    the sensor z axis, size = length along the heading, width, height above ground), class,
+    ground truth; no velocity."""
+    cfg = config or LidarRecognitionConfig()
+    if len(cloud) < cfg.min_points:
+        return ObjectList.empty(cloud.time, "lidar", cloud.sensor_to_world)
+    cl = find_clusters(cloud, cfg)
+    ext = cl.hi - cl.lo
+    length = np.maximum(ext[:, 0], ext[:, 1])
+    width = np.minimum(ext[:, 0], ext[:, 1])
+    good = (cl.n_points >= cfg.min_points) & (cl.top >= cfg.min_height_m)
+    keep = np.flatnonzero(good & (length <= cfg.max_extent_m))
+    if len(keep) == 0:
+        return ObjectList.empty(cloud.time, "lidar", cloud.sensor_to_world)
+    # the class comes from the extents in the sensor frame, which its size rules were set on
+    cls = _class_from_size(length[keep], width[keep], cl.top[keep])
+    centre, heading, dims = _boxes(cloud, cl, keep, cls, box_fit or BoxFitConfig())
     n = len(keep)
     return ObjectList(
         time=cloud.time,
         source="lidar",
         frame_to_world=cloud.sensor_to_world,
         object_id=np.arange(n, dtype=np.int64),
-        cls=_class_from_size(length[keep], width[keep], top[keep]),
-        position=centre[keep],
+        cls=cls,
+        position=centre,
         velocity=np.full((n, 3), np.nan),
-        size=size[keep],
-        confidence=np.clip(n_pts[keep] / (4.0 * cfg.min_points), 0.0, 1.0),
-        truth=truth[keep],
+        size=np.concatenate([dims, cl.top[keep, None].astype(np.float64)], 1),
+        confidence=np.clip(cl.n_points[keep] / (4.0 * cfg.min_points), 0.0, 1.0),
+        truth=_truth(cloud, cl, keep),
+        heading=heading,
     )

@@ -23,6 +23,7 @@ from hiyari.sensors.environment.soiling import soiling_mask
 from hiyari.sensors.frames import Mount, sensor_to_world
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.recognition import LidarRecognitionConfig, recognise_lidar
+from hiyari.sensors.lidar.returns import detected_returns
 from hiyari.sensors.outputs import HIT_NONE, ObjectList, PointCloud
 from hiyari.sensors.scene.ray_scene import DirectionIndex, RayScene, SensorRays
 from hiyari.traffic.world_state import WorldState
@@ -83,7 +84,6 @@ class Lidar:
         self._soil_key: Soiling | None = None
         self._soil_t2 = np.ones(len(dirs), np.float32)
         self._spot_rays = np.zeros(0, np.int64)
-        self._soiled = False
 
     @property
     def rate_hz(self) -> float:
@@ -111,7 +111,6 @@ class Lidar:
             t, spot = soiling_mask(self.directions, soiling)
             self._soil_t2 = (t * t).astype(np.float32)
             self._spot_rays = np.flatnonzero(spot)
-            self._soiled = bool(np.any(t < 1.0))
             self._soil_key = soiling
 
     def scan(
@@ -153,25 +152,13 @@ class Lidar:
             origins, cast_dirs, c.max_range_m, SensorRays(self.index, origin, rot, pad)
         )
 
-        ray = np.flatnonzero(hits.hit != HIT_NONE)
-        r = hits.distance[ray]
-        mat = hits.material[ray]
-        cos = hits.cos_incidence[ray]
-        inten = np.take(self._diffuse, mat) * cos
-        glossy = np.flatnonzero(self._peak[mat] > 0)
-        if len(glossy):
-            cg = np.maximum(cos[glossy], 1e-3)
-            tan2 = (1.0 - cg * cg) / (cg * cg)
-            lobe = np.exp(-2.0 * tan2 / math.radians(c.specular_lobe_deg) ** 2)
-            inten[glossy] += self._peak[mat[glossy]] * lobe
-        alpha = c.atmosphere.lidar_extinction(env)
-        inten /= r * r
-        if self._soiled:
-            inten *= np.take(self._soil_t2, ray)
-        if alpha > 0:
-            inten *= np.exp(-2.0 * alpha * r)
-        keep = (inten >= c.min_intensity) & (r >= c.min_range_m)
-        ray, r, inten = ray[keep], r[keep], inten[keep].astype(np.float32)
+        ray, r, inten = detected_returns(
+            hits.hit, hits.distance, hits.material, hits.cos_incidence,
+            (self._diffuse, self._peak, self._soil_t2),
+            np.float32(math.radians(c.specular_lobe_deg) ** 2),
+            np.float32(2.0 * c.atmosphere.lidar_extinction(env)),
+            (np.float32(c.min_intensity), np.float32(c.min_range_m)),
+        )  # fmt: skip
         hit = hits.hit[ray]
 
         if env.rain_mm_h > 0:
