@@ -157,6 +157,7 @@ class ScenarioEngine:
         self._edge: list[str] = [""] * n
         self._lane_index: list[int] = [-1] * n
         self._moved: tuple[np.ndarray, list[str]] = (np.zeros(0, np.intp), [])
+        self._sent_speed = np.full(n, np.nan)  # speed last sent to SUMO per entity, m/s
         self._near: dict[str, tuple[str, float]] = {}  # last road and s of located entities
         self._view_cache: _View | None = None
         # log length / (log length, motion version) at the start of the latest storyboard
@@ -459,16 +460,24 @@ class ScenarioEngine:
                 open_children = None
 
     def _command(self, sim: Simulation) -> None:
+        """Place every inserted scripted actor for the next step; its speed is sent only when
+        it changed (SUMO holds the speed set last)."""
         tb = self.table
         rows = np.flatnonzero(tb.inserted & self._driven())
         edges, lanes = self._sumo_lanes(rows)
         if not np.array_equal(rows, self._moved[0]):
             self._moved = (rows, [self.names[k] for k in rows.tolist()])
+            left = np.ones(len(self.names), dtype=bool)
+            left[rows] = False
+            self._sent_speed[left] = np.nan  # others may set its speed meanwhile
         ref = np.stack([tb.x[rows], tb.y[rows]], 1)
         h = tb.h[rows]
+        speed = np.hypot(tb.v[rows], tb.v_lat[rows])
+        send = np.where(speed == self._sent_speed[rows], np.nan, speed)
+        self._sent_speed[rows] = speed
         sim.move_vehicles(
             self._moved[1], vehicle_to_world(self._centre_offset[rows], ref, h), h,
-            self._length[rows], np.hypot(tb.v[rows], tb.v_lat[rows]), edges, lanes,
+            self._length[rows], send, edges, lanes,
         )  # fmt: skip
 
     def _sumo_lanes(self, rows: np.ndarray) -> tuple[list[str], list[int]]:

@@ -80,9 +80,9 @@ class EntityRows:
 
 # ---------------------------------------------------------------------------------- geometry
 @njit(cache=True)
-def _unrotate(x: float, y: float, h: float) -> tuple[float, float]:
-    """kinematics.unrotate_xy for one vector."""
-    c, s = math.cos(h), math.sin(h)
+def _unrotate(x: float, y: float, c: float, s: float) -> tuple[float, float]:
+    """kinematics.unrotate_xy for one vector, with the cos ``c`` and sin ``s`` of the
+    heading."""
     return x * c + y * s, -x * s + y * c
 
 
@@ -95,7 +95,12 @@ def _max0(x: float) -> float:
 @njit(cache=True)
 def _outside(x: float, y: float, half_x: float, half_y: float) -> float:
     """kinematics._outside for one point."""
-    return math.hypot(_max0(abs(x) - half_x), _max0(abs(y) - half_y))
+    lx, ly = _max0(abs(x) - half_x), _max0(abs(y) - half_y)
+    if ly == 0.0:  # C99 F.9.4.3: hypot(x, 0) is fabs(x), exactly; saves the call
+        return lx
+    if lx == 0.0:
+        return ly
+    return math.hypot(lx, ly)
 
 
 @njit(cache=True)
@@ -112,23 +117,49 @@ def footprint_distance(
     width_b: float,
 ) -> float:
     """kinematics.footprint_distance for one pair of rectangles (centres m, headings rad)."""
+    return _footprint_distance(
+        ax_, ay_, ha, math.cos(ha), math.sin(ha), length_a, width_a,
+        bx_, by_, hb, math.cos(hb), math.sin(hb), length_b, width_b,
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def _footprint_distance(
+    ax_: float,
+    ay_: float,
+    ha: float,
+    cha: float,
+    sha: float,
+    length_a: float,
+    width_a: float,
+    bx_: float,
+    by_: float,
+    hb: float,
+    chb: float,
+    shb: float,
+    length_b: float,
+    width_b: float,
+) -> float:
+    """footprint_distance with the cos and sin of both headings given."""
     dx, dy = bx_ - ax_, by_ - ay_
     la, wa, lb, wb = 0.5 * length_a, 0.5 * width_a, 0.5 * length_b, 0.5 * width_b
     c, s = math.cos(hb - ha), math.sin(hb - ha)
-    bx, by = _unrotate(dx, dy, ha)
-    ax, ay = _unrotate(-dx, -dy, hb)
+    bx, by = _unrotate(dx, dy, cha, sha)
+    ax, ay = _unrotate(-dx, -dy, chb, shb)
     lbc, lbs, wbc, wbs = lb * c, lb * s, wb * c, wb * s
     lac, las, wac, was = la * c, la * s, wa * c, wa * s
+    ac, as_ = abs(c), abs(s)
+    apart = (abs(bx) > la + lb * ac + wb * as_) or (abs(by) > wa + lb * as_ + wb * ac)
+    apart = apart or (abs(ax) > lb + la * ac + wa * as_) or (abs(ay) > wb + la * as_ + wa * ac)
+    if not apart:
+        return 0.0
     b_in_a, a_in_b = math.inf, math.inf
     for sx, sy in ((1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)):
         xb, yb = bx + sx * lbc - sy * wbs, by + sx * lbs + sy * wbc
         xa, ya = ax + sx * lac + sy * was, ay - sx * las + sy * wac
         b_in_a = min(b_in_a, _outside(xb, yb, la, wa))
         a_in_b = min(a_in_b, _outside(xa, ya, lb, wb))
-    ac, as_ = abs(c), abs(s)
-    apart = (abs(bx) > la + lb * ac + wb * as_) or (abs(by) > wa + lb * as_ + wb * ac)
-    apart = apart or (abs(ax) > lb + la * ac + wa * as_) or (abs(ay) > wb + la * as_ + wa * ac)
-    return min(b_in_a, a_in_b) if apart else 0.0
+    return min(b_in_a, a_in_b)
 
 
 # ---------------------------------------------------------------------------------- pairs
@@ -141,28 +172,28 @@ def _entity_distance(
     centre: np.ndarray,
     ref: np.ndarray,
     heading: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
     length: np.ndarray,
     width: np.ndarray,
-) -> tuple[float, float]:
-    """(distance, B's centre ahead of A along A's axis) in A's frame, by distance type:
-    reference points, or the boxes' gaps with ``fs`` (freespace)."""
-    ha, la, wa = heading[a], length[a], width[a]
-    bx, by = _unrotate(centre[b, 0] - centre[a, 0], centre[b, 1] - centre[a, 1], ha)
-    rx, ry = _unrotate(ref[b, 0] - ref[a, 0], ref[b, 1] - ref[a, 1], ha)
-    if dtype == 0:
-        if fs:
-            return footprint_distance(
-                centre[a, 0], centre[a, 1], ha, la, wa,
-                centre[b, 0], centre[b, 1], heading[b], length[b], width[b],
-            ), bx  # fmt: skip
-        return math.hypot(rx, ry), bx
+) -> float:
+    """Distance (m) of B from A in A's frame, by distance type: between the reference points,
+    or the boxes' gap with ``fs`` (freespace)."""
+    ha, la, wa, ca, sa = heading[a], length[a], width[a], cos_h[a], sin_h[a]
+    if dtype == 0 and fs:
+        return _footprint_distance(
+            centre[a, 0], centre[a, 1], ha, ca, sa, la, wa,
+            centre[b, 0], centre[b, 1], heading[b], cos_h[b], sin_h[b], length[b], width[b],
+        )  # fmt: skip
     if not fs:
-        return (abs(rx) if dtype == 1 else abs(ry)), bx
+        rx, ry = _unrotate(ref[b, 0] - ref[a, 0], ref[b, 1] - ref[a, 1], ca, sa)
+        return math.hypot(rx, ry) if dtype == 0 else (abs(rx) if dtype == 1 else abs(ry))
+    bx, by = _unrotate(centre[b, 0] - centre[a, 0], centre[b, 1] - centre[a, 1], ca, sa)
     # footprint_extent of B in A's frame
     c, s = abs(math.cos(heading[b] - ha)), abs(math.sin(heading[b] - ha))
     if dtype == 1:
-        return _max0(abs(bx) - 0.5 * la - (length[b] * c + width[b] * s) / 2), bx
-    return _max0(abs(by) - 0.5 * wa - (length[b] * s + width[b] * c) / 2), bx
+        return _max0(abs(bx) - 0.5 * la - (length[b] * c + width[b] * s) / 2)
+    return _max0(abs(by) - 0.5 * wa - (length[b] * s + width[b] * c) / 2)
 
 
 @njit(cache=True)
@@ -176,8 +207,8 @@ def _road_distance(
     road_s: np.ndarray,
     road_t: np.ndarray,
     road_dir: np.ndarray,
-) -> tuple[float, float]:
-    """(distance, B ahead of A along A's driving direction) in road coordinates."""
+) -> float:
+    """Distance (m) of B from A in road coordinates, by distance type."""
     ds = (road_s[b] - road_s[a]) * road_dir[a]
     dt = road_t[b] - road_t[a]
     lon, lat = abs(ds), abs(dt)
@@ -185,10 +216,10 @@ def _road_distance(
         lon = _max0(abs(ds) - 0.5 * (length[a] + length[b]))
         lat = _max0(abs(dt) - 0.5 * (width[a] + width[b]))
     if dtype == 1:
-        return lon, ds
+        return lon
     if dtype == 2:
-        return lat, ds
-    return math.hypot(lon, lat), ds
+        return lat
+    return math.hypot(lon, lat)
 
 
 @njit(cache=True)
@@ -201,20 +232,19 @@ def _sign(x: float) -> float:
 
 
 @njit(cache=True)
-def _ttc(
+def _closing(
     a: int,
     b: int,
     dtype: int,
-    dist: float,
     centre: np.ndarray,
-    heading: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
     speed: np.ndarray,
 ) -> float:
-    """Time (s) to close ``dist`` at the closing speed along the measuring direction: A's
-    axis (longitudinal / lateral) or the line between the centres (euclidean)."""
-    ha, hb = heading[a], heading[b]
-    ca, sa, va, vb = math.cos(ha), math.sin(ha), speed[a], speed[b]
-    dvx, dvy = va * ca - vb * math.cos(hb), va * sa - vb * math.sin(hb)  # relative velocity
+    """Closing speed (m/s) of A and B along the measuring direction: A's axis (longitudinal /
+    lateral) or the line between the centres (euclidean)."""
+    ca, sa, va, vb = cos_h[a], sin_h[a], speed[a], speed[b]
+    dvx, dvy = va * ca - vb * cos_h[b], va * sa - vb * sin_h[b]  # relative velocity
     rx, ry = centre[b, 0] - centre[a, 0], centre[b, 1] - centre[a, 1]
     n = max(math.hypot(rx, ry), 1e-9)
     if dtype == 1:
@@ -223,8 +253,7 @@ def _ttc(
         dx, dy = -sa, ca
     else:
         dx, dy = rx / n, ry / n
-    closing = (dvx * dx + dvy * dy) * _sign(rx * dx + ry * dy)
-    return dist / max(closing, 1e-9) if closing > 1e-9 else math.inf
+    return (dvx * dx + dvy * dy) * _sign(rx * dx + ry * dy)
 
 
 @njit(cache=True)
@@ -239,6 +268,8 @@ def pair_measure(
     centre: np.ndarray,
     ref: np.ndarray,
     heading: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
     length: np.ndarray,
     width: np.ndarray,
     speed: np.ndarray,
@@ -246,18 +277,33 @@ def pair_measure(
     road_t: np.ndarray,
     road_dir: np.ndarray,
 ) -> float:
-    """Relative distance (m), time headway (s) or TTC (s) of A to B (NaN: one absent)."""
+    """Relative distance (m), time headway (s) or TTC (s) of A to B (NaN: one absent).
+    ``cos_h`` / ``sin_h``: cos and sin of each entity's heading. The distance is measured
+    only when the headway or TTC needs it (B ahead and A moving; closing)."""
     if b < 0 or not present[a] or not present[b]:
         return math.nan
-    if road:
-        dist, ahead = _road_distance(a, b, fs, dtype, length, width, road_s, road_t, road_dir)
-    else:
-        dist, ahead = _entity_distance(a, b, fs, dtype, centre, ref, heading, length, width)
     if kind == HEADWAY:
+        if road:
+            ahead = (road_s[b] - road_s[a]) * road_dir[a]
+        else:
+            ahead = (centre[b, 0] - centre[a, 0]) * cos_h[a] + (
+                centre[b, 1] - centre[a, 1]
+            ) * sin_h[a]  # B's centre along A's axis, as _unrotate
         v = speed[a]
-        return dist / max(v, 1e-6) if (ahead > 0 and v > 1e-6) else math.inf
+        if not (ahead > 0 and v > 1e-6):
+            return math.inf
+    elif kind == TTC:
+        closing = _closing(a, b, dtype, centre, cos_h, sin_h, speed)
+        if not closing > 1e-9:
+            return math.inf
+    if road:
+        dist = _road_distance(a, b, fs, dtype, length, width, road_s, road_t, road_dir)
+    else:
+        dist = _entity_distance(a, b, fs, dtype, centre, ref, heading, cos_h, sin_h, length, width)
+    if kind == HEADWAY:
+        return dist / max(speed[a], 1e-6)
     if kind == TTC:
-        return _ttc(a, b, dtype, dist, centre, heading, speed)
+        return dist / max(closing, 1e-9)
     return dist
 
 
@@ -309,7 +355,8 @@ def point_measure(
     fs: bool,
     centre: np.ndarray,
     ref: np.ndarray,
-    heading: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
     length: np.ndarray,
     width: np.ndarray,
     speed: np.ndarray,
@@ -321,11 +368,10 @@ def point_measure(
     dx, dy = px - ref[a, 0], py - ref[a, 1]
     dist = math.hypot(dx, dy)
     if fs and kind != REACH:  # kinematics.rectangle_point_distance
-        x, y = _unrotate(px - centre[a, 0], py - centre[a, 1], heading[a])
+        x, y = _unrotate(px - centre[a, 0], py - centre[a, 1], cos_h[a], sin_h[a])
         dist = _outside(x, y, 0.5 * length[a], 0.5 * width[a])
     if kind == TTC_POINT:
-        h = heading[a]
         n = max(math.hypot(dx, dy), 1e-9)
-        closing = speed[a] * (math.cos(h) * dx + math.sin(h) * dy) / n
+        closing = speed[a] * (cos_h[a] * dx + sin_h[a] * dy) / n
         return dist / max(closing, 1e-9) if closing > 1e-9 else math.inf
     return dist

@@ -51,6 +51,8 @@ def _row_measure(
     centre: np.ndarray,
     ref: np.ndarray,
     heading: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
     length: np.ndarray,
     width: np.ndarray,
     speed: np.ndarray,
@@ -65,7 +67,7 @@ def _row_measure(
     if kind < SPEED:
         return pair_measure(
             kind, a, b, rows[r, R_FS] != 0, rows[r, R_DTYPE], rows[r, R_ROAD] != 0, present,
-            centre, ref, heading, length, width, speed, road_s, road_t, road_dir,
+            centre, ref, heading, cos_h, sin_h, length, width, speed, road_s, road_t, road_dir,
         )  # fmt: skip
     if kind <= REL_SPEED:
         return single_measure(kind, a, b, present, speed, accel)
@@ -73,7 +75,7 @@ def _row_measure(
         return duration_measure(kind, a, r, now, present, speed, on_net, since)
     if DISTANCE <= kind <= TTC_POINT:
         return point_measure(
-            kind, a, points[r, 0], points[r, 1], rows[r, R_FS] != 0, centre, ref, heading,
+            kind, a, points[r, 0], points[r, 1], rows[r, R_FS] != 0, centre, ref, cos_h, sin_h,
             length, width, speed,
         )  # fmt: skip
     return np.nan
@@ -109,6 +111,7 @@ def _condition_values(
 ) -> np.ndarray:
     """(C,) whether each condition holds now, before edges and delays (conditions of
     inactive triggers: False; their duration rows are still tracked)."""
+    cos_h, sin_h = np.cos(heading), np.sin(heading)
     n = len(cond)
     hits, count = np.zeros(n, np.int64), np.zeros(n, np.int64)
     for r in range(len(rows)):
@@ -121,8 +124,8 @@ def _condition_values(
             res = contact[a, b] if b >= 0 else contact_any[a]
         else:
             m = _row_measure(
-                r, rows, now, points, since, present, centre, ref, heading, length, width,
-                speed, accel, on_net, road_s, road_t, road_dir,
+                r, rows, now, points, since, present, centre, ref, heading, cos_h, sin_h,
+                length, width, speed, accel, on_net, road_s, road_t, road_dir,
             )  # fmt: skip
             res = holds(m, row_value[r], rows[r, R_RULE])
         if on:
