@@ -11,7 +11,8 @@ ratio (the issue's target: the engine <= 10 % of the SUMO step) and the load ave
 
 To say where the floor of a numpy design lies it also runs the same scenario with 5 actors (the
 engine's fixed cost per step) and times one small numpy call in the same process: the engine's
-time divided by that is its cost in numpy-call equivalents, against what the target allows.
+time divided by that is its cost in numpy-call equivalents, against what the target allows. A short warm-up run
+first compiles the engine's numba kernels (or loads them from numba's cache), outside the timing.
 
     .venv/bin/python benchmarks/scenario_engine.py [--repeats 3]
 """
@@ -148,8 +149,11 @@ def _scenario(n_actors: int) -> Scenario:
     return Scenario("bench", tuple(ents), Storyboard(tuple(init), (story,), stop), ego="Ego")
 
 
-def _run(sc: Scenario, net: Path, roads: RoadLanes) -> tuple[np.ndarray, np.ndarray, int]:
-    """Per-step SUMO and engine times (s) of one run of ``sc``, and the actions started."""
+def _run(
+    sc: Scenario, net: Path, roads: RoadLanes, steps: int = STEPS
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """Per-step SUMO and engine times (s) of ``steps`` steps of ``sc``, and the actions
+    started."""
     with Simulation(SimConfig(net=net, step_length=DT)) as sim:
         engine = ScenarioEngine(sc, roads, DT)
         commands = [0.0]
@@ -166,9 +170,9 @@ def _run(sc: Scenario, net: Path, roads: RoadLanes) -> tuple[np.ndarray, np.ndar
         vehicle.moveToXY = timed(vehicle.moveToXY)
         vehicle.setSpeed = timed(vehicle.setSpeed)
         engine.start(sim)
-        t_sumo, t_engine = np.zeros(STEPS), np.zeros(STEPS)
+        t_sumo, t_engine = np.zeros(steps), np.zeros(steps)
         started = 0
-        for k in range(STEPS):
+        for k in range(steps):
             t = time.perf_counter()
             world = sim.step()
             t_sumo[k] = time.perf_counter() - t
@@ -229,6 +233,9 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         net = import_opendrive(XODR, Path(tmp) / "straight.net.xml")
         roads = RoadLanes.from_files(XODR, net)
+        t = time.perf_counter()
+        _run(small, net, roads, 60)  # the engine's kernels compile (or load) outside the timing
+        warm_s = time.perf_counter() - t
         sumo, eng, ratios = [], [], []
         for _ in range(args.repeats):
             t_sumo, t_engine, started = _run(sc, net, roads)
@@ -239,6 +246,7 @@ def main() -> None:
     sumo_ms, eng_ms = 1e3 * np.median(np.concatenate(sumo)), 1e3 * np.median(np.concatenate(eng))
     call_us, wrap_us = 1e6 * _call_cost(), 1e6 * _wrapper_cost()
     print(f"load average (1 min): {load0:.2f} at start, {os.getloadavg()[0]:.2f} at end (2 cores)")
+    print(f"warm-up run (numba kernels compiled, or loaded from their cache): {warm_s:.1f} s")
     print(
         f"scenario: {N_ACTORS} scripted actors, {n_cond} conditions, {STEPS} steps x "
         f"{args.repeats} runs, {started} actions started per run"

@@ -234,7 +234,8 @@ class Commands:
     ) -> None:
         """``move_vehicle`` for many vehicles: rectangle centres (N, 2) m, headings (N,) rad,
         lengths (N,) m, reported speeds (N,) m/s, edge ('' = any) and lane index (-1) each.
-        The front points and SUMO angles are computed in one numpy pass."""
+        A NaN speed leaves the speed set last for that vehicle (SUMO holds it). The front
+        points and SUMO angles are computed in one numpy pass."""
         if not len(vehicle_ids):
             return
         v = self._api().vehicle
@@ -246,9 +247,12 @@ class Commands:
             vehicle_ids, edges, lanes, front[:, 0].tolist(), front[:, 1].tolist(),
             angle.tolist(), np.asarray(speed, float).tolist(), strict=True,
         )  # fmt: skip
+        # keepRoute 6 as in move_vehicle; positional (vehID, edgeID, lane, x, y, angle,
+        # keepRoute): keyword passing costs as much as the rest of the loop
         for vid, edge, lane, fx, fy, a, sp in rows:
-            move(vid, edge, lane, fx, fy, angle=a, keepRoute=6)
-            set_speed(vid, sp)
+            move(vid, edge, lane, fx, fy, a, 6)
+            if sp == sp:
+                set_speed(vid, sp)
 
     def move_person(
         self, person_id: str, x: float, y: float, heading: float, edge: str = ""

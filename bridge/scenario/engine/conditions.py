@@ -1,12 +1,13 @@
-"""All trigger conditions of a storyboard, compiled into arrays and evaluated together.
+"""All trigger conditions of a storyboard, compiled into tables and evaluated together.
 
-Every condition gets an index; entity conditions become one row per (condition, triggering
-entity) pair in one table (see ``measures``). A step evaluates only the rows of triggers being
-evaluated now (durations are always tracked), each group of kinds in one vectorised pass, then
-compares every row with one operation and reduces rows to conditions ("any" / "all") with two
-``bincount``. Edges and delays are tracked per condition while its trigger is active (the first
-evaluation after activation has no edge). Triggers (OR of AND groups) are reduced with
-``reduceat`` over the condition order.
+Every condition gets a row in the condition table; entity conditions become one row per
+(condition, triggering entity) pair in the entity-row table (see ``measures``). A step is one
+call of the compiled :func:`trigger_kernel.evaluate_triggers`: it measures only the rows of
+triggers being evaluated now (durations are always tracked), compares, reduces rows to
+conditions, applies edges and delays (tracked per condition while its trigger is active; the
+first evaluation after activation has no edge) and reduces conditions to triggers (OR of AND
+groups). Python prepares only what needs the scenario's objects: the positions of the active
+point conditions, and the contact matrix when there are contacts.
 """
 
 from __future__ import annotations
@@ -16,8 +17,10 @@ from collections.abc import Callable
 import numpy as np
 
 from hiyari.bridge.scenario.engine import measures as M
-from hiyari.bridge.scenario.engine.measures import EntityRows, Snapshot, compare
+from hiyari.bridge.scenario.engine import trigger_kernel as K
+from hiyari.bridge.scenario.engine.measures import EntityRows, holds
 from hiyari.bridge.scenario.engine.positions import Pose
+from hiyari.bridge.scenario.engine.snapshot import Snapshot
 from hiyari.bridge.scenario.model.conditions import (
     AccelerationCondition,
     CollisionCondition,
@@ -47,11 +50,11 @@ _RULES = list(Rule)
 _EDGES = {Edge.NONE: 0, Edge.RISING: 1, Edge.FALLING: 2, Edge.RISING_OR_FALLING: 3}
 _DTYPE = {DistanceType.EUCLIDEAN: 0, DistanceType.LONGITUDINAL: 1, DistanceType.LATERAL: 2}
 
-__all__ = ["ConditionBank", "Snapshot", "compare"]
+__all__ = ["ConditionBank", "Snapshot"]
 
 
 class ConditionBank:
-    """Every condition of the storyboard's triggers, evaluated in batches."""
+    """Every condition of the storyboard's triggers, evaluated in one compiled pass."""
 
     def __init__(
         self,
@@ -66,84 +69,66 @@ class ConditionBank:
         self.resolve = resolve
         self.conditions: list[Condition] = []
         cond_trigger: list[int] = []
-        group_starts, trigger_groups = [], []
+        group_start, trigger_group = [], []
         for ti, trig in enumerate(triggers):
-            trigger_groups.append(len(group_starts))
+            trigger_group.append(len(group_start))
             for group in trig:
-                group_starts.append(len(self.conditions))
+                if not group:
+                    raise HiyariError("a ConditionGroup without conditions")
+                group_start.append(len(self.conditions))
                 for c in group:
                     self.conditions.append(c)
                     cond_trigger.append(ti)
-        n = len(self.conditions)
         self.n_triggers = len(triggers)
-        self.empty = np.array([len(t) == 0 for t in triggers], dtype=bool)
-        self.has_conditions = np.flatnonzero(~self.empty)
-        self.group_starts = np.array(group_starts, dtype=np.intp)
-        self.trigger_groups = np.array(trigger_groups, dtype=np.intp)
-        self.cond_trigger = np.array(cond_trigger, dtype=np.intp)
-        edge = np.array([_EDGES[c.edge] for c in self.conditions], dtype=np.int8)
-        self.edge_none = edge == 0
-        self.edge_rise = (edge == 1) | (edge == 3)
-        self.edge_fall = (edge == 2) | (edge == 3)
-        self.prev = np.full(n, -1, dtype=np.int8)  # -1: not evaluated since activation
-        self._delays(dt)
-        self._compile(element_index, parameters)
+        self.group_start = np.array([*group_start, len(self.conditions)], dtype=np.int64)
+        self.trigger_group = np.array([*trigger_group, len(group_start)], dtype=np.int64)
+        self.cond_trigger = np.array(cond_trigger, dtype=np.int64)
+        self.prev = np.full(len(self.conditions), -1, dtype=np.int8)  # -1: not evaluated
+        self._compile(element_index, parameters, dt)
 
     # ------------------------------------------------------------------ compile
-    def _delays(self, dt: float) -> None:
-        d = np.array([c.delay for c in self.conditions])
-        self.delay_steps = np.rint(d / dt).astype(np.int64) if len(d) else np.zeros(0, np.int64)
-        size = int(self.delay_steps.max()) + 1 if len(d) else 1
-        self.history = np.zeros((len(d), size), dtype=bool)
-        self.cond_ix = np.arange(len(d))
-        self.step_no = 0
-
-    def _compile(self, element_index: Callable[[str, str, str], int], parameters: dict) -> None:
-        time_ix, time_v, time_r = [], [], []
-        state_ix, state_el = [], []
-        self.static = np.zeros(len(self.conditions), dtype=bool)
+    def _compile(
+        self, element_index: Callable[[str, str, str], int], parameters: dict, dt: float
+    ) -> None:
+        n = len(self.conditions)
+        cond = np.zeros((n, 7), dtype=np.int64)
+        cond[:, K.C_TRIGGER] = self.cond_trigger
+        self.time_value = np.zeros(n)
+        self.static = np.zeros(n, dtype=bool)
         rows: list[tuple] = []
         for i, c in enumerate(self.conditions):
             b = c.body
+            cond[i, K.C_EDGE] = _EDGES[c.edge]
             if isinstance(b, SimulationTimeCondition):
-                time_ix.append(i), time_v.append(b.value), time_r.append(_RULES.index(b.rule))
+                cond[i, K.C_KIND], cond[i, K.C_RULE] = K.TIME, _RULES.index(b.rule)
+                self.time_value[i] = b.value
             elif isinstance(b, StoryboardElementStateCondition):
-                state_ix.append(i)
-                state_el.append(element_index(b.element_type, b.element, c.source))
                 self._check_state(b.state, c.source)
+                cond[i, K.C_KIND] = K.STATE
+                cond[i, K.C_ELEMENT] = element_index(b.element_type, b.element, c.source)
+                cond[i, K.C_CODE] = _STATE_CODES[b.state]
             elif isinstance(b, ParameterCondition):
+                cond[i, K.C_KIND] = K.STATIC
                 self.static[i] = _param_holds(parameters, b, c.source)
             elif isinstance(b, EntityCondition):
+                cond[i, K.C_KIND], cond[i, K.C_RULE] = K.ENTITY, b.rule != "all"
                 rows += self._entity_rows(i, c, b)
             else:
                 raise HiyariError(f"{c.source}: condition {type(b).__name__} is not supported")
-        self.time_ix = np.array(time_ix, dtype=np.intp)
-        self.time_v, self.time_r = np.array(time_v), np.array(time_r, dtype=np.int8)
-        self.state_ix = np.array(state_ix, dtype=np.intp)
-        self.state_el = np.array(state_el, dtype=np.intp)
-        self.state_code = np.array(
-            [_STATE_CODES[self.conditions[i].body.state] for i in state_ix], dtype=np.int8
-        )
-        self.state_is_state = self.state_code < 3
+        delay = np.array([c.delay for c in self.conditions])
+        cond[:, K.C_DELAY] = np.rint(delay / dt).astype(np.int64) if n else 0
+        self.history = np.zeros((n, int(cond[:, K.C_DELAY].max()) + 1 if n else 1), dtype=bool)
+        self.step_no = 0
+        self.cond = cond
         self.rows = _table(rows)
+        self.row_table = _row_table(self.rows)
         self.needs_road = bool(self.rows.road.any())
         self.row_trigger = self.cond_trigger[self.rows.owner]
-        self.row_always = np.isin(self.rows.kind, M.DURATION_KINDS)  # durations: always tracked
         self.since = np.full(len(self.rows), np.nan)
+        self.points = np.full((len(self.rows), 2), np.nan)
         self.fixed: dict[int, tuple[float, float]] = {}
-        self.groups = [
-            (ix, kinds)
-            for kinds in (M.PAIR_KINDS, M.SINGLE_KINDS, M.DURATION_KINDS, M.POINT_KINDS)
-            if len(ix := np.flatnonzero(np.isin(self.rows.kind, kinds)))
-        ]
-        self.collision_rows = np.flatnonzero(self.rows.kind == M.COLLISION)
-        self.rule_any = np.array(
-            [
-                not (isinstance(c.body, EntityCondition) and c.body.rule == "all")
-                for c in self.conditions
-            ],
-            dtype=bool,
-        )
+        self.point_rows = np.flatnonzero(np.isin(self.rows.kind, M.POINT_KINDS))
+        self._no_contact = np.zeros((len(self.entity_index),) * 2, dtype=bool)
 
     @staticmethod
     def _check_state(state: str, where: str) -> None:
@@ -182,78 +167,41 @@ class ConditionBank:
         """Fired triggers (bool per trigger) given which triggers are ``active``, element
         ``states`` (codes) and the ``transitions`` (codes) each element went through at the
         last update."""
-        raw = self.static.copy()
-        if len(self.time_ix):
-            raw[self.time_ix] = compare(
-                np.full(len(self.time_ix), snap.time), self.time_v, self.time_r
-            )
-        if len(self.state_ix):
-            raw[self.state_ix] = np.where(
-                self.state_is_state,
-                states[self.state_el] == self.state_code,
-                transitions[self.state_el] == self.state_code,
-            )
-        if len(self.rows):
-            self._entity_conditions(snap, active, raw)
-        return self._triggers(raw, active)
-
-    def _entity_conditions(self, snap: Snapshot, active: np.ndarray, raw: np.ndarray) -> None:
-        """Entity conditions' values into ``raw``: each group of kinds measured in one pass
-        over the rows of triggers being evaluated now, then one comparison of every row."""
-        rows = self.rows
-        on = active[self.row_trigger] | self.row_always
-        if not on.any():
-            return
-        measured = np.full(len(rows), np.nan)
-        for ix, kinds in self.groups:
-            sel = ix[on[ix]]
-            if not len(sel):
-                continue
-            if kinds is M.PAIR_KINDS:
-                measured[sel] = M.pair_measures(snap, rows, sel)
-            elif kinds is M.SINGLE_KINDS:
-                measured[sel] = M.single_measures(snap, rows, sel)
-            elif kinds is M.DURATION_KINDS:
-                measured[sel] = M.duration_measures(snap, rows, sel, self.since)
-            else:
-                measured[sel] = M.point_measures(snap, rows, sel, self.resolve, self.fixed)
-        res = compare(measured, rows.value, rows.rule)
-        if len(self.collision_rows):
-            sel = self.collision_rows[on[self.collision_rows]]
-            res[sel] = M.collision_hits(snap, rows, sel)
-        n = len(raw)
-        hits = np.bincount(rows.owner, weights=res & on, minlength=n)
-        count = np.bincount(rows.owner, weights=on, minlength=n)
-        touched = count > 0
-        ok = np.where(self.rule_any, hits > 0, hits == count)
-        raw[touched] = ok[touched]
-
-    def _triggers(self, raw: np.ndarray, active: np.ndarray) -> np.ndarray:
-        on = active[self.cond_trigger]
-        prev = self.prev
-        cur = raw.astype(np.int8)
-        rising = (prev == 0) & raw
-        falling = (prev == 1) & ~raw
-        edged = np.where(
-            self.edge_none, raw, (rising & self.edge_rise) | (falling & self.edge_fall)
-        )
-        edged &= on
-        self.prev = np.where(on, cur, np.int8(-1))
-        if self.history.shape[1] == 1:  # no delays
-            delayed = edged
-        else:
-            k = self.step_no % self.history.shape[1]
-            self.history[:, k] = edged
-            back = (self.step_no - self.delay_steps) % self.history.shape[1]
-            delayed = self.history[self.cond_ix, back]
-            delayed &= self.delay_steps <= self.step_no
+        if len(self.point_rows):
+            self._resolve_points(snap, active)
+        contact = self._no_contact
+        if snap.contacts:
+            contact = np.zeros_like(self._no_contact)
+            for pair in snap.contacts:
+                i, j = (*pair, *pair)[:2]  # a pair, or one entity (a set of one)
+                contact[i, j] = contact[j, i] = True
+        fired = K.evaluate_triggers(
+            snap.time, self.step_no, active, self.cond, self.time_value, self.static,
+            self.group_start, self.trigger_group, self.prev, self.history, self.row_table,
+            self.rows.value, self.points, self.since, snap.present, snap.centre, snap.ref,
+            snap.heading, snap.length, snap.width, snap.speed, snap.accel, snap.on_net,
+            snap.road_s, snap.road_t, snap.road_dir, contact, snap.contact_any, states,
+            transitions,
+        )  # fmt: skip
         self.step_no += 1
-        fired = np.zeros(self.n_triggers, dtype=bool)
-        if len(raw):
-            groups = np.logical_and.reduceat(delayed, self.group_starts)
-            has = self.has_conditions
-            fired[has] = np.logical_or.reduceat(groups, self.trigger_groups[has])
-        return fired & active
+        return fired
+
+    def _resolve_points(self, snap: Snapshot, active: np.ndarray) -> None:
+        """World x, y of the positions of the point rows evaluated now (NaN for absent
+        entities); positions that do not move with the entities resolved once."""
+        sel = self.point_rows[active[self.row_trigger[self.point_rows]]]
+        self.points[:] = np.nan
+        for row in sel.tolist():
+            if not snap.present[self.rows.a[row]]:
+                continue
+            xy = self.fixed.get(row)
+            if xy is None:
+                pos = self.rows.body[row].position
+                p = self.resolve(pos)
+                xy = (p.x, p.y)
+                if isinstance(pos, M.FIXED_POSITIONS):
+                    self.fixed[row] = xy
+            self.points[row] = xy
 
 
 _STATE_CODES = {
@@ -273,7 +221,7 @@ def _param_holds(parameters: dict, b: ParameterCondition, where: str) -> bool:
     have = str(parameters[b.parameter])
     try:
         a, v = float(have), float(b.value)
-        return bool(compare(np.array([a]), np.array([v]), np.array([_RULES.index(b.rule)]))[0])
+        return bool(holds(a, v, _RULES.index(b.rule)))
     except ValueError:
         if b.rule == Rule.EQUAL_TO:
             return have == b.value
@@ -334,4 +282,26 @@ def _table(rows: list[tuple]) -> EntityRows:
             dtype=bool,
         ),
         body=list(bodies),
+    )
+
+
+def _row_table(rows: EntityRows) -> np.ndarray:
+    """(R, 9) int64 columns of the entity rows for the kernel (see trigger_kernel)."""
+    return (
+        np.stack(
+            [
+                rows.owner,
+                rows.a,
+                rows.b,
+                rows.rule,
+                rows.kind,
+                rows.freespace,
+                rows.dtype,
+                rows.road,
+                np.isin(rows.kind, M.DURATION_KINDS),
+            ],  # fmt: skip
+            axis=1,
+        )
+        .astype(np.int64)
+        .reshape(len(rows), 9)
     )

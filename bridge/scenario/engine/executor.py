@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hiyari.bridge.scenario.engine.actions import ActionStarter, Instance
-from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
+from hiyari.bridge.scenario.engine.conditions import ConditionBank
 from hiyari.bridge.scenario.engine.elements import (
     NO_TRANSITION,
     RUNNING,
@@ -40,6 +40,7 @@ from hiyari.bridge.scenario.engine.motion import (
     forward,
 )
 from hiyari.bridge.scenario.engine.positions import Pose, PoseResolver
+from hiyari.bridge.scenario.engine.snapshot import Snapshot, gather_entities, own_road_coords
 from hiyari.bridge.scenario.model.entities import EntityKind
 from hiyari.bridge.scenario.model.storyboard import Scenario
 from hiyari.errors import HiyariError
@@ -60,6 +61,20 @@ _SHAPE = {
 }
 #: Top speed given to SUMO types when the scenario names none, m/s.
 DEFAULT_MAX_SPEED = 100.0
+
+
+@dataclass(frozen=True)
+class _View:
+    """What the storyboard's element states decide, kept until one changes (``version``: the
+    length of the element log): the triggers evaluated now (T,), the entities the storyboard
+    drives (E,), those whose road coordinates active conditions read (E,) and of these the
+    ones located on the map (not driven)."""
+
+    version: int
+    active: np.ndarray
+    driven: np.ndarray
+    need: np.ndarray
+    located: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -142,7 +157,12 @@ class ScenarioEngine:
         self._edge: list[str] = [""] * n
         self._lane_index: list[int] = [-1] * n
         self._moved: tuple[np.ndarray, list[str]] = (np.zeros(0, np.intp), [])
+        self._sent_speed = np.full(n, np.nan)  # speed last sent to SUMO per entity, m/s
         self._near: dict[str, tuple[str, float]] = {}  # last road and s of located entities
+        self._view_cache: _View | None = None
+        # log length / (log length, motion version) at the start of the latest storyboard
+        # update / action-ending pass that changed nothing (-1 / None: it changed something)
+        self._idle: tuple[int, tuple[int, int] | None] = (-1, None)
 
     # ------------------------------------------------------------------ who drives what
     def storyboard_drives(self, name: str) -> bool:
@@ -158,10 +178,7 @@ class ScenarioEngine:
 
     def _driven(self) -> np.ndarray:
         """(E,) whether the storyboard moves each entity (all but a stack-driven ego)."""
-        driven = np.ones(len(self.names), dtype=bool)
-        if self._ego_row >= 0:
-            driven[self._ego_row] = self.storyboard_drives(self.ego)
-        return driven
+        return self._view().driven
 
     def pose_of(self, name: str) -> Pose:
         """Current reference-point pose of entity ``name`` with road coordinates."""
@@ -278,8 +295,8 @@ class ScenarioEngine:
         self._started, self._ended, self._ego_requests = [], [], []
         if self.finished:
             return self._report()
-        active = self._active()
-        snap = self._snapshot(world, sim, active)
+        active = self._view().active
+        snap = self._snapshot(world, sim)
         fired = self.bank.evaluate(snap, active, self.tree.state, self.tree.transition)
         self.tree.transition[:] = NO_TRANSITION
         if fired[0]:
@@ -287,8 +304,13 @@ class ScenarioEngine:
             for story in self.tree.of_kind("story"):
                 self.tree.stop(story.index, self.now)
             return self._report()
-        self._acts(fired)
-        self._events(fired)
+        # with nothing fired and no element changed since an update that changed nothing,
+        # the update would change nothing again
+        if fired.any() or len(self.tree.log) != self._idle[0]:
+            version = len(self.tree.log)
+            self._acts(fired)
+            self._events(fired)
+            self._idle = (version if len(self.tree.log) == version else -1, self._idle[1])
         self._advance()
         self._finish_actions(self.now)
         self._command(sim)
@@ -298,13 +320,30 @@ class ScenarioEngine:
         return StepReport(
             self.now,
             self.finished,
-            self.ego is not None and self.storyboard_drives(self.ego),
+            self.ego is not None and bool(self._view().driven[self._ego_row]),
             tuple(self._started),
             tuple(self._ended),
             tuple(self._ego_requests),
         )
 
+    def _view(self) -> _View:
+        """The storyboard's current view (see _View), rebuilt when an element changed state
+        (every change is logged, controller changes with their action's start)."""
+        version = len(self.tree.log)
+        if self._view_cache is None or self._view_cache.version != version:
+            active = self._active()
+            driven = np.ones(len(self.names), dtype=bool)
+            if self._ego_row >= 0:
+                driven[self._ego_row] = self.storyboard_drives(self.ego)
+            need = np.zeros(len(self.names), dtype=bool)
+            if self.bank.needs_road:
+                need = self.bank.road_entities(active)
+            self._view_cache = _View(version, active, driven, need, need & ~driven)
+        return self._view_cache
+
     def _active(self) -> np.ndarray:
+        """(T,) triggers evaluated now: the storyboard's stop trigger, standby acts' start
+        triggers, running acts' stop triggers, waiting events' start triggers."""
         active = np.zeros(len(self.tree.triggers) + 1, dtype=bool)  # last slot: "no trigger"
         active[0] = True
         st = self.tree.state
@@ -392,6 +431,17 @@ class ScenarioEngine:
                 self.starter.follow_path(a, nxt)
 
     def _finish_actions(self, now: float) -> None:
+        """End the actions whose transitions or paths are over, then every element whose
+        children are all complete (bottom-up). Skipped when neither the elements nor the
+        actors' transitions changed since a pass that ended nothing."""
+        version = (len(self.tree.log), self.table.motion_version)
+        if version == self._idle[1]:
+            return
+        self._end_finished(now)
+        after = (len(self.tree.log), self.table.motion_version)
+        self._idle = (self._idle[0], version if after == version else None)
+
+    def _end_finished(self, now: float) -> None:
         tree, st = self.tree, self.tree.state
         for ai, insts in list(self.instances.items()):
             if st[ai] == RUNNING and all(self.starter.done(x) for x in insts):
@@ -410,16 +460,24 @@ class ScenarioEngine:
                 open_children = None
 
     def _command(self, sim: Simulation) -> None:
+        """Place every inserted scripted actor for the next step; its speed is sent only when
+        it changed (SUMO holds the speed set last)."""
         tb = self.table
         rows = np.flatnonzero(tb.inserted & self._driven())
         edges, lanes = self._sumo_lanes(rows)
         if not np.array_equal(rows, self._moved[0]):
             self._moved = (rows, [self.names[k] for k in rows.tolist()])
+            left = np.ones(len(self.names), dtype=bool)
+            left[rows] = False
+            self._sent_speed[left] = np.nan  # others may set its speed meanwhile
         ref = np.stack([tb.x[rows], tb.y[rows]], 1)
         h = tb.h[rows]
+        speed = np.hypot(tb.v[rows], tb.v_lat[rows])
+        send = np.where(speed == self._sent_speed[rows], np.nan, speed)
+        self._sent_speed[rows] = speed
         sim.move_vehicles(
             self._moved[1], vehicle_to_world(self._centre_offset[rows], ref, h), h,
-            self._length[rows], np.hypot(tb.v[rows], tb.v_lat[rows]), edges, lanes,
+            self._length[rows], send, edges, lanes,
         )  # fmt: skip
 
     def _sumo_lanes(self, rows: np.ndarray) -> tuple[list[str], list[int]]:
@@ -442,24 +500,26 @@ class ScenarioEngine:
         return [self._edge[k] for k in rl], [self._lane_index[k] for k in rl]
 
     # ------------------------------------------------------------------ snapshot
-    def _road_coords(
-        self, need: np.ndarray, road_s: np.ndarray, road_t: np.ndarray, road_dir: np.ndarray
-    ) -> None:
-        """Road s of the box centre, t and driving direction of entities ``need`` (E,) into
-        the arrays: scripted actors' from their state, the others located on the map."""
-        tb = self.table
+    def _road_coords(self, present: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(E,) road s of the box centre, t and driving direction (+1 / -1) of the present
+        entities whose road coordinates the active conditions read (NaN, NaN, 1 for the
+        others): scripted actors' from their state, the others located on the map."""
+        n, tb, view = len(self.names), self.table, self._view()
+        road_s, road_t, road_dir = np.full(n, np.nan), np.full(n, np.nan), np.ones(n)
+        if not self.bank.needs_road:
+            return road_s, road_t, road_dir
         tb.refresh(self.roads.odr)
-        driven = self._driven()
-        own = need & driven & (tb.road_code >= 0)
-        road_dir[own] = tb.direction[own]
-        road_s[own] = tb.s[own] + road_dir[own] * self._cx[own]
-        road_t[own] = tb.t[own]
-        for k in np.flatnonzero(need & ~driven).tolist():
+        own_road_coords(
+            view.need & view.driven & present, tb.road_code, tb.s, tb.t, tb.direction,
+            self._cx, road_s, road_t, road_dir,
+        )  # fmt: skip
+        for k in np.flatnonzero(view.located & present).tolist():
             p = self.pose_of(self.names[k])
             if p.road:
                 road_dir[k] = forward(self.roads.odr, p.road, p.lane)
                 road_s[k] = p.s + road_dir[k] * self._cx[k]
                 road_t[k] = p.t
+        return road_s, road_t, road_dir
 
     def _map_rows(self, world: WorldState) -> None:
         """Rows of the entities in ``world`` (-1: absent), rebuilt when its ids change."""
@@ -469,23 +529,15 @@ class ScenarioEngine:
             self._rows = {str(i): k for k, i in enumerate(ids)}
             self._entity_rows = np.array([self._rows.get(n, -1) for n in self.names], np.intp)
 
-    def _snapshot(self, world: WorldState, sim: Simulation, active: np.ndarray) -> Snapshot:
+    def _snapshot(self, world: WorldState, sim: Simulation) -> Snapshot:
         rows = self._entity_rows
-        present = rows >= 0
-        r = np.where(present, rows, 0)
-        if len(world) == 0:
-            r = np.zeros(len(rows), dtype=np.intp)
-            world = _padded(world)
-        centre = world.xyz[r, :2].copy()
-        h = world.heading[r]
-        ref = vehicle_to_world(-self._centre_offset, centre, h)
-        road_s = np.full(len(rows), np.nan)
-        road_t = np.full(len(rows), np.nan)
-        road_dir = np.ones(len(rows))
-        if self.bank.needs_road:
-            self._road_coords(present & self.bank.road_entities(active), road_s, road_t, road_dir)
+        present, centre, ref, h, speed, accel = gather_entities(
+            rows, world.xyz, world.heading, world.speed, world.accel, self._centre_offset
+        )
+        n = len(rows)
+        road_s, road_t, road_dir = self._road_coords(present)
         contacts: set[frozenset[int]] = set()
-        contact_any = np.zeros(len(rows), dtype=bool)
+        contact_any = np.zeros(n, dtype=bool)
         for col in sim.collisions:
             if col.depth <= 0.0:
                 continue  # SUMO's per-lane check alone: no sublanes, beside counts as hit
@@ -495,31 +547,11 @@ class ScenarioEngine:
                     contact_any[x] = True
             if ia >= 0 and ib >= 0:
                 contacts.add(frozenset((ia, ib)))
-        length, width = self._length, self._width
+        on_net = world.lane[np.maximum(rows, 0)] != "" if len(world) else np.zeros(n, bool)
         return Snapshot(
-            time=self.now,
-            present=present,
-            ref=ref,
-            centre=centre,
-            heading=h,
-            length=length,
-            width=width,
-            speed=world.speed[r],
-            accel=world.accel[r],
-            on_net=world.lane[r] != "",
-            road_s=road_s,
-            road_t=road_t,
-            road_dir=road_dir,
-            contacts=contacts,
-            contact_any=contact_any,
-        )
-
-
-def _padded(world: WorldState) -> WorldState:
-    """A one-row placeholder so that gathers on an empty state stay in bounds."""
-    o = np.array([""], dtype=object)
-    z = np.zeros(1)
-    return WorldState(world.time, o, np.zeros(1, np.int8), np.zeros((1, 3)), z, z, z, z, z, z, o, o)
+            self.now, present, ref, centre, h, self._length, self._width, speed, accel, on_net,
+            road_s, road_t, road_dir, contacts, contact_any,
+        )  # fmt: skip
 
 
 __all__ = ["ScenarioEngine", "StepReport", "EntityKind"]

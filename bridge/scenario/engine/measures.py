@@ -1,29 +1,27 @@
-"""What entity conditions measure at one step, for many condition rows at once.
+"""What entity conditions measure at one step, one condition row at a time, compiled.
 
 A row is one (condition, triggering entity) pair. Rows are compiled into one table
-(:class:`EntityRows`) and measured by group, each group in one vectorised pass over the rows
-being evaluated: pair measures (relative distance, headway, TTC to an entity) share one pass of
-the pair geometry, single-entity measures (speed, acceleration, relative speed) another, and
-durations (standstill, end of road) a third. Geometry comes from the kinematics kernel. Rows
-whose entities are absent measure NaN, which no rule holds for.
+(:class:`EntityRows`) and measured by :mod:`trigger_kernel` in one compiled loop, each row by
+the scalar functions here: pair measures (relative distance, headway, TTC to an entity),
+single-entity measures (speed, acceleration, relative speed), durations (standstill, end of
+road) and point measures (distance, reach, TTC to a position). The geometry is the
+kinematics kernel's (:mod:`hiyari.kinematics`), written out per scalar with the same operations
+in the same order, so the values are the kernel's bit for bit (tests/test_engine_kernel.py).
+Rows whose entities are absent measure NaN, which no rule holds for.
+
+Frames and units: world x, y in metres, headings in radians from world +x, speeds m/s, times
+s. An entity's ``centre`` is its bounding-box centre, ``ref`` its reference point.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
-from hiyari.bridge.scenario.engine.positions import Pose
 from hiyari.bridge.scenario.model.positions import LanePosition, RoadPosition, WorldPosition
-from hiyari.kinematics import (
-    footprint_distance,
-    footprint_extent,
-    heading_vector,
-    rectangle_point_distance,
-    unrotate_xy,
-)
 
 #: Speed below which an actor stands still, m/s.
 STANDSTILL_SPEED = 0.01
@@ -33,53 +31,30 @@ SPEED, ACCEL, REL_SPEED = 3, 4, 5
 STANDSTILL, END_OF_ROAD = 6, 7
 DISTANCE, REACH, TTC_POINT = 8, 9, 10
 COLLISION = 11
-PAIR_KINDS = (REL_DIST, HEADWAY, TTC)
-SINGLE_KINDS = (SPEED, ACCEL, REL_SPEED)
 DURATION_KINDS = (STANDSTILL, END_OF_ROAD)
 POINT_KINDS = (DISTANCE, REACH, TTC_POINT)
 #: Positions that do not depend on where the entities are: resolved once.
 FIXED_POSITIONS = (WorldPosition, LanePosition, RoadPosition)
 
-_OPS = (np.greater, np.less, np.equal, np.greater_equal, np.less_equal, np.not_equal)
-# per rule code (order of _OPS): holds when measured is [less, equal, greater] than the value
-_TRUTH = np.array(
-    [[0, 0, 1], [1, 0, 0], [0, 1, 0], [0, 1, 1], [1, 1, 0], [1, 0, 1]], dtype=bool
-)  # fmt: skip
 
-
-def compare(measured: np.ndarray, value: np.ndarray, rule: np.ndarray) -> np.ndarray:
-    """Apply rule codes (indices into Rule) elementwise; NaN measures are False."""
-    if not len(rule):
-        return np.zeros(0, dtype=bool)
-    first = int(rule[0])
-    if (rule == first).all():
-        out = _OPS[first](measured, value)
-    else:  # one table lookup for any mix of rules
-        out = _TRUTH[rule, 2 * (measured > value) + (measured == value)]
-    return out & ~np.isnan(measured)
-
-
-@dataclass
-class Snapshot:
-    """What conditions read at one step: per entity (index in the scenario's entity order)
-    the reference point, box centre, heading (rad), sizes (m), speed (m/s), acceleration,
-    presence, road coordinates of the box centre, and the contacts (entity index pairs)."""
-
-    time: float
-    present: np.ndarray  # (E,) bool
-    ref: np.ndarray  # (E, 2)
-    centre: np.ndarray  # (E, 2)
-    heading: np.ndarray
-    length: np.ndarray
-    width: np.ndarray
-    speed: np.ndarray
-    accel: np.ndarray
-    on_net: np.ndarray  # (E,) bool: on a SUMO lane
-    road_s: np.ndarray  # (E,) s of the box centre (nan: unknown)
-    road_t: np.ndarray
-    road_dir: np.ndarray  # (E,) +1 / -1 driving direction along s
-    contacts: set[frozenset[int]]
-    contact_any: np.ndarray  # (E,) bool
+@njit(cache=True)
+def holds(measured: float, value: float, rule: int) -> bool:
+    """Whether ``measured`` satisfies rule code ``rule`` (index into Rule: greaterThan,
+    lessThan, equalTo, greaterOrEqual, lessOrEqual, notEqualTo) against ``value``; never for
+    a NaN measure."""
+    if measured != measured:
+        return False
+    if rule == 0:
+        return measured > value
+    if rule == 1:
+        return measured < value
+    if rule == 2:
+        return measured == value
+    if rule == 3:
+        return measured >= value
+    if rule == 4:
+        return measured <= value
+    return measured != value
 
 
 @dataclass
@@ -103,170 +78,300 @@ class EntityRows:
         return len(self.owner)
 
 
-def _present(snap: Snapshot, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return snap.present[a] & (b >= 0) & snap.present[np.maximum(b, 0)]
+# ---------------------------------------------------------------------------------- geometry
+@njit(cache=True)
+def _unrotate(x: float, y: float, c: float, s: float) -> tuple[float, float]:
+    """kinematics.unrotate_xy for one vector, with the cos ``c`` and sin ``s`` of the
+    heading."""
+    return x * c + y * s, -x * s + y * c
+
+
+@njit(cache=True)
+def _max0(x: float) -> float:
+    """np.maximum(0.0, x): NaN stays NaN."""
+    return x if (x > 0.0 or x != x) else 0.0
+
+
+@njit(cache=True)
+def _outside(x: float, y: float, half_x: float, half_y: float) -> float:
+    """kinematics._outside for one point."""
+    lx, ly = _max0(abs(x) - half_x), _max0(abs(y) - half_y)
+    if ly == 0.0:  # C99 F.9.4.3: hypot(x, 0) is fabs(x), exactly; saves the call
+        return lx
+    if lx == 0.0:
+        return ly
+    return math.hypot(lx, ly)
+
+
+@njit(cache=True)
+def footprint_distance(
+    ax_: float,
+    ay_: float,
+    ha: float,
+    length_a: float,
+    width_a: float,
+    bx_: float,
+    by_: float,
+    hb: float,
+    length_b: float,
+    width_b: float,
+) -> float:
+    """kinematics.footprint_distance for one pair of rectangles (centres m, headings rad)."""
+    return _footprint_distance(
+        ax_, ay_, ha, math.cos(ha), math.sin(ha), length_a, width_a,
+        bx_, by_, hb, math.cos(hb), math.sin(hb), length_b, width_b,
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def _footprint_distance(
+    ax_: float,
+    ay_: float,
+    ha: float,
+    cha: float,
+    sha: float,
+    length_a: float,
+    width_a: float,
+    bx_: float,
+    by_: float,
+    hb: float,
+    chb: float,
+    shb: float,
+    length_b: float,
+    width_b: float,
+) -> float:
+    """footprint_distance with the cos and sin of both headings given."""
+    dx, dy = bx_ - ax_, by_ - ay_
+    la, wa, lb, wb = 0.5 * length_a, 0.5 * width_a, 0.5 * length_b, 0.5 * width_b
+    c, s = math.cos(hb - ha), math.sin(hb - ha)
+    bx, by = _unrotate(dx, dy, cha, sha)
+    ax, ay = _unrotate(-dx, -dy, chb, shb)
+    lbc, lbs, wbc, wbs = lb * c, lb * s, wb * c, wb * s
+    lac, las, wac, was = la * c, la * s, wa * c, wa * s
+    ac, as_ = abs(c), abs(s)
+    apart = (abs(bx) > la + lb * ac + wb * as_) or (abs(by) > wa + lb * as_ + wb * ac)
+    apart = apart or (abs(ax) > lb + la * ac + wa * as_) or (abs(ay) > wb + la * as_ + wa * ac)
+    if not apart:
+        return 0.0
+    b_in_a, a_in_b = math.inf, math.inf
+    for sx, sy in ((1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)):
+        xb, yb = bx + sx * lbc - sy * wbs, by + sx * lbs + sy * wbc
+        xa, ya = ax + sx * lac + sy * was, ay - sx * las + sy * wac
+        b_in_a = min(b_in_a, _outside(xb, yb, la, wa))
+        a_in_b = min(a_in_b, _outside(xa, ya, lb, wb))
+    return min(b_in_a, a_in_b)
 
 
 # ---------------------------------------------------------------------------------- pairs
-def pair_measures(snap: Snapshot, rows: EntityRows, sel: np.ndarray) -> np.ndarray:
-    """Relative distance (m), time headway (s) or TTC (s) of rows ``sel`` (pair kinds)."""
-    a, b = rows.a[sel], np.maximum(rows.b[sel], 0)
-    kind, dtype = rows.kind[sel], rows.dtype[sel]
-    dist, ahead = _distance(snap, a, b, rows.freespace[sel], dtype, rows.road[sel])
-    out = dist
-    headway = kind == HEADWAY
-    if headway.any():
-        v = snap.speed[a]
-        thw = np.where((ahead > 0) & (v > 1e-6), dist / np.maximum(v, 1e-6), np.inf)
-        out = np.where(headway, thw, out)
-    ttc = kind == TTC
-    if ttc.any():
-        out = np.where(ttc, _ttc(snap, a, b, dtype, dist), out)
-    return np.where(_present(snap, a, rows.b[sel]), out, np.nan)
+@njit(cache=True)
+def _entity_distance(
+    a: int,
+    b: int,
+    fs: bool,
+    dtype: int,
+    centre: np.ndarray,
+    ref: np.ndarray,
+    heading: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+) -> float:
+    """Distance (m) of B from A in A's frame, by distance type: between the reference points,
+    or the boxes' gap with ``fs`` (freespace)."""
+    ha, la, wa, ca, sa = heading[a], length[a], width[a], cos_h[a], sin_h[a]
+    if dtype == 0 and fs:
+        return _footprint_distance(
+            centre[a, 0], centre[a, 1], ha, ca, sa, la, wa,
+            centre[b, 0], centre[b, 1], heading[b], cos_h[b], sin_h[b], length[b], width[b],
+        )  # fmt: skip
+    if not fs:
+        rx, ry = _unrotate(ref[b, 0] - ref[a, 0], ref[b, 1] - ref[a, 1], ca, sa)
+        return math.hypot(rx, ry) if dtype == 0 else (abs(rx) if dtype == 1 else abs(ry))
+    bx, by = _unrotate(centre[b, 0] - centre[a, 0], centre[b, 1] - centre[a, 1], ca, sa)
+    # footprint_extent of B in A's frame
+    c, s = abs(math.cos(heading[b] - ha)), abs(math.sin(heading[b] - ha))
+    if dtype == 1:
+        return _max0(abs(bx) - 0.5 * la - (length[b] * c + width[b] * s) / 2)
+    return _max0(abs(by) - 0.5 * wa - (length[b] * s + width[b] * c) / 2)
 
 
-def _distance(
-    snap: Snapshot,
-    a: np.ndarray,
-    b: np.ndarray,
-    fs: np.ndarray,
-    dtype: np.ndarray,
-    road: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
-    """(distance, position of B ahead of A along A's axis or the road) per row, by distance
-    type, freespace and coordinate system. Only the measures some row needs are computed."""
-    ent = np.full(len(a), np.nan)
-    ahead = np.full(len(a), np.nan)
-    ent_rows = ~road
-    if ent_rows.any():
-        ha, la, wa = snap.heading[a], snap.length[a], snap.width[a]
-        d = snap.centre[b] - snap.centre[a]
-        bx, by = unrotate_xy(d[:, 0], d[:, 1], ha)  # B's centre in A's frame
-        ext_x, ext_y = footprint_extent(snap.length[b], snap.width[b], snap.heading[b] - ha)
-        r = snap.ref[b] - snap.ref[a]
-        rx, ry = unrotate_xy(r[:, 0], r[:, 1], ha)
-        lon = np.where(fs, np.maximum(0.0, np.abs(bx) - 0.5 * la - ext_x), np.abs(rx))
-        lat = np.where(fs, np.maximum(0.0, np.abs(by) - 0.5 * wa - ext_y), np.abs(ry))
-        eu = np.hypot(rx, ry)
-        box = ent_rows & fs & (dtype == 0)
-        if box.any():
-            ia, ib = a[box], b[box]
-            eu[box] = footprint_distance(
-                snap.centre[ia], snap.heading[ia], snap.length[ia], snap.width[ia],
-                snap.centre[ib], snap.heading[ib], snap.length[ib], snap.width[ib],
-            )  # fmt: skip
-        ent = np.where(dtype == 1, lon, np.where(dtype == 2, lat, eu))
-        ahead = bx
-    if road.any():
-        ds = (snap.road_s[b] - snap.road_s[a]) * snap.road_dir[a]
-        dt_ = snap.road_t[b] - snap.road_t[a]
-        lon = np.where(
-            fs, np.maximum(0.0, np.abs(ds) - 0.5 * (snap.length[a] + snap.length[b])), np.abs(ds)
-        )
-        lat = np.where(
-            fs, np.maximum(0.0, np.abs(dt_) - 0.5 * (snap.width[a] + snap.width[b])), np.abs(dt_)
-        )
-        rd = np.where(dtype == 1, lon, np.where(dtype == 2, lat, np.hypot(lon, lat)))
-        ent = np.where(road, rd, ent)
-        ahead = np.where(road, ds, ahead)
-    return ent, ahead
+@njit(cache=True)
+def _road_distance(
+    a: int,
+    b: int,
+    fs: bool,
+    dtype: int,
+    length: np.ndarray,
+    width: np.ndarray,
+    road_s: np.ndarray,
+    road_t: np.ndarray,
+    road_dir: np.ndarray,
+) -> float:
+    """Distance (m) of B from A in road coordinates, by distance type."""
+    ds = (road_s[b] - road_s[a]) * road_dir[a]
+    dt = road_t[b] - road_t[a]
+    lon, lat = abs(ds), abs(dt)
+    if fs:
+        lon = _max0(abs(ds) - 0.5 * (length[a] + length[b]))
+        lat = _max0(abs(dt) - 0.5 * (width[a] + width[b]))
+    if dtype == 1:
+        return lon
+    if dtype == 2:
+        return lat
+    return math.hypot(lon, lat)
 
 
-def _ttc(
-    snap: Snapshot, a: np.ndarray, b: np.ndarray, dtype: np.ndarray, dist: np.ndarray
-) -> np.ndarray:
-    """Time (s) to close ``dist`` at the closing speed along the measuring direction: A's
-    axis (longitudinal / lateral) or the line between the centres (euclidean)."""
-    ha, hb = snap.heading[a], snap.heading[b]
-    ca, sa, va, vb = np.cos(ha), np.sin(ha), snap.speed[a], snap.speed[b]
-    dvx, dvy = va * ca - vb * np.cos(hb), va * sa - vb * np.sin(hb)  # relative velocity
-    rel = snap.centre[b] - snap.centre[a]
-    rx, ry = rel[:, 0], rel[:, 1]
-    n = np.maximum(np.hypot(rx, ry), 1e-9)
-    dx = np.where(dtype == 1, ca, np.where(dtype == 2, -sa, rx / n))
-    dy = np.where(dtype == 1, sa, np.where(dtype == 2, ca, ry / n))
-    closing = (dvx * dx + dvy * dy) * np.sign(rx * dx + ry * dy)
-    return np.where(closing > 1e-9, dist / np.maximum(closing, 1e-9), np.inf)
+@njit(cache=True)
+def _sign(x: float) -> float:
+    if x > 0.0:
+        return 1.0
+    if x < 0.0:
+        return -1.0
+    return x  # 0 or NaN, as np.sign
+
+
+@njit(cache=True)
+def _closing(
+    a: int,
+    b: int,
+    dtype: int,
+    centre: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
+    speed: np.ndarray,
+) -> float:
+    """Closing speed (m/s) of A and B along the measuring direction: A's axis (longitudinal /
+    lateral) or the line between the centres (euclidean)."""
+    ca, sa, va, vb = cos_h[a], sin_h[a], speed[a], speed[b]
+    dvx, dvy = va * ca - vb * cos_h[b], va * sa - vb * sin_h[b]  # relative velocity
+    rx, ry = centre[b, 0] - centre[a, 0], centre[b, 1] - centre[a, 1]
+    n = max(math.hypot(rx, ry), 1e-9)
+    if dtype == 1:
+        dx, dy = ca, sa
+    elif dtype == 2:
+        dx, dy = -sa, ca
+    else:
+        dx, dy = rx / n, ry / n
+    return (dvx * dx + dvy * dy) * _sign(rx * dx + ry * dy)
+
+
+@njit(cache=True)
+def pair_measure(
+    kind: int,
+    a: int,
+    b: int,
+    fs: bool,
+    dtype: int,
+    road: bool,
+    present: np.ndarray,
+    centre: np.ndarray,
+    ref: np.ndarray,
+    heading: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    speed: np.ndarray,
+    road_s: np.ndarray,
+    road_t: np.ndarray,
+    road_dir: np.ndarray,
+) -> float:
+    """Relative distance (m), time headway (s) or TTC (s) of A to B (NaN: one absent).
+    ``cos_h`` / ``sin_h``: cos and sin of each entity's heading. The distance is measured
+    only when the headway or TTC needs it (B ahead and A moving; closing)."""
+    if b < 0 or not present[a] or not present[b]:
+        return math.nan
+    if kind == HEADWAY:
+        if road:
+            ahead = (road_s[b] - road_s[a]) * road_dir[a]
+        else:
+            ahead = (centre[b, 0] - centre[a, 0]) * cos_h[a] + (
+                centre[b, 1] - centre[a, 1]
+            ) * sin_h[a]  # B's centre along A's axis, as _unrotate
+        v = speed[a]
+        if not (ahead > 0 and v > 1e-6):
+            return math.inf
+    elif kind == TTC:
+        closing = _closing(a, b, dtype, centre, cos_h, sin_h, speed)
+        if not closing > 1e-9:
+            return math.inf
+    if road:
+        dist = _road_distance(a, b, fs, dtype, length, width, road_s, road_t, road_dir)
+    else:
+        dist = _entity_distance(a, b, fs, dtype, centre, ref, heading, cos_h, sin_h, length, width)
+    if kind == HEADWAY:
+        return dist / max(speed[a], 1e-6)
+    if kind == TTC:
+        return dist / max(closing, 1e-9)
+    return dist
 
 
 # ---------------------------------------------------------------------------------- one entity
-def single_measures(snap: Snapshot, rows: EntityRows, sel: np.ndarray) -> np.ndarray:
-    """Speed (m/s), acceleration (m/s^2) or speed relative to entity B of rows ``sel``."""
-    a, b, kind = rows.a[sel], rows.b[sel], rows.kind[sel]
-    rel = kind == REL_SPEED
-    m = np.where(kind == SPEED, snap.speed[a], snap.accel[a])
-    ok = snap.present[a]
-    if rel.any():
-        m = np.where(rel, snap.speed[a] - snap.speed[np.maximum(b, 0)], m)
-        ok = np.where(rel, _present(snap, a, b), ok)
-    return np.where(ok, m, np.nan)
+@njit(cache=True)
+def single_measure(
+    kind: int, a: int, b: int, present: np.ndarray, speed: np.ndarray, accel: np.ndarray
+) -> float:
+    """Speed (m/s), acceleration (m/s^2) or speed relative to entity B (NaN: absent)."""
+    if not present[a]:
+        return math.nan
+    if kind == SPEED:
+        return speed[a]
+    if kind == ACCEL:
+        return accel[a]
+    if b < 0 or not present[b]:
+        return math.nan
+    return speed[a] - speed[b]
 
 
-def duration_measures(
-    snap: Snapshot, rows: EntityRows, sel: np.ndarray, since: np.ndarray
-) -> np.ndarray:
-    """How long (s) the row's state (standing still / off the road network) has lasted;
-    ``since`` (per row, NaN: not in the state) is updated."""
-    a = rows.a[sel]
-    state = np.where(
-        rows.kind[sel] == STANDSTILL, snap.speed[a] < STANDSTILL_SPEED, ~snap.on_net[a]
-    )
-    s0 = since[sel]
-    s0 = np.where(state & snap.present[a], np.where(np.isnan(s0), snap.time, s0), np.nan)
-    since[sel] = s0
-    return np.where(snap.present[a], snap.time - s0, np.nan)
+@njit(cache=True)
+def duration_measure(
+    kind: int,
+    a: int,
+    row: int,
+    now: float,
+    present: np.ndarray,
+    speed: np.ndarray,
+    on_net: np.ndarray,
+    since: np.ndarray,
+) -> float:
+    """How long (s) the row's state (standing still / off the road network) has lasted at
+    ``now``; ``since[row]`` (NaN: not in the state) is updated."""
+    state = speed[a] < STANDSTILL_SPEED if kind == STANDSTILL else not on_net[a]
+    if state and present[a]:
+        if since[row] != since[row]:
+            since[row] = now
+    else:
+        since[row] = math.nan
+    return now - since[row] if present[a] else math.nan
 
 
-def point_measures(
-    snap: Snapshot,
-    rows: EntityRows,
-    sel: np.ndarray,
-    resolve: Callable[[object], Pose],
-    fixed: dict[int, tuple[float, float]],
-) -> np.ndarray:
-    """Distance (m), reach distance (m) or TTC (s) of rows ``sel`` to their positions.
-
-    Positions are resolved per row (they may be relative to entities); fixed ones once, kept
-    in ``fixed`` by row."""
-    a = rows.a[sel]
-    pts = np.full((len(sel), 2), np.nan)
-    for k, (row, i) in enumerate(zip(sel.tolist(), a.tolist(), strict=True)):
-        if not snap.present[i]:
-            continue
-        xy = fixed.get(row)
-        if xy is None:
-            pos = rows.body[row].position
-            p = resolve(pos)
-            xy = (p.x, p.y)
-            if isinstance(pos, FIXED_POSITIONS):
-                fixed[row] = xy
-        pts[k] = xy
-    kind = rows.kind[sel]
-    d = pts - snap.ref[a]
-    dist = np.hypot(d[:, 0], d[:, 1])
-    box = rows.freespace[sel] & (kind != REACH)
-    if box.any():
-        ia = a[box]
-        dist[box] = rectangle_point_distance(
-            snap.centre[ia], snap.heading[ia], 0.5 * snap.length[ia], 0.5 * snap.width[ia],
-            pts[box],
-        )  # fmt: skip
-    ttc = kind == TTC_POINT
-    if ttc.any():
-        u = heading_vector(snap.heading[a])
-        n = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-9)
-        closing = snap.speed[a] * (u[:, 0] * d[:, 0] + u[:, 1] * d[:, 1]) / n
-        dist = np.where(
-            ttc, np.where(closing > 1e-9, dist / np.maximum(closing, 1e-9), np.inf), dist
-        )
-    return np.where(np.isnan(pts[:, 0]), np.nan, dist)  # absent entities: NaN, not inf
-
-
-def collision_hits(snap: Snapshot, rows: EntityRows, sel: np.ndarray) -> np.ndarray:
-    """Whether row ``a`` touches entity ``b`` (or anything when ``b`` is -1) now."""
-    out = np.zeros(len(sel), dtype=bool)
-    if not snap.contacts and not snap.contact_any.any():
-        return out
-    for k, (i, j) in enumerate(zip(rows.a[sel].tolist(), rows.b[sel].tolist(), strict=True)):
-        out[k] = frozenset((i, j)) in snap.contacts if j >= 0 else bool(snap.contact_any[i])
-    return out
+@njit(cache=True)
+def point_measure(
+    kind: int,
+    a: int,
+    px: float,
+    py: float,
+    fs: bool,
+    centre: np.ndarray,
+    ref: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    speed: np.ndarray,
+) -> float:
+    """Distance (m), reach distance (m) or TTC (s) of A to the point (``px``, ``py``) (NaN:
+    no point, i.e. A absent)."""
+    if px != px:
+        return math.nan
+    dx, dy = px - ref[a, 0], py - ref[a, 1]
+    dist = math.hypot(dx, dy)
+    if fs and kind != REACH:  # kinematics.rectangle_point_distance
+        x, y = _unrotate(px - centre[a, 0], py - centre[a, 1], cos_h[a], sin_h[a])
+        dist = _outside(x, y, 0.5 * length[a], 0.5 * width[a])
+    if kind == TTC_POINT:
+        n = max(math.hypot(dx, dy), 1e-9)
+        closing = speed[a] * (cos_h[a] * dx + sin_h[a] * dy) / n
+        return dist / max(closing, 1e-9) if closing > 1e-9 else math.inf
+    return dist

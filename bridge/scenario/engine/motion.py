@@ -146,6 +146,9 @@ class ActorTable:
         self.road_code = np.full(n, -1, dtype=np.intp)
         self.direction = np.ones(n)
         self.stale = np.zeros(n, dtype=bool)
+        #: Counts installs and removals of transitions and paths: the running actions can
+        #: only have finished when it moved.
+        self.motion_version = 0
 
     def set_road(self, k: int, road: str) -> None:
         """Row ``k`` is on ``road`` ('' for none)."""
@@ -211,7 +214,7 @@ class Actor:
         self.name, self.entity, self.table, self.k = name, entity, table, k
         self._long: SpeedTransition | None = None
         self._lat: LateralTransition | None = None
-        self.path: PathMotion | None = None
+        self._path: PathMotion | None = None
 
     @property
     def road(self) -> str:
@@ -231,6 +234,7 @@ class Actor:
     def long(self, value: SpeedTransition | None) -> None:
         self._long = value
         self.table.has_long[self.k] = value is not None
+        self.table.motion_version += 1
 
     @property
     def lat(self) -> LateralTransition | None:
@@ -241,6 +245,17 @@ class Actor:
     def lat(self, value: LateralTransition | None) -> None:
         self._lat = value
         self.table.has_lat[self.k] = value is not None
+        self.table.motion_version += 1
+
+    @property
+    def path(self) -> PathMotion | None:
+        """The path being followed."""
+        return self._path
+
+    @path.setter
+    def path(self, value: PathMotion | None) -> None:
+        self._path = value
+        self.table.motion_version += 1
 
     def centre(self) -> tuple[float, float]:
         """Bounding-box centre in network x, y (m)."""

@@ -1,0 +1,239 @@
+"""One compiled pass per step over every condition of the storyboard: measure the entity rows
+of the triggers being evaluated (and the duration rows, always tracked), compare, reduce rows
+to conditions ("any" / "all"), apply edges and delays, and reduce conditions to triggers (OR
+of AND groups).
+
+The tables are built by :class:`conditions.ConditionBank`. Columns of ``cond`` (one row per
+condition): kind (``STATIC``, ``TIME``, ``STATE``, ``ENTITY``), trigger, element, state code,
+rule ("all" 0 / "any" 1 for entity conditions, the rule code for time conditions), edge
+(0 none, 1 rising, 2 falling, 3 both) and delay in steps. Columns of ``rows`` (one row per
+entity-condition row): owner condition, entity a, entity b (-1 none), rule, kind, freespace,
+distance type, road coordinates, always measured.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from hiyari.bridge.scenario.engine.measures import (
+    COLLISION,
+    DISTANCE,
+    END_OF_ROAD,
+    REL_SPEED,
+    SPEED,
+    TTC_POINT,
+    duration_measure,
+    holds,
+    pair_measure,
+    point_measure,
+    single_measure,
+)
+
+#: Condition kinds (column 0 of the condition table).
+STATIC, TIME, STATE, ENTITY = 0, 1, 2, 3
+#: Columns of the condition table.
+C_KIND, C_TRIGGER, C_ELEMENT, C_CODE, C_RULE, C_EDGE, C_DELAY = range(7)
+#: Columns of the entity-row table.
+R_OWNER, R_A, R_B, R_RULE, R_KIND, R_FS, R_DTYPE, R_ROAD, R_ALWAYS = range(9)
+#: Element state codes below this are states; the others transitions.
+FIRST_TRANSITION = 3
+
+
+@njit(cache=True)
+def _row_measure(
+    r: int,
+    rows: np.ndarray,
+    now: float,
+    points: np.ndarray,
+    since: np.ndarray,
+    present: np.ndarray,
+    centre: np.ndarray,
+    ref: np.ndarray,
+    heading: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    speed: np.ndarray,
+    accel: np.ndarray,
+    on_net: np.ndarray,
+    road_s: np.ndarray,
+    road_t: np.ndarray,
+    road_dir: np.ndarray,
+) -> float:
+    """The measure of entity row ``r`` (units by kind; NaN: an entity absent)."""
+    kind, a, b = rows[r, R_KIND], rows[r, R_A], rows[r, R_B]
+    if kind < SPEED:
+        return pair_measure(
+            kind, a, b, rows[r, R_FS] != 0, rows[r, R_DTYPE], rows[r, R_ROAD] != 0, present,
+            centre, ref, heading, cos_h, sin_h, length, width, speed, road_s, road_t, road_dir,
+        )  # fmt: skip
+    if kind <= REL_SPEED:
+        return single_measure(kind, a, b, present, speed, accel)
+    if kind <= END_OF_ROAD:
+        return duration_measure(kind, a, r, now, present, speed, on_net, since)
+    if DISTANCE <= kind <= TTC_POINT:
+        return point_measure(
+            kind, a, points[r, 0], points[r, 1], rows[r, R_FS] != 0, centre, ref, cos_h, sin_h,
+            length, width, speed,
+        )  # fmt: skip
+    return np.nan
+
+
+@njit(cache=True)
+def _condition_values(
+    now: float,
+    active: np.ndarray,
+    cond: np.ndarray,
+    time_value: np.ndarray,
+    static: np.ndarray,
+    rows: np.ndarray,
+    row_value: np.ndarray,
+    points: np.ndarray,
+    since: np.ndarray,
+    present: np.ndarray,
+    centre: np.ndarray,
+    ref: np.ndarray,
+    heading: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    speed: np.ndarray,
+    accel: np.ndarray,
+    on_net: np.ndarray,
+    road_s: np.ndarray,
+    road_t: np.ndarray,
+    road_dir: np.ndarray,
+    contact: np.ndarray,
+    contact_any: np.ndarray,
+    states: np.ndarray,
+    transitions: np.ndarray,
+) -> np.ndarray:
+    """(C,) whether each condition holds now, before edges and delays (conditions of
+    inactive triggers: False; their duration rows are still tracked)."""
+    cos_h, sin_h = np.cos(heading), np.sin(heading)
+    n = len(cond)
+    hits, count = np.zeros(n, np.int64), np.zeros(n, np.int64)
+    for r in range(len(rows)):
+        owner = rows[r, R_OWNER]
+        on = active[cond[owner, C_TRIGGER]]
+        if not (on or rows[r, R_ALWAYS]):
+            continue
+        if rows[r, R_KIND] == COLLISION:
+            a, b = rows[r, R_A], rows[r, R_B]
+            res = contact[a, b] if b >= 0 else contact_any[a]
+        else:
+            m = _row_measure(
+                r, rows, now, points, since, present, centre, ref, heading, cos_h, sin_h,
+                length, width, speed, accel, on_net, road_s, road_t, road_dir,
+            )  # fmt: skip
+            res = holds(m, row_value[r], rows[r, R_RULE])
+        if on:
+            count[owner] += 1
+            hits[owner] += res
+    raw = np.zeros(n, dtype=np.bool_)
+    for c in range(n):
+        kind = cond[c, C_KIND]
+        if kind == STATIC:
+            raw[c] = static[c]
+        elif kind == TIME:
+            raw[c] = holds(now, time_value[c], cond[c, C_RULE])
+        elif kind == STATE:
+            el, code = cond[c, C_ELEMENT], cond[c, C_CODE]
+            raw[c] = (states[el] if code < FIRST_TRANSITION else transitions[el]) == code
+        elif count[c] > 0:
+            raw[c] = hits[c] > 0 if cond[c, C_RULE] == 1 else hits[c] == count[c]
+    return raw
+
+
+@njit(cache=True)
+def _edges_and_delays(
+    raw: np.ndarray,
+    active: np.ndarray,
+    cond: np.ndarray,
+    prev: np.ndarray,
+    history: np.ndarray,
+    step_no: int,
+) -> np.ndarray:
+    """(C,) each condition's value after its edge and delay. ``prev`` (value at the previous
+    evaluation, -1: not evaluated since its trigger became active) and the ring buffer
+    ``history`` (C, H) of edged values are updated for step ``step_no``."""
+    n, size = len(cond), history.shape[1]
+    out = np.zeros(n, dtype=np.bool_)
+    k = step_no % size
+    for c in range(n):
+        on = active[cond[c, C_TRIGGER]]
+        edge, value = cond[c, C_EDGE], raw[c]
+        if edge == 0:
+            edged = value
+        else:
+            rising = prev[c] == 0 and value and (edge == 1 or edge == 3)
+            falling = prev[c] == 1 and not value and (edge == 2 or edge == 3)
+            edged = rising or falling
+        edged = edged and on
+        prev[c] = (1 if value else 0) if on else -1
+        if size == 1:
+            out[c] = edged
+            continue
+        history[c, k] = edged
+        delay = cond[c, C_DELAY]
+        out[c] = history[c, (step_no - delay) % size] and delay <= step_no
+    return out
+
+
+@njit(cache=True)
+def evaluate_triggers(
+    now: float,
+    step_no: int,
+    active: np.ndarray,
+    cond: np.ndarray,
+    time_value: np.ndarray,
+    static: np.ndarray,
+    group_start: np.ndarray,
+    trigger_group: np.ndarray,
+    prev: np.ndarray,
+    history: np.ndarray,
+    rows: np.ndarray,
+    row_value: np.ndarray,
+    points: np.ndarray,
+    since: np.ndarray,
+    present: np.ndarray,
+    centre: np.ndarray,
+    ref: np.ndarray,
+    heading: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    speed: np.ndarray,
+    accel: np.ndarray,
+    on_net: np.ndarray,
+    road_s: np.ndarray,
+    road_t: np.ndarray,
+    road_dir: np.ndarray,
+    contact: np.ndarray,
+    contact_any: np.ndarray,
+    states: np.ndarray,
+    transitions: np.ndarray,
+) -> np.ndarray:
+    """(T,) fired triggers at scenario time ``now`` (s), step ``step_no`` since the bank was
+    built, given which triggers are ``active``. ``group_start`` (G + 1,): first condition of
+    each AND group (last: C); ``trigger_group`` (T + 1,): first group of each trigger (last:
+    G). Entity arrays are per entity (see measures.Snapshot); ``contact`` (E, E) bool."""
+    raw = _condition_values(
+        now, active, cond, time_value, static, rows, row_value, points, since, present,
+        centre, ref, heading, length, width, speed, accel, on_net, road_s, road_t, road_dir,
+        contact, contact_any, states, transitions,
+    )  # fmt: skip
+    value = _edges_and_delays(raw, active, cond, prev, history, step_no)
+    n_trig = len(trigger_group) - 1
+    fired = np.zeros(n_trig, dtype=np.bool_)
+    for t in range(n_trig):
+        if not active[t]:
+            continue
+        for g in range(trigger_group[t], trigger_group[t + 1]):
+            all_hold = True
+            for c in range(group_start[g], group_start[g + 1]):
+                all_hold = all_hold and value[c]
+            if all_hold:
+                fired[t] = True
+                break
+    return fired
