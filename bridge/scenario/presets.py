@@ -309,9 +309,20 @@ def _scenario(
     return Scenario(name, tuple(entities), board, ego="ego")
 
 
-def _r157(b: _Build) -> tuple[RoadNetwork, RoadLanes, str, int, int]:
+@dataclass(frozen=True)
+class _Road:
     """The R157 road: network, frame, the road (edge) id and the right (ego) and left lanes'
     OpenDRIVE ids."""
+
+    network: RoadNetwork
+    roads: RoadLanes
+    id: str
+    right: int
+    left: int
+
+
+def _r157(b: _Build) -> _Road:
+    """The R157 road of this run."""
     network = b.road("r157.net.xml", build_r157_road, R157RoadParams())
     n = network.sumo
     edges = [e for e in n.getEdges() if not e.isSpecial() and e.getLaneNumber() >= 2]
@@ -319,73 +330,73 @@ def _r157(b: _Build) -> tuple[RoadNetwork, RoadLanes, str, int, int]:
         raise HiyariError(f"{network.path}: no two-lane edge for the R157 scenarios")
     edge = max(edges, key=lambda e: e.getLength())
     lanes = edge.getLaneNumber()
-    return (
-        network,
-        sumo_road_lanes(network),
-        edge.getID(),
-        sumo_lane_id(lanes, 0),
-        sumo_lane_id(lanes, 1),
-    )
+    right, left = sumo_lane_id(lanes, 0), sumo_lane_id(lanes, 1)
+    return _Road(network, sumo_road_lanes(network), edge.getID(), right, left)
 
 
 def _r157_run(
-    b: _Build, name: str, ve0: float, others: list[Entity], init: list[InitAction], acts: list[Act]
+    b: _Build,
+    r: _Road,
+    ve0: float,
+    others: list[Entity],
+    init: list[InitAction],
+    acts: list[Act],
 ) -> PresetRun:
-    network, roads, road, right, _ = _r157(b)
     ego_s = b.k.ego_start_s - b.z.ego_length / 2
-    init = [*_place("ego", LanePosition(road, right, ego_s), ve0), *init]
+    init = [*_place("ego", LanePosition(r.id, r.right, ego_s), ve0), *init]
+    name = acts[0].name if acts else "stationary"
     sc = _scenario(name, [b.entity("ego", "ego"), *others], init, acts)
-    return PresetRun(sc, network, roads, b.scoring("other"))
+    return PresetRun(sc, r.network, r.roads, b.scoring("other"))
 
 
 def _cut_in(p: CutIn, b: _Build) -> PresetRun:
-    _, roads, road, right, _ = _r157(b)
+    r = _r157(b)
     s_c0 = b.s_front0(p.ve0) + p.dx0 + b.z.other_length / 2
     start = b.dt - b.k.lead_in  # script time of the first state
-    init = _place("other", RoadPosition(road, s_c0 + p.vo0 * start, b.k.lane_width), p.vo0)
+    init = _place("other", RoadPosition(r.id, s_c0 + p.vo0 * start, b.k.lane_width), p.vo0)
     change = LaneChangeAction(
-        TransitionDynamics(Shape.LINEAR, Dimension.RATE, p.vy), AbsoluteLane(right)
+        TransitionDynamics(Shape.LINEAR, Dimension.RATE, p.vy), AbsoluteLane(r.right)
     )
     acts = [_act("cut-in", "other", b.at(0.0), Action("cut-in", change))]
-    return _r157_run(b, "cut-in", p.ve0, [b.entity("other", "other")], list(init), acts)
+    return _r157_run(b, r, p.ve0, [b.entity("other", "other")], list(init), acts)
 
 
 def _cut_out(p: CutOut, b: _Build) -> PresetRun:
-    _, roads, road, right, left = _r157(b)
+    r = _r157(b)
     length, ve0 = b.z.other_length, p.ve0
     s_lead0 = b.s_front0(ve0) + b.k.follow_thw * ve0 + length / 2
     s_stop = s_lead0 + length / 2 + p.dx0_f + length / 2
     start = b.dt - b.k.lead_in
     init = [
-        *_place("lead", RoadPosition(road, s_lead0 + ve0 * start, 0.0), ve0),
-        *_place("other", RoadPosition(road, s_stop, 0.0), 0.0),
+        *_place("lead", RoadPosition(r.id, s_lead0 + ve0 * start, 0.0), ve0),
+        *_place("other", RoadPosition(r.id, s_stop, 0.0), 0.0),
     ]
     # the lead ends lane_width left of the ego lane's centre (the left lane's centre)
-    offset = b.k.lane_width - roads.odr.road(road).lane_t(left, 0.0)
+    offset = b.k.lane_width - r.roads.odr.road(r.id).lane_t(r.left, 0.0)
     dyn = TransitionDynamics(Shape.LINEAR, Dimension.RATE, p.vy)
-    change = LaneChangeAction(dyn, AbsoluteLane(left), offset)
+    change = LaneChangeAction(dyn, AbsoluteLane(r.left), offset)
     acts = [_act("cut-out", "lead", b.at(0.0), Action("cut-out", change))]
     others = [b.entity("lead", "other"), b.entity("other", "other")]
-    return _r157_run(b, "cut-out", ve0, others, init, acts)
+    return _r157_run(b, r, ve0, others, init, acts)
 
 
 def _decel(p: Decel, b: _Build) -> PresetRun:
-    _, _, road, _, _ = _r157(b)
+    r = _r157(b)
     s_lead0 = b.s_front0(p.ve0) + b.k.follow_thw * p.ve0 + b.z.other_length / 2
     start = b.dt - b.k.lead_in
-    init = _place("other", RoadPosition(road, s_lead0 + p.ve0 * start, 0.0), p.ve0)
+    init = _place("other", RoadPosition(r.id, s_lead0 + p.ve0 * start, 0.0), p.ve0)
     brake = SpeedAction(
         TransitionDynamics(Shape.LINEAR, Dimension.RATE, p.decel), AbsoluteSpeed(0.0)
     )
     acts = [_act("decel", "other", b.at(0.0), Action("decel", brake))]
-    return _r157_run(b, "decel", p.ve0, [b.entity("other", "other")], list(init), acts)
+    return _r157_run(b, r, p.ve0, [b.entity("other", "other")], list(init), acts)
 
 
 def _stationary(p: Stationary, b: _Build) -> PresetRun:
-    _, _, road, _, _ = _r157(b)
+    r = _r157(b)
     s_c = b.s_front0(p.ve0) + p.gap + b.z.other_length / 2
-    init = _place("other", RoadPosition(road, s_c, 0.0), 0.0)
-    return _r157_run(b, "stationary", p.ve0, [b.entity("other", "other")], list(init), [])
+    init = _place("other", RoadPosition(r.id, s_c, 0.0), 0.0)
+    return _r157_run(b, r, p.ve0, [b.entity("other", "other")], list(init), [])
 
 
 def _dart_out(p: DartOut, b: _Build) -> PresetRun:
