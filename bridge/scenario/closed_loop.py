@@ -36,12 +36,14 @@ class Scoring:
     gap is scored ('': the nearest actor ahead in the ego's corridor); ``conflict_point``:
     network x, y (m) whose distance ahead of the ego's front is recorded (None: none); the
     run ends ``settle_after_stop`` s after the ego first stands still (below 0.05 m/s) later
-    than scenario time ``settle_from`` s (inf: never)."""
+    than scenario time ``settle_from`` s (inf: never). ``sumo_contacts``: SUMO's own per-lane
+    collision reports count as contact too (else only overlapping footprints do)."""
 
     target: str = ""
     conflict_point: tuple[float, float] | None = None
     settle_after_stop: float = math.inf
     settle_from: float = 0.0
+    sumo_contacts: bool = False
 
 
 class ScenarioHooks:

@@ -137,8 +137,9 @@ class EngineHooks(ScenarioHooks):
     def is_contact(self, collision: Collision) -> bool:
         # SUMO's own check is longitudinal per lane (no sublanes): a scripted actor placed
         # beside the ego on the ego's SUMO lane (a pedestrian on the lane edge, a car at a
-        # lateral offset) would count as hit. Only overlapping footprints are contact.
-        return collision.depth > 0.0
+        # lateral offset) would count as hit. Only overlapping footprints are contact, unless
+        # the scoring keeps SUMO's reports (the TOML presets, as they were always judged).
+        return self.scoring.sumo_contacts or collision.depth > 0.0
 
     def done(self, world: WorldState, ego: Pose, script_time: float) -> bool:
         """True ``scoring.settle_after_stop`` s after the ego first stood still."""
