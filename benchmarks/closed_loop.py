@@ -25,6 +25,7 @@ import numpy as np
 from embreex import rtcore_scene
 from embreex.mesh_construction import TriangleMesh
 
+from hiyari.bridge.scenario.engine import ScenarioEngine
 from hiyari.bridge.scenario.presets import build_scenario
 from hiyari.bridge.scenario.run import RunOptions, run_concrete
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
@@ -50,11 +51,12 @@ STEP = 0.025
 
 def bare(cs: ConcreteScenario, work: Path) -> tuple[float, int, int]:
     """The same SUMO run, ego driven by SUMO, no sensors or stack: (sim s / wall s, veh, ped)."""
-    sc = build_scenario(cs, work)
-    with Simulation(SimConfig(net=sc.net, routes=sc.routes, step_length=STEP, seed=cs.seed)) as sim:
-        sim.fast_forward(sc.warmup)
-        sc.insert(sim)
-        sim.set_speed_mode(sc.ego_id, SPEED_MODE_DEFAULT)
+    preset = build_scenario(cs, work)
+    cfg = SimConfig(net=preset.network.path, routes=preset.routes, step_length=STEP, seed=cs.seed)
+    with Simulation(cfg) as sim:
+        sim.fast_forward(preset.warmup)
+        ScenarioEngine(preset.scenario, preset.roads, STEP).start(sim)
+        sim.set_speed_mode(preset.scenario.ego, SPEED_MODE_DEFAULT)
         n = int(round(cs.duration / STEP))
         t0 = time.perf_counter()
         for _ in range(n):
@@ -142,7 +144,7 @@ def main() -> None:
                 counts[ol.source] = counts.get(ol.source, 0) + 1
 
         res = run_concrete(cs, RunOptions(), on_step=on_step)
-        net = build_scenario(cs, Path(tmp) / "limit").net
+        net = build_scenario(cs, Path(tmp) / "limit").network.path
         raw1, raw2 = raw_cast_seconds(net, counts["world"], "ego")
     loop_rt = res.sim_seconds / res.wall_seconds
     sumo_s = 1.0 / base_rt  # wall seconds of SUMO + WorldState per simulated second

@@ -35,8 +35,8 @@ def test_cut_in_reads_its_net_once(tmp_path, monkeypatch):
     assert stack.perception.scene.static_mesh is not None
     assert sc.network.geometry is sc.network.geometry  # kept, not rebuilt
     assert calls == {"sumolib": 1, "geometry": 1}
-    right = sc.scripted[0].frame
-    assert sc.network.lane_frame(f"{right.edge}_{right.lane_index}") is right
+    # the engine's road / lane / s frame is that same net's
+    assert sc.roads.net == sc.network.path
 
 
 def test_missing_net_is_one_line_error(tmp_path):

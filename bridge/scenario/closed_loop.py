@@ -7,8 +7,10 @@ never from the stack's own beliefs.
 
 from __future__ import annotations
 
+import math
 import time as wallclock
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -26,6 +28,22 @@ OnStep = Callable[[WorldState, EgoStep, list[Collision]], None]
 #: Called after every scored step with (result so far, world, ego row, seconds left): True when
 #: nothing still to simulate can change the judged values (bridge.scenario.decided).
 Decided = Callable[[RunResult, WorldState, int, float], bool]
+
+
+@dataclass(frozen=True)
+class Scoring:
+    """How a run is scored and ended besides its storyboard. ``target``: the actor whose bumper
+    gap is scored ('': the nearest actor ahead in the ego's corridor); ``conflict_point``:
+    network x, y (m) whose distance ahead of the ego's front is recorded (None: none); the
+    run ends ``settle_after_stop`` s after the ego first stands still (below 0.05 m/s) later
+    than scenario time ``settle_from`` s (inf: never). ``sumo_contacts``: SUMO's own per-lane
+    collision reports count as contact too (else only overlapping footprints do)."""
+
+    target: str = ""
+    conflict_point: tuple[float, float] | None = None
+    settle_after_stop: float = math.inf
+    settle_from: float = 0.0
+    sumo_contacts: bool = False
 
 
 class ScenarioHooks:

@@ -1,9 +1,11 @@
 """End a scripted run once nothing still to simulate can change its judged values.
 
 The UN R157 judge scores a run by whether the ego collided, its impact speed, and the minimum
-ground-truth TTC and gap. Once the other vehicles have finished their lateral manoeuvres, what
-is left is fixed: they follow their scripts (Annex G: constant speed, or a braking step to a
-standstill; never reversing), and the ego cannot go faster than its planner lets it. If even
+ground-truth TTC and gap. Once every event of the storyboard has started and the other
+vehicles have finished their lateral manoeuvres, what is left is fixed: the ScenarioEngine
+moves them on their lanes at their speeds, or through a running speed transition to a fixed
+target (Annex G: constant speed, or a braking step to a standstill; never reversing), and the
+ego cannot go faster than its planner lets it. If even
 the fastest ego the planner allows could neither reach a vehicle in its lane, nor come closer
 to the target than the minimum gap already scored, nor meet any vehicle with a TTC below the
 minimum already scored, before the run's end, the rest of the run cannot change any judged
@@ -14,7 +16,7 @@ each step its acceleration is at most ``max(-max_decel, min(max_accel, k_speed *
 - v)))`` whatever it perceives (the ACC follow term and the AEB only lower it), so from the
 current speed ``v0`` the speeds after k steps are bounded by that recurrence (monotone in v,
 hence an upper bound by induction), and SUMO moves the ego ``v * dt`` per step at most.
-Frames: distances along the ego's lane (straight), seconds of simulation time.
+Frames: distances along the lanes (straight), seconds of simulation time.
 """
 
 from __future__ import annotations
@@ -24,10 +26,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hiyari.bridge.scenario.engine import ScenarioEngine
+from hiyari.bridge.scenario.engine.elements import STANDBY
+from hiyari.bridge.scenario.engine.motion import Actor
+from hiyari.bridge.scenario.engine.shapes import progress
+from hiyari.bridge.scenario.model.entities import EntityKind
 from hiyari.bridge.scenario.result import RunResult
 from hiyari.bridge.stack.aeb import ACCConfig
 from hiyari.risk.metrics.ground_truth import TruthConfig, gap_to
-from hiyari.traffic.manoeuvres import ScriptedVehicle
 from hiyari.traffic.world_state import WorldState
 
 #: m / s of safety margin on every bound (float noise of positions and TTCs).
@@ -53,61 +59,99 @@ def speed_envelope(acc: ACCConfig, v0: float, dt: float, n: int) -> np.ndarray:
 class DecidedEnd:
     """The judged-values-decided test of one run (see the module docstring).
 
-    ``acc``: the ego planner's ACC configuration; ``scripted``: the scripted vehicles (any
-    other actor makes the test answer False); ``target_id``: the actor whose gap is scored;
-    ``start_time`` + ``lead_in``: sim time of script time 0; ``every``: s of simulation time
-    between tests; ``grid``: s between the future times sampled (bounds hold between them).
+    ``acc``: the ego planner's ACC configuration; ``engine``: the run's ScenarioEngine (its
+    actors' state and transitions give their future); ``target_id``: the actor whose gap is
+    scored; ``every``: s of simulation time between tests; ``grid``: s between the future
+    times sampled (bounds hold between them).
     """
 
     acc: ACCConfig
     dt: float
-    scripted: list
+    engine: ScenarioEngine
     target_id: str
-    start_time: float
-    lead_in: float
     every: float = 0.25
     grid: float = 0.25
     truth: TruthConfig = TruthConfig()
     _next: float = -math.inf
+
+    @staticmethod
+    def of(engine: ScenarioEngine, acc: ACCConfig, dt: float, target_id: str) -> DecidedEnd | None:
+        """The test for a run of ``engine``; None where it does not apply: no ego, an ego the
+        storyboard drives, no other actor, or a pedestrian."""
+        others = [e for e in engine.scenario.entities if e.name != engine.ego]
+        if engine.ego is None or not others or engine.storyboard_drives(engine.ego):
+            return None
+        if any(e.kind == EntityKind.PEDESTRIAN for e in others):
+            return None
+        return DecidedEnd(acc, dt, engine, target_id)
 
     def __call__(self, res: RunResult, world: WorldState, row: int, t_left: float) -> bool:
         """True when the rest of the run (``t_left`` s) cannot change ``res``'s judged values."""
         if world.time < self._next - 1e-9 or res.collision:
             return False
         self._next = world.time + self.every
-        if not all(isinstance(a, ScriptedVehicle) for a in self.scripted):
-            return False
+        eng = self.engine
+        events = [e.index for e in eng.tree.of_kind("event") if e.model is not None]
+        if eng.finished or any(eng.tree.state[i] == STANDBY for i in events):
+            return False  # a stop trigger ends the run, an event still to come can change it
         n = max(1, math.ceil(t_left / self.dt - 1e-9))
         v_env = speed_envelope(self.acc, float(world.speed[row]), self.dt, n)
         reach = self.dt * np.cumsum(v_env)  # bound on the ego's travel after 1..n steps
         idx = np.unique(np.minimum(np.arange(0, n + 1, max(1, round(self.grid / self.dt))), n))
         idx = np.append(idx, n) if idx[-1] != n else idx
-        now = world.time - self.start_time - self.lead_in
-        for actor in self.scripted:
-            if not self._actor_settled(actor, res, world, row, now, idx, reach, v_env):
+        for name, actor in eng.actors.items():
+            if name == eng.ego:
+                continue
+            if not self._actor_settled(actor, res, world, row, idx, reach, v_env):
                 return False
         return True
 
+    def _future(self, a: Actor, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """Distance travelled along its lane (m) and speed (m/s) of ``a`` at steps ``idx`` from
+        the current state; None while it moves laterally or off its lane, or its speed target
+        is not fixed."""
+        if a.free or a.path is not None or a.lat is not None or a.v_lat != 0.0 or not a.road:
+            return None
+        # the engine has already advanced its actors to the next step
+        steps = np.arange(idx[-1] + 1)
+        v = np.full(len(steps), a.v)
+        tr = a.long
+        if tr is not None:
+            if tr.continuous or tr.by_distance:
+                return None
+            goal = tr.target()
+            x = (
+                (self.engine.now + steps * self.dt - tr.t0) / tr.span
+                if tr.span > 0
+                else steps + 1.0
+            )
+            frac = np.array([progress(tr.shape, float(xi)) for xi in x])
+            v = np.where(tr.reached | (x >= 1.0 - 1e-9), goal, tr.v0 + (goal - tr.v0) * frac)
+        v[0] = a.v - a.accel * self.dt
+        s = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * self.dt)])
+        return s[idx], v[idx]
+
     def _actor_settled(
         self,
-        actor: ScriptedVehicle,
+        actor: Actor,
         res: RunResult,
         world: WorldState,
         row: int,
-        now: float,
         idx: np.ndarray,
         reach: np.ndarray,
         v_env: np.ndarray,
     ) -> bool:
-        if actor.vid not in world.ids:
+        if actor.name not in world.ids:
             return False
-        k = world.index(actor.vid)
+        future = self._future(actor, idx)
+        if future is None:
+            return False  # still manoeuvring, or motion this bound does not cover
+        s, vs = future
+        if np.any(vs < 0) or np.any(np.diff(vs) > 0):
+            return False
+        k = world.index(actor.name)
         xy = world.xyz[:, :2]
         along, beside = gap_to(xy, world.heading, world.length, world.width, row, k)
-        samples = np.array([actor.trajectory(now + i * self.dt) for i in idx])
-        s, d, vs, vd = samples.T
-        if np.any(vd != 0.0) or np.any(d != d[0]) or np.any(vs < 0) or np.any(np.diff(vs) > 0):
-            return False  # still manoeuvring, or a script this bound does not cover
         if beside > _EPS:
             return True  # beside the ego's lane for good: never in its way, TTC stays inf
         if along <= 0.0:
@@ -119,7 +163,7 @@ class DecidedEnd:
         i = np.searchsorted(idx, j, side="left") - 1
         s_lb = s[i] + vs[i + 1] * (j - idx[i]) * self.dt
         gap_lb = along + (s_lb - s[0]) - reach
-        floor = res.min_gap if actor.vid == self.target_id else 0.0
+        floor = res.min_gap if actor.name == self.target_id else 0.0
         if np.any(gap_lb <= max(floor, 0.0) + _EPS):
             return False
         closing = v_env - vs[i + 1]

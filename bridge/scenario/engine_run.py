@@ -12,6 +12,7 @@ Use::
 
 from __future__ import annotations
 
+import math
 import tempfile
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
@@ -19,7 +20,13 @@ from pathlib import Path
 
 import numpy as np
 
-from hiyari.bridge.scenario.closed_loop import OnStep, ScenarioHooks, run_closed_loop
+from hiyari.bridge.scenario.closed_loop import (
+    Decided,
+    OnStep,
+    ScenarioHooks,
+    Scoring,
+    run_closed_loop,
+)
 from hiyari.bridge.scenario.engine import ScenarioEngine, StepReport
 from hiyari.bridge.scenario.model.storyboard import Scenario
 from hiyari.bridge.scenario.result import RunResult
@@ -31,7 +38,7 @@ from hiyari.bridge.stack.interfaces import EgoStack
 from hiyari.bridge.stack.perception_sensors import SensorPerception
 from hiyari.bridge.stack.perception_truth import NoPerception, PerfectPerception
 from hiyari.errors import HiyariError
-from hiyari.kinematics import bumper_gap, unrotate
+from hiyari.kinematics import Pose, bumper_gap, unrotate
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.traffic.collision import Collision
@@ -105,16 +112,19 @@ def default_stack(ctx: StackContext) -> EgoStack:
 
 class EngineHooks(ScenarioHooks):
     """The closed loop's view of a ScenarioEngine: it steps the storyboard on every new state,
-    ends the run at the stop trigger, and says whether the stack drives the ego. The scored
-    gap is to the nearest actor ahead in the ego's corridor (bumper to bumper)."""
+    ends the run at the stop trigger, and says whether the stack drives the ego. ``scoring``:
+    the scored gap is to its target, else to the nearest actor ahead in the ego's corridor
+    (bumper to bumper); its conflict point and settle rule apply."""
 
-    def __init__(self, engine: ScenarioEngine, sim: Simulation) -> None:
+    def __init__(self, engine: ScenarioEngine, sim: Simulation, scoring: Scoring | None = None):
         self.engine = engine
+        self.scoring = scoring or Scoring()
         self.ego_id = engine.ego or ""
-        self.target_id = ""
-        self.conflict_point = None
+        self.target_id = self.scoring.target
+        self.conflict_point = self.scoring.conflict_point
         self.report: StepReport = engine.start(sim)
         self.ego_requests: list[tuple[float, str]] = []
+        self._stopped_at = math.nan
 
     def after_step(self, sim: Simulation, world: WorldState) -> bool:
         self.report = self.engine.step(sim, world)
@@ -127,10 +137,20 @@ class EngineHooks(ScenarioHooks):
     def is_contact(self, collision: Collision) -> bool:
         # SUMO's own check is longitudinal per lane (no sublanes): a scripted actor placed
         # beside the ego on the ego's SUMO lane (a pedestrian on the lane edge, a car at a
-        # lateral offset) would count as hit. Only overlapping footprints are contact.
-        return collision.depth > 0.0
+        # lateral offset) would count as hit. Only overlapping footprints are contact, unless
+        # the scoring keeps SUMO's reports (the TOML presets, as they were always judged).
+        return self.scoring.sumo_contacts or collision.depth > 0.0
+
+    def done(self, world: WorldState, ego: Pose, script_time: float) -> bool:
+        """True ``scoring.settle_after_stop`` s after the ego first stood still."""
+        now, sc = self.report.time, self.scoring
+        if ego.speed < 0.05 and now > sc.settle_from and not np.isfinite(self._stopped_at):
+            self._stopped_at = now
+        return now - self._stopped_at >= sc.settle_after_stop
 
     def gap_target(self, world: WorldState, row: int) -> int:
+        if self.target_id:
+            return super().gap_target(world, row)
         xy = world.xyz[:, :2]
         rel = unrotate(xy - xy[row], float(world.heading[row]))
         along, across = bumper_gap(
@@ -190,28 +210,35 @@ def run_scenario(
                 set_speed = engine.actors[scenario.ego].v
             ctx = StackContext(network, setup, scenario.ego, set_speed, scenario)
             stack = (stack_factory or default_stack)(ctx)
-            result = _loop(sim, stack, hooks, scenario, setup, options, network, on_step)
+            meta = {**scenario_doc(scenario, setup), "scenario": scenario.name}
+            result = drive(
+                sim, stack, hooks, scenario.name, setup.max_duration, options, network, meta,
+                on_step,
+            )  # fmt: skip
     if options.out_dir is not None:
         write_result(result, scenario_doc(scenario, setup), options.out_dir, plot=options.plot)
     return result
 
 
-def _loop(
+def drive(
     sim: Simulation,
     stack: EgoStack,
     hooks: EngineHooks,
-    scenario: Scenario,
-    setup: EgoSetup,
+    label: str,
+    duration: float,
     options: RunOptions,
     network: RoadNetwork,
-    on_step: OnStep | None,
+    meta: dict,
+    on_step: OnStep | None = None,
+    decided: Decided | None = None,
 ) -> RunResult:
+    """The closed loop of every engine run (presets and OpenSCENARIO files alike) for up to
+    ``duration`` s, with the recording (``meta`` its metadata) when ``options.record``."""
     recorder = None
     if options.record:
         from hiyari.bridge.scenario.recording import StepRecorder, open_recorder
 
         links = sim.signal_links()
-        meta = {**scenario_doc(scenario, setup), "scenario": scenario.name}
         recorder = open_recorder(
             options.out_dir / "run.mcap", meta, stack, network, links, options.recorder
         )
@@ -224,10 +251,11 @@ def _loop(
             sim,
             stack,
             hooks,
-            setup.max_duration,
-            label=scenario.name,
+            duration,
+            label=label,
             on_step=on_step,
             progress=options.progress,
+            decided=decided,
         )
     except BaseException:
         if recorder is not None:

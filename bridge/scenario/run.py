@@ -5,6 +5,7 @@ from __future__ import annotations
 import importlib
 import json
 import tempfile
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -15,9 +16,10 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
-from hiyari.bridge.scenario.closed_loop import OnStep, run_closed_loop
+from hiyari.bridge.scenario.closed_loop import OnStep
 from hiyari.bridge.scenario.decided import DecidedEnd
-from hiyari.bridge.scenario.presets import Scenario, build_scenario
+from hiyari.bridge.scenario.engine import ScenarioEngine
+from hiyari.bridge.scenario.presets import build_scenario
 from hiyari.bridge.scenario.result import RunResult, TimeSeries
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
 from hiyari.bridge.scenario.warm import WarmCache
@@ -91,72 +93,59 @@ def run_concrete(
     on_step: OnStep | None = None,
     warm: WarmCache | None = None,
 ) -> RunResult:
-    """Run one concrete scenario in this process (one libsumo simulation at a time).
+    """Run one concrete scenario in this process (one libsumo simulation at a time): its
+    type's preset of the scenario model, run by the ScenarioEngine in the closed loop every
+    scenario runs in (bridge.scenario.engine_run).
 
     ``warm``: take the road, its ray-cast scene and the sensor rig from this process's cache
     (built by the first run on that road) instead of building them; same results.
     """
+    # engine_run builds on this module (RunOptions, write_result): imported here
+    from hiyari.bridge.scenario.engine_run import EngineHooks, drive
+
     options = options or RunOptions()
+    if options.record and options.out_dir is None:
+        raise HiyariError("recording needs an output folder")
     with tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
         work = options.out_dir / "roads" if options.out_dir else Path(tmp)
-        sc = build_scenario(cs, work, roads=warm)
-        network = sc.network or RoadNetwork(sc.net)
+        preset = build_scenario(cs, work, roads=warm)
+        network = preset.network
         stack = build_stack(cs, network, warm)
+        net = network.path
         cfg = SimConfig(
-            net=sc.net,
-            routes=sc.routes,
+            net=net,
+            routes=preset.routes,
             step_length=cs.step_length,
             seed=cs.seed,
-            generated=(sc.net, *sc.routes),
+            generated=(net, *preset.routes),
         )
         with Simulation(cfg) as sim:
-            sim.fast_forward(sc.warmup)
-            sc.insert(sim)
-            recorder = None
-            if options.record:
-                if options.out_dir is None:
-                    raise HiyariError("recording needs an output folder")
-                from hiyari.bridge.scenario.recording import StepRecorder, open_recorder
-
-                links = sim.signal_links()
-                meta = concrete_metadata(cs)
-                recorder = open_recorder(
-                    options.out_dir / "run.mcap", meta, stack, network, links, options.recorder
+            sim.fast_forward(preset.warmup)
+            engine = ScenarioEngine(preset.scenario, preset.roads, cs.step_length)
+            hooks = EngineHooks(engine, sim, preset.scoring)
+            decided = None
+            if options.end_when_decided:
+                decided = decided_end(
+                    engine, preset.routes, stack, cs.step_length, preset.scoring.target
                 )
-                if isinstance(stack.perception, SensorPerception):
-                    stack.perception.render_every = options.camera_image_every
-                signals = sim.signal_states if links else None
-                step_recorder = StepRecorder(recorder, stack, sc.ego_id, signals)
-                on_step = chain(step_recorder, on_step)
-            decided = decided_end(sc, stack, cs.step_length) if options.end_when_decided else None
-            try:
-                result = run_closed_loop(
-                    sim,
-                    stack,
-                    sc,
-                    cs.duration,
-                    label=cs.label(),
-                    on_step=on_step,
-                    progress=options.progress,
-                    decided=decided,
-                )
-            except BaseException:
-                if recorder is not None:
-                    recorder.close(complete=False)
-                raise
-            if recorder is not None:
-                recorder.close()
+            result = drive(
+                sim, stack, hooks, cs.label(), cs.duration, options, network,
+                concrete_metadata(cs), on_step, decided,
+            )  # fmt: skip
     if options.out_dir is not None:
         write_result(result, cs, options.out_dir, plot=options.plot)
     return result
 
 
-def decided_end(sc: Scenario, stack: EgoStack, step: float) -> DecidedEnd | None:
-    """The decided-end test of a scripted run on an empty road driven by the default planner
-    (None for anything else: SUMO traffic, pedestrians, another planner)."""
-    if sc.routes or not sc.scripted or not isinstance(stack.planner, AEBPlanner):
+def decided_end(
+    engine: ScenarioEngine, routes: Sequence[Path], stack: EgoStack, step: float, target: str
+) -> DecidedEnd | None:
+    """The decided-end test of a run of vehicles on an empty road (no SUMO demand
+    ``routes``) with the ego driven by the default planner (None for anything else);
+    ``target``: the actor whose gap is scored."""
+    if routes or not isinstance(stack.planner, AEBPlanner):
         return None
-    return DecidedEnd(stack.planner.acc, step, sc.scripted, sc.target_id, sc.start_time, sc.lead_in)
+    return DecidedEnd.of(engine, stack.planner.acc, step, target)
 
 
 def chain(first: OnStep, second: OnStep | None) -> OnStep:

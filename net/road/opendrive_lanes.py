@@ -326,6 +326,11 @@ class OpenDriveMap:
         for el in root.findall("road"):
             road = _read_road(Path(path), el)
             roads[road.id] = road
+        return OpenDriveMap.from_roads(path, roads)
+
+    @staticmethod
+    def from_roads(path: str | Path, roads: dict[str, Road]) -> OpenDriveMap:
+        """The map of ``roads`` (keyed by id); ``path`` names where they came from."""
         pts, owner, s_of = [], [], []
         for k, road in enumerate(roads.values()):
             s = np.linspace(0.0, road.length, max(2, math.ceil(road.length / _SEED_STEP) + 1))
@@ -430,10 +435,17 @@ def _lane_coord(road: Road, s: float, t: float) -> RoadCoord:
 class RoadLanes:
     """An OpenDRIVE map and the SUMO net imported from it, linked lane by lane."""
 
-    def __init__(self, odr: OpenDriveMap, net: str | Path) -> None:
+    def __init__(
+        self,
+        odr: OpenDriveMap,
+        net: str | Path,
+        links: tuple[dict[tuple[str, int, int], SumoLane], dict[str, list[str]]] | None = None,
+    ) -> None:
+        """``links``: the SUMO lane of each (road, lane, section) and each edge's successors
+        (None: read from the lanes' origId in ``net``)."""
         self.odr = odr
         self.net = Path(net)
-        self._lanes, self._next = _sumo_lanes(self.net)
+        self._lanes, self._next = links if links is not None else _sumo_lanes(self.net)
         self._by_id = {ln.id: key for key, ln in self._lanes.items()}
 
     @staticmethod

@@ -41,6 +41,7 @@ from hiyari.bridge.scenario.engine.motion import (
 )
 from hiyari.bridge.scenario.engine.positions import Pose, PoseResolver
 from hiyari.bridge.scenario.engine.snapshot import Snapshot, gather_entities, own_road_coords
+from hiyari.bridge.scenario.model.actions import AssignRouteAction
 from hiyari.bridge.scenario.model.entities import EntityKind
 from hiyari.bridge.scenario.model.storyboard import Scenario
 from hiyari.errors import HiyariError
@@ -260,9 +261,32 @@ class ScenarioEngine:
             )
         )
         edge, lane_index, pos = self._insertion_point(a)
-        route = self.roads.route_from(edge) if not scripted else [edge]
+        route = self._sumo_route(name, edge) if not scripted else [edge]
         sim.add_vehicle(name, route, f"hiyari_{name}", lane_index, pos, a.v, scripted=True)
+        mode = e.controller.properties.get("hiyari:speed_mode") if e.controller else None
+        if mode is not None and not scripted:  # SUMO's own checks under the stack's speed
+            if not mode.isdigit():
+                raise HiyariError(
+                    f"{self.scenario.source}: {name}: hiyari:speed_mode {mode!r} is not a "
+                    "SUMO speed mode (a non-negative integer)"
+                )
+            sim.set_speed_mode(name, int(mode))
         a.inserted = True
+
+    def _sumo_route(self, name: str, edge: str) -> list[str]:
+        """SUMO route of a stack-driven entity from ``edge``: on through the edges of its Init
+        AssignRouteAction's waypoints (the route it is told to follow; consecutive ones must
+        be connected), else the road ahead."""
+        for ia in self.scenario.storyboard.init:
+            if ia.entity == name and isinstance(ia.action.body, AssignRouteAction):
+                route = [edge]
+                for w in ia.action.body.waypoints:
+                    p = self.resolver.resolve(w)
+                    ln = self.roads.sumo_lane(p.road, p.lane, p.s) if p.road else None
+                    if ln is not None and ln.edge != route[-1]:
+                        route.append(ln.edge)
+                return route
+        return self.roads.route_from(edge)
 
     def _insertion_point(self, a: Actor) -> tuple[str, int, float]:
         """SUMO edge, lane index and front position for inserting ``a``."""

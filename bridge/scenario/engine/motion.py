@@ -301,12 +301,15 @@ def advance_road_actors(
     for road, r in by_road(table, rows):
         s, t, v_old = table.s[r], table.t[r], table.v[r]
         v_new = v_old.copy()
+        ramp = np.full(len(r), dt)  # s of this step spent ramping from v_old to v_new
         for j in np.flatnonzero(table.has_long[r]).tolist():
             a = actors[r[j]]
             v_new[j], done = a.long.speed(now, a.long_travelled + v_old[j] * dt)
             if done:
+                if not a.long.by_distance:  # ended within the step: at v_new since then
+                    ramp[j] = min(dt, max(0.0, a.long.t0 + a.long.span - (now - dt)))
                 a.long = None
-        ds_path = 0.5 * (v_old + v_new) * dt
+        ds_path = 0.5 * (v_old + v_new) * ramp + v_new * (dt - ramp)
         kappa = curvature(odr, road, s)
         table.s[r] = s + table.direction[r] * ds_path / np.maximum(1e-3, 1.0 - kappa * t)
         table.v[r] = v_new
