@@ -240,6 +240,12 @@ class _Build:
             return self.roads.road(name, build, params)
         return RoadNetwork(build(self.workdir / name, params))
 
+    def lanes(self, network: RoadNetwork) -> RoadLanes:
+        """The road / lane / s frame of ``network`` (or the cache's copy)."""
+        if self.roads is not None:
+            return self.roads.road_lanes(network)
+        return sumo_road_lanes(network)
+
     def s_front0(self, ve0: float) -> float:
         """Ego front at script time 0 if it holds ``ve0`` through the lead-in."""
         return self.k.ego_start_s + ve0 * self.k.lead_in
@@ -334,7 +340,7 @@ def _r157(b: _Build) -> _Road:
     edge = max(edges, key=lambda e: e.getLength())
     lanes = edge.getLaneNumber()
     right, left = sumo_lane_id(lanes, 0), sumo_lane_id(lanes, 1)
-    return _Road(network, sumo_road_lanes(network), edge.getID(), right, left)
+    return _Road(network, b.lanes(network), edge.getID(), right, left)
 
 
 def _r157_run(
@@ -407,7 +413,7 @@ def _dart_out(p: DartOut, b: _Build) -> PresetRun:
     network = b.road(
         "street.net.xml", build_intersection, IntersectionParams(lane_width=k.lane_width)
     )
-    roads = sumo_road_lanes(network)
+    roads = b.lanes(network)
     edge = network.sumo.getEdge("w_in")
     sumo_lane = next(ln for ln in edge.getLanes() if ln.allows("passenger"))
     lane = sumo_lane_id(edge.getLaneNumber(), sumo_lane.getIndex())
@@ -493,7 +499,7 @@ def _city(p: City, b: _Build) -> PresetRun:
     ego = replace(b.entity("ego", "ego"), controller=mode)
     sc = _scenario("city", [ego], init, [])
     scoring = Scoring("", None, math.inf, 0.0, sumo_contacts=True)
-    return PresetRun(sc, network, sumo_road_lanes(network), scoring, (routes,), p.warmup)
+    return PresetRun(sc, network, b.lanes(network), scoring, (routes,), p.warmup)
 
 
 #: The scenario types: typed parameters -> Scenario (the one registry of builders).

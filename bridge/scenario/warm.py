@@ -19,6 +19,8 @@ from typing import Any
 
 from hiyari.net.mesh.road_mesh import build_scene_mesh
 from hiyari.net.road.network import RoadNetwork
+from hiyari.net.road.opendrive_lanes import RoadLanes
+from hiyari.net.road.sumo_roads import sumo_road_lanes
 from hiyari.sensors.rig import SensorRig
 from hiyari.sensors.scene.ray_scene import RayScene
 
@@ -34,6 +36,7 @@ class WarmCache:
         self.pid = os.getpid()
         self._folder: Path | None = None
         self._roads: dict[tuple[str, Hashable], RoadNetwork] = {}
+        self._lanes: dict[Path, RoadLanes] = {}
         self._scenes: dict[tuple[Path, bool, int], RayScene] = {}
         self._rigs: dict[tuple[str, ...], SensorRig] = {}
 
@@ -47,6 +50,12 @@ class WarmCache:
             folder.mkdir()
             self._roads[key] = RoadNetwork(build(folder / name, params))
         return self._roads[key]
+
+    def road_lanes(self, network: RoadNetwork) -> RoadLanes:
+        """The road / lane / s frame of a generated net (its edges as roads), built once."""
+        if network.path not in self._lanes:
+            self._lanes[network.path] = sumo_road_lanes(network)
+        return self._lanes[network.path]
 
     def scene(self, network: RoadNetwork, buildings: bool, workers: int) -> RayScene:
         """The RayScene of ``network``'s static mesh (``workers`` cast threads)."""
@@ -68,6 +77,7 @@ class WarmCache:
     def clear(self) -> None:
         """Drop everything and remove the road files."""
         self._roads.clear()
+        self._lanes.clear()
         self._scenes.clear()
         self._rigs.clear()
         if self._folder is not None:
