@@ -108,6 +108,8 @@ class ObjectList:
     truth: np.ndarray  # (N,) object: SUMO id, 'static' (static scene), or '' for a false positive
     box_2d: np.ndarray | None = None  # (N, 4) camera boxes u0, v0, u1, v1 in pixels; else None
     heading: np.ndarray | None = None  # (N,) box heading about the frame's z axis, rad; else None
+    #: (N,) largest standard deviation of each velocity estimate, m/s (trackers); else None
+    velocity_sigma: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.object_id)

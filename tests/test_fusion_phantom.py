@@ -119,14 +119,14 @@ def _camera(x: float, y: float) -> ObjectList:
     return _objs([[x, y]], [[np.nan, np.nan]], [[5.3, 1.9, 1.5]], "camera", 0, "other")
 
 
-def test_a_young_track_is_not_reported_before_its_velocity_is_known():
+def test_the_planner_waits_until_a_young_track_s_velocity_is_known():
     """A car in the next lane, 6.8 m ahead and 3.5 m to the left, driving at the ego's 50 km/h:
     the first camera and LiDAR objects of the sensor R157 cut-in (positions as measured in
     that run, metres of camera range noise). Fitted to the first two positions 0.05 s apart,
     the track's velocity was 10.7 m/s closing and 3.2 m/s sideways: full AEB at t = 0.1 s,
-    so the ego stopped before the cut-in began and the point 'passed' untested. The track
-    must be held back until its velocity is known (then reported, at about the ego's speed),
-    and the AEB must never brake."""
+    so the ego stopped before the cut-in began and the point 'passed' untested. The fusion
+    reports the track with its velocity sigma; the planner acts on it once that is small
+    (then at about the ego's speed), and the AEB never brakes."""
     v = 50 / 3.6
     seen = [  # (t, source, x, y) in the ego frame, the ego driving at v
         (0.05, "camera", 6.54, 3.79),
@@ -153,7 +153,13 @@ def test_a_young_track_is_not_reported_before_its_velocity_is_known():
         ]
         out = fusion.update(lists, ego, t)
         assert planner.plan(out, ego, t).aeb_stage == 0, f"AEB at t = {t}"
-        if len(out):
+        assert out.velocity_sigma is not None or len(out) == 0
+        known = out.velocity_sigma <= planner.aeb.max_velocity_sigma if len(out) else []
+        if np.any(known):
             reported.append(t)
-            assert np.all(np.abs(out.velocity[:, :2]) < 1.5)
+            assert np.all(np.abs(out.velocity[known, :2]) < 1.5)
     assert reported and 0.2 <= reported[0] <= 1.0  # not from the first two or three positions
+    fresh = KalmanFusion()
+    fresh.update([_camera(v * 0.05 + 6.54, 3.79)], Pose(v * 0.05, 0, 0, 0, v), 0.05)
+    out = fresh.update([_lidar(v * 0.1 + 6.81, 3.5)], Pose(v * 0.1, 0, 0, 0, v), 0.1)
+    assert len(out) == 1 and out.velocity_sigma[0] > 5.0  # reported, velocity still unknown

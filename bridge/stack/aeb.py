@@ -42,6 +42,10 @@ class AEBConfig:
     lateral_margin: float = 0.2  # m added to each side of the ego's width
     horizon: float = 10.0  # s, TTCs beyond this count as no threat
     require_classified: bool = True  # act on camera / LiDAR-classified tracks, not radar-only
+    # m/s: act on a track once its velocity is known this well (the tracker's largest velocity
+    # standard deviation); before that its velocity is noise fitted to two or three positions
+    # and its TTC can be a fraction of a second for a car that is not closing in
+    max_velocity_sigma: float = 1.5
     hold_after_stop: bool = True  # keep full brake once stopped with a threat ahead
     latch_until_stop: bool = True  # once braking, brake to standstill (as production AEBs do)
 
@@ -94,6 +98,8 @@ def select(ol: ObjectList, mask: np.ndarray) -> ObjectList:
         confidence=ol.confidence[mask],
         truth=ol.truth[mask],
         box_2d=None if ol.box_2d is None else ol.box_2d[mask],
+        heading=None if ol.heading is None else ol.heading[mask],
+        velocity_sigma=None if ol.velocity_sigma is None else ol.velocity_sigma[mask],
     )
 
 
@@ -143,11 +149,14 @@ class AEBPlanner:
         self._latched = 0.0  # m/s^2 held until standstill
 
     def plan(self, tracks: ObjectList, ego: Pose, time: float) -> EgoCommand:
-        """Acceleration command for this step from the fused tracks (ego frame)."""
+        """Acceleration command for this step from the fused tracks (ego frame): ACC and AEB
+        act on the tracks whose velocity is known (``AEBConfig.max_velocity_sigma``)."""
         if self.aeb.require_classified and len(tracks):
             # radar alone cannot tell a parked car beside the lane from one in it (azimuth
             # resolution): like production AEBs, act on objects another sensor classified
             tracks = select(tracks, tracks.cls >= 0)
+        if tracks.velocity_sigma is not None and len(tracks):
+            tracks = select(tracks, tracks.velocity_sigma <= self.aeb.max_velocity_sigma)
         ttc = time_to_collision(tracks, ego, self.aeb)
         k = int(np.argmin(ttc)) if len(ttc) else -1
         ttc_min = float(ttc[k]) if k >= 0 else float("inf")

@@ -60,10 +60,6 @@ class FusionConfig:
     vehicle_max_slip_deg: float = 45.0  # a vehicle's velocity over ground vs its heading
     stationary_speed: float = 1.0  # m/s: vehicle tracks slower than this are at rest
     confirm_hits: int = 2
-    # m/s: a track is reported once its velocity is known this well (largest standard
-    # deviation of its velocity estimate); before that its velocity is noise fitted to two or
-    # three positions, and a planner would brake for tracks that only seem to close in
-    confirm_velocity_sigma: float = 1.5
     max_age_s: float = 0.5  # drop a track not updated for this long
     use_unpaired_camera: bool = True  # camera-only objects (camera range) become tracks
 
@@ -284,14 +280,8 @@ class KalmanFusion:
         self._update(tr, o, measurement, time)
         self._tracks.append(tr)
 
-    def _confirmed(self, tr: _Track) -> bool:
-        sigma_v = self.config.confirm_velocity_sigma
-        return tr.hits >= self.config.confirm_hits and (
-            float(np.linalg.eigvalsh(tr.p[2:, 2:])[-1]) <= sigma_v * sigma_v
-        )
-
     def _output(self, ego: Pose, time: float) -> ObjectList:
-        tracks = [t for t in self._tracks if self._confirmed(t)]
+        tracks = [t for t in self._tracks if t.hits >= self.config.confirm_hits]
         if not tracks:
             return ObjectList.empty(time, "fusion", ego.to_world())
         xs = np.array([t.x for t in tracks])
@@ -320,6 +310,9 @@ class KalmanFusion:
             size=np.array([t.size for t in tracks], dtype=float),
             confidence=np.array([min(1.0, t.hits / 5) for t in tracks]),
             truth=np.array([t.truth for t in tracks], dtype=object),
+            velocity_sigma=np.sqrt(
+                np.linalg.eigvalsh(np.array([t.p[2:, 2:] for t in tracks]))[:, -1]
+            ),
         )
 
 
