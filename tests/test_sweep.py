@@ -26,7 +26,7 @@ step_length = 0.1
 perception = "perfect"
 {stack}
 [parameters]
-ve0_kmh = {{ range = [20, 69], step = 1 }}
+ve0_kmh = {{ range = [20, 69], step = 2 }}
 ped_speed_kmh = 5
 impact_fraction = 0.5
 """
@@ -44,7 +44,7 @@ def reference(tmp_path_factory):
     s = run_sweep(
         load_scenario(_scenario(tmp)), SweepOptions(tmp / "w1", workers=1, progress=False)
     )
-    assert s.total == 50 and s.ran == 50 and s.failed == 0
+    assert s.total == 25 and s.ran == 25 and s.failed == 0
     return s.table.read_bytes()
 
 
@@ -95,9 +95,9 @@ def test_killed_sweep_resumes_only_missing_rows(reference, tmp_path):
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait()
     before = len(read_table(table))
-    assert 10 <= before < 50
+    assert 10 <= before < 25
     s = run_sweep(load_scenario(scen), SweepOptions(out, workers=1, progress=False))
-    assert s.skipped == before and s.ran == 50 - before
+    assert s.skipped == before and s.ran == 25 - before
     assert table.read_bytes() == reference
 
 
@@ -107,19 +107,19 @@ def test_failing_run_is_recorded(tmp_path, monkeypatch):
         "from hiyari.bridge.scenario.run import build_stack\n"
         "from dataclasses import replace\n"
         "def Exploding(cs, net):\n"
-        "    if cs.params['ve0_kmh'] == 23:\n"
-        "        raise RuntimeError('planner diverged at 23 km/h')\n"
+        "    if cs.params['ve0_kmh'] == 24:\n"
+        "        raise RuntimeError('planner diverged at 24 km/h')\n"
         "    return build_stack(replace(cs, stack=''), net)\n"
     )
     monkeypatch.syspath_prepend(str(tmp_path))
     scen = _scenario(tmp_path, stack='stack = "exploding_stack:Exploding"')
     s = run_sweep(load_scenario(scen), SweepOptions(tmp_path / "fail", workers=2, progress=False))
     rows = read_table(s.table)
-    assert s.failed == 1 and len(rows) == 50
+    assert s.failed == 1 and len(rows) == 25
     bad = [r for r in rows.values() if r["status"] == "failed"]
-    assert [r["ve0_kmh"] for r in bad] == ["23.0"]
-    assert bad[0]["error"] == "RuntimeError: planner diverged at 23 km/h"
-    assert all(r["status"] == "ok" for r in rows.values() if r["ve0_kmh"] != "23.0")
+    assert [r["ve0_kmh"] for r in bad] == ["24.0"]
+    assert bad[0]["error"] == "RuntimeError: planner diverged at 24 km/h"
+    assert all(r["status"] == "ok" for r in rows.values() if r["ve0_kmh"] != "24.0")
 
 
 @pytest.mark.parametrize("sig, status", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
@@ -132,7 +132,7 @@ def test_interrupted_sweep_stops_cleanly(reference, tmp_path, sig, status):
     proc = _start_sweep(scen, out, tmp, workers=2)
     table = out / "results.csv"
     deadline = time.time() + 120
-    while time.time() < deadline and len(read_table(table)) < 6:
+    while time.time() < deadline and len(read_table(table)) < 3:
         time.sleep(0.1)
     if sig == signal.SIGINT:
         os.killpg(proc.pid, sig)
@@ -144,7 +144,7 @@ def test_interrupted_sweep_stops_cleanly(reference, tmp_path, sig, status):
     lines = err.strip().splitlines()
     assert len(lines) == 1 and "run the same command again to resume" in lines[0], err
     kept = len(read_table(table))
-    assert 6 <= kept < 50 and f"{kept} of 50 runs are kept" in lines[0]
+    assert 3 <= kept < 25 and f"{kept} of 25 runs are kept" in lines[0]
     assert list(tmp.iterdir()) == []
     # the rows kept are whole and the same as in the uninterrupted sweep
     ref_path = tmp_path / "reference.csv"
@@ -158,7 +158,7 @@ def test_run_count_guard_counts_without_expanding(tmp_path, capsys):
 
     scen = tmp_path / "tiny.toml"
     scen.write_text(
-        GRID.format(stack="").replace("step = 1 }", "step = 1e-7 }") + "[sampling]\nmode = 'grid'\n"
+        GRID.format(stack="").replace("step = 2 }", "step = 1e-7 }") + "[sampling]\nmode = 'grid'\n"
     )
     t0 = time.perf_counter()
     status = main(["sweep", str(scen), "-o", str(tmp_path / "out"), "-q"])
@@ -168,7 +168,7 @@ def test_run_count_guard_counts_without_expanding(tmp_path, capsys):
     assert "--max-runs 10,000" in err
     assert time.perf_counter() - t0 < 2.0  # counted, not listed
     assert not (tmp_path / "out").exists()
-    # the same grid within a raised limit is accepted (counted exactly: 50 runs here)
+    # the same grid within a raised limit is accepted (counted exactly: 25 runs here)
     logical = load_scenario(_scenario(tmp_path))
-    with pytest.raises(HiyariError, match="give 50 runs, more than --max-runs 49"):
-        run_sweep(logical, SweepOptions(tmp_path / "o2", max_runs=49, progress=False))
+    with pytest.raises(HiyariError, match="give 25 runs, more than --max-runs 24"):
+        run_sweep(logical, SweepOptions(tmp_path / "o2", max_runs=24, progress=False))
