@@ -194,8 +194,7 @@ def run_scenario(
     setup = setup or EgoSetup()
     if scenario.ego is None:
         raise HiyariError(f"{scenario.source or scenario.name}: the scenario has no ego")
-    if options.record and options.out_dir is None:
-        raise HiyariError("recording needs an output folder")
+    doc = scenario_doc(scenario, setup)
     with tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
         work = options.out_dir / "roads" if options.out_dir else Path(tmp)
         net = net or import_road(scenario, work)
@@ -210,13 +209,13 @@ def run_scenario(
                 set_speed = engine.actors[scenario.ego].v
             ctx = StackContext(network, setup, scenario.ego, set_speed, scenario)
             stack = (stack_factory or default_stack)(ctx)
-            meta = {**scenario_doc(scenario, setup), "scenario": scenario.name}
+            meta = {**doc, "scenario": scenario.name}
             result = drive(
                 sim, stack, hooks, scenario.name, setup.max_duration, options, network, meta,
                 on_step,
             )  # fmt: skip
     if options.out_dir is not None:
-        write_result(result, scenario_doc(scenario, setup), options.out_dir, plot=options.plot)
+        write_result(result, doc, options.out_dir, plot=options.plot)
     return result
 
 

@@ -54,6 +54,10 @@ class RunOptions:
     #: end once the rest of the run cannot change its judged values (bridge.scenario.decided)
     end_when_decided: bool = False
 
+    def __post_init__(self) -> None:
+        if self.record and self.out_dir is None:
+            raise HiyariError("recording needs an output folder")
+
 
 def build_stack(
     cs: ConcreteScenario, net: Path | RoadNetwork, warm: WarmCache | None = None
@@ -104,8 +108,6 @@ def run_concrete(
     from hiyari.bridge.scenario.engine_run import EngineHooks, drive
 
     options = options or RunOptions()
-    if options.record and options.out_dir is None:
-        raise HiyariError("recording needs an output folder")
     with tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
         work = options.out_dir / "roads" if options.out_dir else Path(tmp)
         preset = build_scenario(cs, work, roads=warm)

@@ -151,12 +151,15 @@ class AEBPlanner:
     def plan(self, tracks: ObjectList, ego: Pose, time: float) -> EgoCommand:
         """Acceleration command for this step from the fused tracks (ego frame): ACC and AEB
         act on the tracks whose velocity is known (``AEBConfig.max_velocity_sigma``)."""
-        if self.aeb.require_classified and len(tracks):
-            # radar alone cannot tell a parked car beside the lane from one in it (azimuth
-            # resolution): like production AEBs, act on objects another sensor classified
-            tracks = select(tracks, tracks.cls >= 0)
-        if tracks.velocity_sigma is not None and len(tracks):
-            tracks = select(tracks, tracks.velocity_sigma <= self.aeb.max_velocity_sigma)
+        if len(tracks):
+            keep = np.ones(len(tracks), bool)
+            if self.aeb.require_classified:
+                # radar alone cannot tell a parked car beside the lane from one in it (azimuth
+                # resolution): like production AEBs, act on objects another sensor classified
+                keep &= tracks.cls >= 0
+            if tracks.velocity_sigma is not None:
+                keep &= tracks.velocity_sigma <= self.aeb.max_velocity_sigma
+            tracks = select(tracks, keep)
         ttc = time_to_collision(tracks, ego, self.aeb)
         k = int(np.argmin(ttc)) if len(ttc) else -1
         ttc_min = float(ttc[k]) if k >= 0 else float("inf")
