@@ -309,6 +309,15 @@ class SumoLane:
     shape: np.ndarray  # (n, 2)
     cum: np.ndarray  # (n,) distance along the shape, m
 
+    @staticmethod
+    def from_shape(
+        lane_id: str, edge: str, index: int, shape: np.ndarray, length: float | None = None
+    ) -> SumoLane:
+        """A lane with its polyline ``shape`` (n, 2), m; ``length``: SUMO's (None: the
+        polyline's)."""
+        cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(shape, axis=0), axis=1))])
+        return SumoLane(lane_id, edge, index, cum[-1] if length is None else length, shape, cum)
+
 
 @dataclass(frozen=True, eq=False)
 class OpenDriveMap:
@@ -573,14 +582,13 @@ def _sumo_lanes(net: Path) -> tuple[dict[tuple[str, int, int], SumoLane], dict[s
             )
             if len(pts) < 2:
                 continue
-            cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
-            out[(road_id, lane_id, section)] = SumoLane(
+            length = ln.get("length")
+            out[(road_id, lane_id, section)] = SumoLane.from_shape(
                 ln.get("id"),
                 eid,
                 int(ln.get("index", 0)),
-                float(ln.get("length", cum[-1])),
                 pts,
-                cum,
+                None if length is None else float(length),
             )
     if not out:
         raise HiyariError(

@@ -50,9 +50,8 @@ def sumo_road_lanes(network: RoadNetwork) -> RoadLanes:
         shapes = [np.array([p[:2] for p in ln.getShape()], dtype=float) for ln in lanes]
         roads[eid] = _road(eid, shapes[0], [ln.getWidth() for ln in lanes])
         for ln, pts in zip(lanes, shapes, strict=True):
-            cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
-            links[(eid, sumo_lane_id(n, ln.getIndex()), 0)] = SumoLane(
-                ln.getID(), eid, ln.getIndex(), ln.getLength(), pts, cum
+            links[(eid, sumo_lane_id(n, ln.getIndex()), 0)] = SumoLane.from_shape(
+                ln.getID(), eid, ln.getIndex(), pts, ln.getLength()
             )
         out = [e for e in edge.getOutgoing() if not e.isSpecial()]
         succ[eid] = [e.getID() for e in sorted(out, key=lambda e: _turn(shapes[0], e))]
