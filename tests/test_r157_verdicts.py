@@ -56,8 +56,11 @@ def test_yaw_swings_the_rear_corner_into_the_ego_by_hand():
 
 def test_expectation_and_closed_loop_agree_at_the_slow_steep_cut_ins():
     """The three points the judge failed with lane-aligned expectations (dx0 = 0): the
-    yaw-aware model calls dx0 = 0 Unpreventable and puts the boundary at 0.2 m, and the
-    closed loop agrees on both sides: it collides at 0 m and passes at the boundary."""
+    yaw-aware model calls dx0 = 0 Unpreventable and puts the boundary at 0.2 m; the closed
+    loop passes at the boundary. At 0 m SUMO's per-lane check reports a contact while the
+    outlines are still about 2 m apart (the other car is assigned the ego's lane as it turns
+    in); contact is overlapping outlines, so that report is not a collision: the stack brakes
+    and keeps a gap, and the Unpreventable point is not judged."""
     points = generate_points(SLOW).points
     boundary = [p for p in points if p.point == "boundary"]
     assert [p.dx0_m for p in boundary] == [0.2, 0.2, 0.2]
@@ -70,7 +73,9 @@ def test_expectation_and_closed_loop_agree_at_the_slow_steep_cut_ins():
     for p in boundary:
         assert got[p.id]["verdict"] == "pass"
     for p in at_zero:
-        assert got[p.id]["collision"] == "True"
+        assert got[p.id]["collision"] == "False"
+        assert float(got[p.id]["min_gap_m"]) > 0.0
+        assert got[p.id]["verdict"] == "n/a"
 
 
 def test_points_with_another_model_are_refused(tmp_path, capsys):

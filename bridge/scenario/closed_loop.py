@@ -36,14 +36,12 @@ class Scoring:
     gap is scored ('': the nearest actor ahead in the ego's corridor); ``conflict_point``:
     network x, y (m) whose distance ahead of the ego's front is recorded (None: none); the
     run ends ``settle_after_stop`` s after the ego first stands still (below 0.05 m/s) later
-    than scenario time ``settle_from`` s (inf: never). ``sumo_contacts``: SUMO's own per-lane
-    collision reports count as contact too (else only overlapping footprints do)."""
+    than scenario time ``settle_from`` s (inf: never)."""
 
     target: str = ""
     conflict_point: tuple[float, float] | None = None
     settle_after_stop: float = math.inf
     settle_from: float = 0.0
-    sumo_contacts: bool = False
 
 
 class ScenarioHooks:
@@ -70,10 +68,6 @@ class ScenarioHooks:
 
     def stack_drives_ego(self) -> bool:
         """Whether the ego stack's command moves the ego now (else the scenario does)."""
-        return True
-
-    def is_contact(self, collision: Collision) -> bool:
-        """Whether a collision the simulation reports counts as contact for the verdict."""
         return True
 
     def gap_target(self, world: WorldState, row: int) -> int:
@@ -127,7 +121,10 @@ def run_closed_loop(
             _metrics(res, world, row, ego, step, hooks, truth)
             if on_step is not None:
                 on_step(world, step, sim.collisions)
-            hit = [c for c in sim.collisions if ego_id in (c.a, c.b) and hooks.is_contact(c)]
+            # contact is overlapping outlines: SUMO's own check is per lane without sublanes,
+            # so an actor beside the ego but assigned its lane would count as hit (in the
+            # steep R157 cut-ins it reports contact with the outlines 2.1 m apart)
+            hit = [c for c in sim.collisions if ego_id in (c.a, c.b) and c.depth > 0.0]
             if hit:
                 other = hit[0].b if hit[0].a == ego_id else hit[0].a
                 res.collision, res.collided_with, res.collision_time = True, other, world.time

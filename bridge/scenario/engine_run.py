@@ -41,7 +41,6 @@ from hiyari.errors import HiyariError
 from hiyari.kinematics import Pose, bumper_gap, unrotate
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.road.opendrive_lanes import RoadLanes
-from hiyari.traffic.collision import Collision
 from hiyari.traffic.simulation import SimConfig, Simulation
 from hiyari.traffic.world_state import WorldState
 
@@ -133,13 +132,6 @@ class EngineHooks(ScenarioHooks):
 
     def stack_drives_ego(self) -> bool:
         return not self.report.ego_storyboard_driven
-
-    def is_contact(self, collision: Collision) -> bool:
-        # SUMO's own check is longitudinal per lane (no sublanes): a scripted actor placed
-        # beside the ego on the ego's SUMO lane (a pedestrian on the lane edge, a car at a
-        # lateral offset) would count as hit. Only overlapping footprints are contact, unless
-        # the scoring keeps SUMO's reports (the TOML presets, as they were always judged).
-        return self.scoring.sumo_contacts or collision.depth > 0.0
 
     def done(self, world: WorldState, ego: Pose, script_time: float) -> bool:
         """True ``scoring.settle_after_stop`` s after the ego first stood still."""

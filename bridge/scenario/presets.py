@@ -268,11 +268,8 @@ class _Build:
 
     def scoring(self, target: str, conflict: tuple[float, float] | None = None) -> Scoring:
         """Gap to ``target``; the run ends ``settle_after_stop`` s after the ego has stopped
-        (after script time 0); SUMO's per-lane contact reports count, as they always did for
-        these types (the R157 judge's verdicts at dx0 = 0 rest on them)."""
-        return Scoring(
-            target, conflict, self.k.settle_after_stop, self.scenario_time(0.0), sumo_contacts=True
-        )
+        (after script time 0)."""
+        return Scoring(target, conflict, self.k.settle_after_stop, self.scenario_time(0.0))
 
     def entity(self, name: str, who: str) -> Entity:
         """The ego, another car ("other") or the child ("child") with the run's sizes."""
@@ -498,7 +495,7 @@ def _city(p: City, b: _Build) -> PresetRun:
     mode = ControllerSpec("ego stack", {"hiyari:speed_mode": str(b.k.city_speed_mode)})
     ego = replace(b.entity("ego", "ego"), controller=mode)
     sc = _scenario("city", [ego], init, [])
-    scoring = Scoring("", None, math.inf, 0.0, sumo_contacts=True)
+    scoring = Scoring("", None, math.inf, 0.0)
     return PresetRun(sc, network, b.lanes(network), scoring, (routes,), p.warmup)
 
 
