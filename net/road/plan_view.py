@@ -1,0 +1,113 @@
+"""Compiled evaluation of OpenDRIVE reference lines made of lines and arcs, and of elevation
+profiles: the one definition of these shapes (``Geometry.pose`` evaluates lines and arcs with
+it; the scenario engine places its actors with it in one compiled pass per road).
+
+Frames and units: network metres; road s along the reference line; headings in radians
+counter-clockwise from +x; curvature 1/m (positive: turning left).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numba import njit
+
+from hiyari.net.road.lane_profile import cubic_at
+
+if TYPE_CHECKING:
+    from hiyari.net.road.opendrive_lanes import Road
+
+#: Curvature below which an arc is evaluated as a line, 1/m.
+STRAIGHT = 1e-15
+
+
+@dataclass(frozen=True)
+class PlanView:
+    """A road's reference line (lines and arcs only: start s, x, y, heading, curvature per
+    geometry, sorted by s) and elevation records (start s, cubic coefficients)."""
+
+    length: float
+    s0: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    hdg: np.ndarray
+    curvature: np.ndarray
+    elev_s0: np.ndarray
+    elev_c: np.ndarray
+
+    def arrays(self) -> tuple:
+        """The arrays in the order the compiled functions take them (length first)."""
+        return (
+            self.length, self.s0, self.x, self.y, self.hdg, self.curvature, self.elev_s0,
+            self.elev_c,
+        )  # fmt: skip
+
+
+def plan_view(road: Road) -> PlanView | None:
+    """The PlanView of ``road``; None when a geometry is neither a line nor an arc."""
+    if any(g.kind not in ("line", "arc") for g in road.geometries):
+        return None
+    g = road.geometries
+    return PlanView(
+        road.length,
+        np.array([x.s0 for x in g], dtype=float),
+        np.array([x.x for x in g], dtype=float),
+        np.array([x.y for x in g], dtype=float),
+        np.array([x.hdg for x in g], dtype=float),
+        np.array([x.params[0] if x.kind == "arc" else 0.0 for x in g], dtype=float),
+        np.array([e.s0 for e in road.elevation], dtype=float),
+        np.array([(e.a, e.b, e.c, e.d) for e in road.elevation], dtype=float).reshape(-1, 4),
+    )
+
+
+@njit(cache=True)
+def line_arc_pose(
+    x0: float, y0: float, hdg: float, k: float, u: float
+) -> tuple[float, float, float]:
+    """(x, y, heading) at ``u`` m along a line (``k`` = 0) or an arc of curvature ``k`` that
+    starts at (``x0``, ``y0``) with heading ``hdg``."""
+    if abs(k) < STRAIGHT:
+        return x0 + u * math.cos(hdg), y0 + u * math.sin(hdg), hdg
+    h = hdg + k * u
+    return x0 + (math.sin(h) - math.sin(hdg)) / k, y0 - (math.cos(h) - math.cos(hdg)) / k, h
+
+
+@njit(cache=True)
+def line_arc_poses(
+    x0: float, y0: float, hdg: float, k: float, u: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`line_arc_pose` at every ``u``."""
+    x, y, h = np.empty(len(u)), np.empty(len(u)), np.empty(len(u))
+    for i in range(len(u)):
+        x[i], y[i], h[i] = line_arc_pose(x0, y0, hdg, k, u[i])
+    return x, y, h
+
+
+@njit(cache=True)
+def road_pose_at(
+    length: float,
+    s0: np.ndarray,
+    x: np.ndarray,
+    y: np.ndarray,
+    hdg: np.ndarray,
+    curvature: np.ndarray,
+    elev_s0: np.ndarray,
+    elev_c: np.ndarray,
+    s: float,
+    t: float,
+) -> tuple[float, float, float, float]:
+    """(x, y, z, reference-line heading) at road ``s`` (clamped to the road for the
+    reference line, not for the elevation), lateral ``t`` (m)."""
+    sc = min(max(s, 0.0), length)
+    g = 0
+    for j in range(1, len(s0)):
+        if s0[j] <= sc:
+            g = j
+        else:
+            break
+    rx, ry, h = line_arc_pose(x[g], y[g], hdg[g], curvature[g], sc - s0[g])
+    z = cubic_at(elev_s0, elev_c, 0, len(elev_s0), s)
+    return rx - t * math.sin(h), ry + t * math.cos(h), z, h
