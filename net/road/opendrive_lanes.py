@@ -187,6 +187,11 @@ class Road:
         return max(0, bisect_right([sec.s0 for sec in self.sections], s) - 1)
 
     @cached_property
+    def straight(self) -> bool:
+        """Whether the reference line is made of straight lines only."""
+        return all(g.kind == "line" for g in self.geometries)
+
+    @cached_property
     def plan_view(self) -> PlanView | None:
         """This road's reference line and elevation as arrays (None: not lines and arcs)."""
         return plan_view(self)

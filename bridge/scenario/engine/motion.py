@@ -147,6 +147,9 @@ class ActorTable:
         self.long_targets: dict[int, Callable[[], float]] = {}
         self.lat_offsets: dict[int, Callable[[], float]] = {}
         self._profile: LaneProfile | None = None
+        #: Counts road changes of rows: the grouping of rows by road holds until it moves.
+        self.road_version = 0
+        self._groups: tuple[np.ndarray, int, list[tuple[str, np.ndarray]]] | None = None
         #: Counts installs and removals of transitions and paths: the running actions can
         #: only have finished when it moved.
         self.motion_version = 0
@@ -156,6 +159,7 @@ class ActorTable:
         self.road[k] = road
         self.road_code[k] = self.code_of(road) if road else -1
         self.stale[k] = True
+        self.road_version += 1
 
     def code_of(self, road: str) -> int:
         """Index of ``road`` in ``road_ids`` (added when new)."""
@@ -163,11 +167,18 @@ class ActorTable:
             self.road_ids.append(road)
         return self.road_ids.index(road)
 
-    def profile(self, odr: OpenDriveMap) -> tuple:
-        """The LaneProfile arrays of the roads in ``road_ids`` (in that order)."""
+    def groups(self, rows: np.ndarray) -> list[tuple[str, np.ndarray]]:
+        """``by_road`` of ``rows``, kept while ``rows`` is the same array and no road changed."""
+        g = self._groups
+        if g is None or g[0] is not rows or g[1] != self.road_version:
+            self._groups = g = (rows, self.road_version, by_road(self, rows))
+        return g[2]
+
+    def lane_profile(self, odr: OpenDriveMap) -> LaneProfile:
+        """The LaneProfile of the roads in ``road_ids`` (in that order)."""
         if self._profile is None or len(self._profile.sec_first) != len(self.road_ids):
             self._profile = lane_profile([odr.road(r) for r in self.road_ids])
-        return self._profile.arrays()
+        return self._profile
 
     def refresh(self, odr: OpenDriveMap) -> None:
         """Driving directions of rows whose road or lane changed."""
@@ -295,7 +306,7 @@ def forward(odr: OpenDriveMap, road: str, lane: int) -> float:
 def curvature(odr: OpenDriveMap, road: str, s: np.ndarray) -> np.ndarray:
     """Reference-line curvature at road ``s`` (1/m), from the heading 0.5 m either side."""
     rd = odr.road(road)
-    if all(g.kind == "line" for g in rd.geometries):
+    if rd.straight:
         return np.zeros_like(s)
     lo, hi = np.clip(s - 0.5, 0, rd.length), np.clip(s + 0.5, 0, rd.length)
     h_lo, h_hi = rd.reference(lo)[2], rd.reference(hi)[2]
@@ -321,9 +332,10 @@ def advance_road_actors(
         return
     tb = actors[0].table
     tb.refresh(odr)
-    groups = by_road(tb, rows)
+    groups = tb.groups(rows)
     for road, r in groups:
-        tb.kappa[r] = curvature(odr, road, tb.s[r])
+        # straight: 0 (rows may come from a curved road)
+        tb.kappa[r] = 0.0 if odr.road(road).straight else curvature(odr, road, tb.s[r])
     for k, target in tb.long_targets.items():
         tb.long_par[k, MK.L_GOAL] = target()
     ended = MK.advance_long(
@@ -337,7 +349,7 @@ def advance_road_actors(
         tb.lat_par[k, MK.T_OFFSET] = offset()
     missing, ended = MK.advance_lat(
         rows, now, dt, tb.s, tb.t, tb.v_lat, tb.lat_travelled, tb.has_lat, tb.lat_par,
-        tb.profile(odr), tb.lat_done,
+        tb.lane_profile(odr).arrays(), tb.lat_done,
     )  # fmt: skip
     if missing >= 0:
         a = actors[missing]
