@@ -241,11 +241,14 @@ class Commands:
         v = self._api().vehicle
         move, set_speed = v.moveToXY, v.setSpeed
         h = np.asarray(heading, float)
-        front = point_ahead(np.asarray(centres, float), h, 0.5 * np.asarray(length, float))
+        c = np.asarray(centres, float)
+        half = 0.5 * np.asarray(length, float)
+        # point_ahead(c, h, half), without building the (N, 2) arrays
+        fx, fy = (c[:, 0] + half * np.cos(h)).tolist(), (c[:, 1] + half * np.sin(h)).tolist()
         angle = np.mod(90.0 - np.degrees(h), 360.0)
         rows = zip(
-            vehicle_ids, edges, lanes, front[:, 0].tolist(), front[:, 1].tolist(),
-            angle.tolist(), np.asarray(speed, float).tolist(), strict=True,
+            vehicle_ids, edges, lanes, fx, fy, angle.tolist(), np.asarray(speed, float).tolist(),
+            strict=True,
         )  # fmt: skip
         # keepRoute 6 as in move_vehicle; positional (vehID, edgeID, lane, x, y, angle,
         # keepRoute): keyword passing costs as much as the rest of the loop

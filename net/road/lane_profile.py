@@ -134,7 +134,7 @@ def lane_centre_at(
     s: float,
 ) -> tuple[float, float, int]:
     """(t of lane ``lane``'s centre line, its width, -1) at road ``s`` of road ``road``; (NaN,
-    NaN, section) when that lane section has no such lane."""
+    NaN, section index in the profile) when that lane section has no such lane."""
     k = section_of(sec_s0, sec_first[road], sec_count[road], s)
     slot = lane + max_lane
     if lane == 0 or slot < 0 or slot > 2 * max_lane or w_count[k, slot] < 0:

@@ -67,14 +67,15 @@ DEFAULT_MAX_SPEED = 100.0
 class _View:
     """What the storyboard's element states decide, kept until one changes (``version``: the
     length of the element log): the triggers evaluated now (T,), the entities the storyboard
-    drives (E,), those whose road coordinates active conditions read (E,) and of these the
-    ones located on the map (not driven)."""
+    drives (E,), those whose road coordinates active conditions read (E,), of these the
+    ones located on the map (not driven; their indices) and the driven ones (E,)."""
 
     version: int
     active: np.ndarray
     driven: np.ndarray
     need: np.ndarray
-    located: np.ndarray
+    located: list[int]
+    own: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -169,6 +170,7 @@ class ScenarioEngine:
         # table rows on roads / following paths, for the view and motion versions
         self._advance_rows: tuple[tuple[int, int], np.ndarray, list[int]] | None = None
         self._sent_speed = np.full(n, np.nan)  # speed last sent to SUMO per entity, m/s
+        self._road = (np.full(n, np.nan), np.full(n, np.nan), np.ones(n))  # see _road_coords
         self._near: dict[str, tuple[str, float]] = {}  # last road and s of located entities
         self._view_cache: _View | None = None
         # log length / (log length, motion version) at the start of the latest storyboard
@@ -373,7 +375,8 @@ class ScenarioEngine:
             need = np.zeros(len(self.names), dtype=bool)
             if self.bank.needs_road:
                 need = self.bank.road_entities(active)
-            self._view_cache = _View(version, active, driven, need, need & ~driven)
+            located = np.flatnonzero(need & ~driven).tolist()
+            self._view_cache = _View(version, active, driven, need, located, need & driven)
         return self._view_cache
 
     def _active(self) -> np.ndarray:
@@ -542,17 +545,20 @@ class ScenarioEngine:
     def _road_coords(self, present: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(E,) road s of the box centre, t and driving direction (+1 / -1) of the present
         entities whose road coordinates the active conditions read (NaN, NaN, 1 for the
-        others): scripted actors' from their state, the others located on the map."""
-        n, tb, view = len(self.names), self.table, self._view()
-        road_s, road_t, road_dir = np.full(n, np.nan), np.full(n, np.nan), np.ones(n)
+        others): scripted actors' from their state, the others located on the map. The
+        arrays are reused from step to step (the snapshot lives for one evaluation)."""
+        tb, view = self.table, self._view()
+        road_s, road_t, road_dir = self._road
         if not self.bank.needs_road:
-            return road_s, road_t, road_dir
+            return road_s, road_t, road_dir  # all NaN, NaN, 1
         tb.refresh(self.roads.odr)
         own_road_coords(
-            view.need & view.driven & present, tb.road_code, tb.s, tb.t, tb.direction,
-            self._cx, road_s, road_t, road_dir,
+            view.own, present, tb.road_code, tb.s, tb.t, tb.direction, self._cx, road_s,
+            road_t, road_dir,
         )  # fmt: skip
-        for k in np.flatnonzero(view.located & present).tolist():
+        for k in view.located:
+            if not present[k]:
+                continue
             p = self.pose_of(self.names[k])
             if p.road:
                 road_dir[k] = forward(self.roads.odr, p.road, p.lane)

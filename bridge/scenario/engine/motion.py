@@ -138,6 +138,7 @@ class ActorTable:
         self.road_code = np.full(n, -1, dtype=np.intp)
         self.direction = np.ones(n)
         self.stale = np.zeros(n, dtype=bool)
+        self.any_stale = False
         self.long_par = np.zeros((n, 8))  # running transitions' parameters (motion_kernel)
         self.lat_par = np.zeros((n, 9))
         self.long_done = np.zeros(n, dtype=bool)
@@ -158,7 +159,7 @@ class ActorTable:
         """Row ``k`` is on ``road`` ('' for none)."""
         self.road[k] = road
         self.road_code[k] = self.code_of(road) if road else -1
-        self.stale[k] = True
+        self.mark_stale(k)
         self.road_version += 1
 
     def code_of(self, road: str) -> int:
@@ -180,14 +181,20 @@ class ActorTable:
             self._profile = lane_profile([odr.road(r) for r in self.road_ids])
         return self._profile
 
+    def mark_stale(self, k: int) -> None:
+        """Row ``k``'s road or lane changed: its direction is recomputed at the next refresh."""
+        self.stale[k] = True
+        self.any_stale = True
+
     def refresh(self, odr: OpenDriveMap) -> None:
         """Driving directions of rows whose road or lane changed."""
-        if not self.stale.any():
+        if not self.any_stale:
             return
         for k in np.flatnonzero(self.stale).tolist():
             road = self.road[k]
             self.direction[k] = forward(odr, road, int(self.lane[k])) if road else 1.0
         self.stale[:] = False
+        self.any_stale = False
 
 
 class _Column:
@@ -207,7 +214,7 @@ class _Column:
     def __set__(self, obj: Actor, value: object) -> None:
         getattr(obj.table, self.name)[obj.k] = value
         if self.marks_stale:
-            obj.table.stale[obj.k] = True
+            obj.table.mark_stale(obj.k)
 
 
 class Actor:
