@@ -133,6 +133,7 @@ class ActorTable:
         self.inserted = np.zeros(n, dtype=bool)
         self.has_long = np.zeros(n, dtype=bool)
         self.has_lat = np.zeros(n, dtype=bool)
+        self.n_lat = 0  # rows with a running lateral transition
         self.road: list[str] = [""] * n
         self.road_ids: list[str] = []
         self.road_code = np.full(n, -1, dtype=np.intp)
@@ -280,6 +281,7 @@ class Actor:
     def lat(self, value: LateralTransition | None) -> None:
         tb, k = self.table, self.k
         self._lat = value
+        tb.n_lat += (value is not None) - bool(tb.has_lat[k])
         tb.has_lat[k] = value is not None
         tb.lat_offsets.pop(k, None)
         if value is not None:
@@ -352,6 +354,18 @@ def advance_road_actors(
     if ended:
         for k in rows[tb.long_done[rows]].tolist():
             actors[k].long = None
+    if tb.n_lat:
+        _advance_lateral(odr, actors, rows, now, dt)
+    for road, r in groups:
+        place_on_road(odr, road, tb, r)
+
+
+def _advance_lateral(
+    odr: OpenDriveMap, actors: list[Actor], rows: np.ndarray, now: float, dt: float
+) -> None:
+    """The lateral pass of ``advance_road_actors``; the rows whose transition ended are put
+    on their target lane."""
+    tb = actors[0].table
     for k, offset in tb.lat_offsets.items():
         tb.lat_par[k, MK.T_OFFSET] = offset()
     missing, ended = MK.advance_lat(
@@ -365,8 +379,6 @@ def advance_road_actors(
         for k in rows[tb.lat_done[rows]].tolist():
             a = actors[k]
             a.lane, a.lat = a.lat.lane, None
-    for road, r in groups:
-        place_on_road(odr, road, tb, r)
 
 
 def place_on_road(odr: OpenDriveMap, road: str, table: ActorTable, rows: np.ndarray) -> None:
