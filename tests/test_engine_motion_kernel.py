@@ -182,7 +182,8 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     cx, cy = rng.uniform(0, 2, n), rng.uniform(-0.5, 0.5, n)
     sent = np.hypot(v, v_lat)
     sent[::2] = np.nan
-    centres, heading, send = command_rows(rows, x, y, h, v, v_lat, cx, cy, sent.copy())
+    centres, heading, send = np.zeros((n, 2)), np.zeros(n), np.zeros(n)
+    command_rows(rows, x, y, h, v, v_lat, cx, cy, sent.copy(), centres, heading, send)
     want = vehicle_to_world(np.stack([cx, cy], 1)[rows], np.stack([x, y], 1)[rows], h[rows])
     assert np.array_equal(centres, want) and np.array_equal(heading, h[rows])
     speed = np.hypot(v, v_lat)[rows]

@@ -26,13 +26,14 @@ def command_rows(
     cx: np.ndarray,
     cy: np.ndarray,
     sent_speed: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """For table ``rows``: (box centres (m, 2) = reference point + (``cx``, ``cy``) in the
-    vehicle frame, headings (m,), speeds to send (m,): the speed along the motion, NaN when
-    equal to ``sent_speed``, which is updated)."""
-    m = len(rows)
-    centres, heading, send = np.empty((m, 2)), np.empty(m), np.empty(m)
-    for i in range(m):
+    centres: np.ndarray,
+    heading: np.ndarray,
+    send: np.ndarray,
+) -> None:
+    """For table ``rows``, into the last three arrays: box centres (m, 2) = reference point +
+    (``cx``, ``cy``) in the vehicle frame, headings (m,), speeds to send (m,): the speed along
+    the motion, NaN when equal to ``sent_speed``, which is updated."""
+    for i in range(len(rows)):
         k = rows[i]
         c, s = math.cos(h[k]), math.sin(h[k])
         centres[i, 0] = (cx[k] * c - cy[k] * s) + x[k]
@@ -41,7 +42,6 @@ def command_rows(
         speed = math.hypot(v[k], v_lat[k])
         send[i] = np.nan if speed == sent_speed[k] else speed
         sent_speed[k] = speed
-    return centres, heading, send
 
 
 @njit(cache=True)

@@ -157,13 +157,12 @@ class ScenarioEngine:
         self._lane_key = np.full((n, 3), -2, dtype=np.int64)  # road code, lane, section
         self._edge: list[str] = [""] * n
         self._lane_index: list[int] = [-1] * n
-        # the rows commanded (inserted and driven), their names and lengths, for the view
-        # version and insert count they were computed at
-        self._moved: tuple[np.ndarray, list[str], np.ndarray] = (
-            np.zeros(0, np.intp),
-            [],
-            np.zeros(0),
-        )
+        # the rows commanded (inserted and driven), their names, lengths and the arrays their
+        # centres, headings and speeds are computed into, for the view version and insert
+        # count they were found at
+        self._moved: tuple[np.ndarray, list[str], np.ndarray, tuple[np.ndarray, ...]] = (
+            np.zeros(0, np.intp), [], np.zeros(0), (np.zeros((0, 2)), np.zeros(0), np.zeros(0))
+        )  # fmt: skip
         self._moved_key: tuple[int, int] = (-1, -1)
         self._inserts = 0
         self._lanes_of: tuple[np.ndarray | None, list[str], list[int]] = (None, [], [])
@@ -509,17 +508,20 @@ class ScenarioEngine:
         if key != self._moved_key:
             rows = np.flatnonzero(tb.inserted & self._driven())
             if not np.array_equal(rows, self._moved[0]):
-                self._moved = (rows, [self.names[k] for k in rows.tolist()], self._length[rows])
+                names = [self.names[k] for k in rows.tolist()]
+                m = len(rows)
+                out = (np.empty((m, 2)), np.empty(m), np.empty(m))
+                self._moved = (rows, names, self._length[rows], out)
                 left = np.ones(len(self.names), dtype=bool)
                 left[rows] = False
                 self._sent_speed[left] = np.nan  # others may set its speed meanwhile
             self._moved_key = key
-        rows, names, length = self._moved
+        rows, names, length, out = self._moved
         edges, lanes = self._sumo_lanes(rows)
-        centres, heading, send = command_rows(
-            rows, tb.x, tb.y, tb.h, tb.v, tb.v_lat, self._cx, self._cy, self._sent_speed
+        command_rows(
+            rows, tb.x, tb.y, tb.h, tb.v, tb.v_lat, self._cx, self._cy, self._sent_speed, *out
         )
-        sim.move_vehicles(names, centres, heading, length, send, edges, lanes)
+        sim.move_vehicles(names, out[0], out[1], length, out[2], edges, lanes)
 
     def _sumo_lanes(self, rows: np.ndarray) -> tuple[list[str], list[int]]:
         """SUMO edge ('' = any) and lane index (-1) of each of ``rows`` (for moveToXY), looked
