@@ -164,7 +164,7 @@ def test_lateral_transition_reaches_the_target_lane(curved_road: object) -> None
     s, t, vlat = np.array([400.0]), np.array([t0]), np.zeros(1)
     done = np.zeros(1, dtype=bool)
     for now, want_done in ((2.0, False), (4.0, True)):
-        args = (s, t, vlat, np.zeros(1), np.ones(1, dtype=bool), row[None, :], prof, done)
+        args = (s, t, vlat, np.zeros(1), np.ones(1, dtype=bool), row[None, :], done, *prof)
         missing, n_done = MK.advance_lat(np.array([0]), now, 0.05, *args)
         assert missing == -1 and bool(done[0]) == want_done and n_done == int(want_done)
         frac = 0.5 if now == 2.0 else 1.0
@@ -179,6 +179,8 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     rows = np.arange(n)[::-1].copy()
     x, y, h = rng.uniform(-100, 100, n), rng.uniform(-100, 100, n), rng.uniform(-4, 4, n)
     v, v_lat = rng.uniform(0, 30, n), rng.uniform(-2, 2, n)
+    v_lat[::3], v[::7] = 0.0, -v[::7]  # not sliding (the short cuts), reversing
+    v_lat[1::6] = -0.0
     cx, cy = rng.uniform(0, 2, n), rng.uniform(-0.5, 0.5, n)
     sent = np.hypot(v, v_lat)
     sent[::2] = np.nan

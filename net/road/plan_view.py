@@ -26,14 +26,17 @@ STRAIGHT = 1e-15
 
 @dataclass(frozen=True)
 class PlanView:
-    """A road's reference line (lines and arcs only: start s, x, y, heading, curvature per
-    geometry, sorted by s) and elevation records (start s, cubic coefficients)."""
+    """A road's reference line (lines and arcs only: start s, x, y, heading, its cos and sin,
+    curvature per geometry, sorted by s) and elevation records (start s, cubic
+    coefficients)."""
 
     length: float
     s0: np.ndarray
     x: np.ndarray
     y: np.ndarray
     hdg: np.ndarray
+    cos_hdg: np.ndarray
+    sin_hdg: np.ndarray
     curvature: np.ndarray
     elev_s0: np.ndarray
     elev_c: np.ndarray
@@ -41,8 +44,8 @@ class PlanView:
     def arrays(self) -> tuple:
         """The arrays in the order the compiled functions take them (length first)."""
         return (
-            self.length, self.s0, self.x, self.y, self.hdg, self.curvature, self.elev_s0,
-            self.elev_c,
+            self.length, self.s0, self.x, self.y, self.hdg, self.cos_hdg, self.sin_hdg,
+            self.curvature, self.elev_s0, self.elev_c,
         )  # fmt: skip
 
 
@@ -57,6 +60,8 @@ def plan_view(road: Road) -> PlanView | None:
         np.array([x.x for x in g], dtype=float),
         np.array([x.y for x in g], dtype=float),
         np.array([x.hdg for x in g], dtype=float),
+        np.array([math.cos(x.hdg) for x in g], dtype=float),
+        np.array([math.sin(x.hdg) for x in g], dtype=float),
         np.array([x.params[0] if x.kind == "arc" else 0.0 for x in g], dtype=float),
         np.array([e.s0 for e in road.elevation], dtype=float),
         np.array([(e.a, e.b, e.c, e.d) for e in road.elevation], dtype=float).reshape(-1, 4),
@@ -65,14 +70,14 @@ def plan_view(road: Road) -> PlanView | None:
 
 @njit(cache=True)
 def line_arc_pose(
-    x0: float, y0: float, hdg: float, k: float, u: float
+    x0: float, y0: float, hdg: float, c0: float, s0: float, k: float, u: float
 ) -> tuple[float, float, float]:
     """(x, y, heading) at ``u`` m along a line (``k`` = 0) or an arc of curvature ``k`` that
-    starts at (``x0``, ``y0``) with heading ``hdg``."""
+    starts at (``x0``, ``y0``) with heading ``hdg`` (``c0``, ``s0``: its cos and sin)."""
     if abs(k) < STRAIGHT:
-        return x0 + u * math.cos(hdg), y0 + u * math.sin(hdg), hdg
+        return x0 + u * c0, y0 + u * s0, hdg
     h = hdg + k * u
-    return x0 + (math.sin(h) - math.sin(hdg)) / k, y0 - (math.cos(h) - math.cos(hdg)) / k, h
+    return x0 + (math.sin(h) - s0) / k, y0 - (math.cos(h) - c0) / k, h
 
 
 @njit(cache=True)
@@ -81,8 +86,9 @@ def line_arc_poses(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`line_arc_pose` at every ``u``."""
     x, y, h = np.empty(len(u)), np.empty(len(u)), np.empty(len(u))
+    c0, s0 = math.cos(hdg), math.sin(hdg)
     for i in range(len(u)):
-        x[i], y[i], h[i] = line_arc_pose(x0, y0, hdg, k, u[i])
+        x[i], y[i], h[i] = line_arc_pose(x0, y0, hdg, c0, s0, k, u[i])
     return x, y, h
 
 
@@ -93,6 +99,8 @@ def road_pose_at(
     x: np.ndarray,
     y: np.ndarray,
     hdg: np.ndarray,
+    cos_hdg: np.ndarray,
+    sin_hdg: np.ndarray,
     curvature: np.ndarray,
     elev_s0: np.ndarray,
     elev_c: np.ndarray,
@@ -108,6 +116,9 @@ def road_pose_at(
             g = j
         else:
             break
-    rx, ry, h = line_arc_pose(x[g], y[g], hdg[g], curvature[g], sc - s0[g])
+    ch, sh = cos_hdg[g], sin_hdg[g]
+    rx, ry, h = line_arc_pose(x[g], y[g], hdg[g], ch, sh, curvature[g], sc - s0[g])
+    if h != hdg[g]:  # on an arc (on a line the heading is the geometry's, cos and sin known)
+        ch, sh = math.cos(h), math.sin(h)
     z = cubic_at(elev_s0, elev_c, 0, len(elev_s0), s)
-    return rx - t * math.sin(h), ry + t * math.cos(h), z, h
+    return rx - t * sh, ry + t * ch, z, h

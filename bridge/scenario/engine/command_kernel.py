@@ -39,7 +39,8 @@ def command_rows(
         centres[i, 0] = (cx[k] * c - cy[k] * s) + x[k]
         centres[i, 1] = (cx[k] * s + cy[k] * c) + y[k]
         heading[i] = h[k]
-        speed = math.hypot(v[k], v_lat[k])
+        # hypot(v, +-0) is |v| exactly (C99 F.9.4.3): saves the call when not sliding
+        speed = abs(v[k]) if v_lat[k] == 0.0 else math.hypot(v[k], v_lat[k])
         send[i] = np.nan if speed == sent_speed[k] else speed
         sent_speed[k] = speed
 

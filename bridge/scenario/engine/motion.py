@@ -370,7 +370,7 @@ def _advance_lateral(
         tb.lat_par[k, MK.T_OFFSET] = offset()
     missing, ended = MK.advance_lat(
         rows, now, dt, tb.s, tb.t, tb.v_lat, tb.lat_travelled, tb.has_lat, tb.lat_par,
-        tb.lane_profile(odr).arrays(), tb.lat_done,
+        tb.lat_done, *tb.lane_profile(odr).arrays(),
     )  # fmt: skip
     if missing >= 0:
         a = actors[missing]
@@ -389,7 +389,7 @@ def place_on_road(odr: OpenDriveMap, road: str, table: ActorTable, rows: np.ndar
     rd = odr.road(road)
     if rd.plan_view is not None:
         MK.place_rows(
-            rows, rd.plan_view.arrays(), tb.s, tb.t, tb.direction, tb.v, tb.v_lat, tb.h_rel,
+            rows, *rd.plan_view.arrays(), tb.s, tb.t, tb.direction, tb.v, tb.v_lat, tb.h_rel,
             tb.x, tb.y, tb.z, tb.h,
         )  # fmt: skip
         return

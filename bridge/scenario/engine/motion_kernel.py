@@ -118,12 +118,23 @@ def advance_lat(
     lat_travelled: np.ndarray,
     has_lat: np.ndarray,
     lat_par: np.ndarray,
-    profile: tuple,
     lat_done: np.ndarray,
+    rec_s0: np.ndarray,
+    rec_c: np.ndarray,
+    off_first: np.ndarray,
+    off_count: np.ndarray,
+    sec_first: np.ndarray,
+    sec_count: np.ndarray,
+    sec_s0: np.ndarray,
+    w_first: np.ndarray,
+    w_count: np.ndarray,
+    max_lane: int,
 ) -> tuple[int, int]:
     """Lateral positions (and speeds) of table ``rows`` with a running lateral transition at
     scenario time ``now``, towards their target lane's centre at their (new) s plus the
-    offset. Marks ``lat_done`` for the transitions that ended. Returns (the first row whose
+    offset (the last arguments: the LaneProfile's arrays, passed one by one as numba
+    dispatches a tuple of mixed arrays slowly). Marks ``lat_done`` for the transitions that
+    ended. Returns (the first row whose
     target lane is missing at its s or -1, the number ended)."""
     missing, n_done = -1, 0
     for i in range(len(rows)):
@@ -132,7 +143,10 @@ def advance_lat(
         if not has_lat[k]:
             continue
         p = lat_par[k]
-        centre, _, bad = lane_centre_at(*profile, int(p[T_ROAD]), int(p[T_LANE]), s[k])
+        centre, _, bad = lane_centre_at(
+            rec_s0, rec_c, off_first, off_count, sec_first, sec_count, sec_s0, w_first,
+            w_count, max_lane, int(p[T_ROAD]), int(p[T_LANE]), s[k],
+        )  # fmt: skip
         if bad >= 0:
             if missing < 0:
                 missing = k
@@ -176,7 +190,11 @@ def _set_pose(
     """World pose of row ``k`` at road point (``px``, ``py``, ``pz``) where the reference line
     heads ``h_ref``: the lane's driving direction, the slip of the lateral motion and the
     heading relative to the lane, wrapped into [-pi, pi)."""
-    slip = math.atan2(direction[k] * v_lat[k], v[k]) if abs(v[k]) > 1e-6 else 0.0
+    slip = 0.0
+    if abs(v[k]) > 1e-6:
+        lat = direction[k] * v_lat[k]
+        # atan2(+-0, v > 0) is +-0 exactly (C99 F.9.4.4): saves the call when not sliding
+        slip = math.copysign(0.0, lat) if lat == 0.0 and v[k] > 0 else math.atan2(lat, v[k])
     hh = h_ref + (0.0 if direction[k] > 0 else math.pi) + slip + h_rel[k]
     x[k], y[k], z[k] = px, py, pz
     h[k] = _remainder(hh + math.pi, 2 * math.pi) - math.pi
@@ -185,7 +203,16 @@ def _set_pose(
 @njit(cache=True)
 def place_rows(
     rows: np.ndarray,
-    plan: tuple,
+    length: float,
+    s0: np.ndarray,
+    x0: np.ndarray,
+    y0: np.ndarray,
+    hdg: np.ndarray,
+    cos_hdg: np.ndarray,
+    sin_hdg: np.ndarray,
+    curvature: np.ndarray,
+    elev_s0: np.ndarray,
+    elev_c: np.ndarray,
     s: np.ndarray,
     t: np.ndarray,
     direction: np.ndarray,
@@ -197,11 +224,13 @@ def place_rows(
     z: np.ndarray,
     h: np.ndarray,
 ) -> None:
-    """World poses (x, y, z, heading) of table ``rows`` on the road of PlanView ``plan`` from
-    their road coordinates."""
+    """World poses (x, y, z, heading) of table ``rows`` from their road coordinates on the
+    road whose PlanView arrays come first (one by one: numba dispatches a tuple slowly)."""
     for i in range(len(rows)):
         k = rows[i]
-        px, py, pz, h_ref = road_pose_at(*plan, s[k], t[k])
+        px, py, pz, h_ref = road_pose_at(
+            length, s0, x0, y0, hdg, cos_hdg, sin_hdg, curvature, elev_s0, elev_c, s[k], t[k]
+        )
         _set_pose(k, px, py, pz, h_ref, direction, v, v_lat, h_rel, x, y, z, h)
 
 
