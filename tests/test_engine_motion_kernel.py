@@ -132,13 +132,12 @@ def _long_row(v0: float, goal: float, shape: int, span: float, t0: float = 0.0) 
 
 def _advance(long_par: np.ndarray, now: float, dt: float, v: float) -> tuple[float, float, bool]:
     """(v, s, done) of one row starting at s = 0 after one step."""
-    z = np.zeros(1)
-    s, vv, done = z.copy(), np.array([v]), np.zeros(1, dtype=bool)
-    MK.advance_long(
-        np.array([0]), now, dt, z, np.ones(1), s, z.copy(), vv, z.copy(), z.copy(), z.copy(),
-        z.copy(), np.ones(1, dtype=bool), long_par[None, :], done,
-    )  # fmt: skip
-    return float(vv[0]), float(s[0]), bool(done[0])
+    st = np.zeros((len(MK.STATE), 1))
+    st[MK.V, 0] = v
+    done = np.zeros(1, dtype=bool)
+    one = np.ones(1, dtype=bool)
+    MK.advance_long(np.array([0]), now, dt, np.zeros(1), np.ones(1), st, one, long_par[None], done)
+    return float(st[MK.V, 0]), float(st[MK.S, 0]), bool(done[0])
 
 
 def test_speed_transitions_follow_their_shapes() -> None:
@@ -161,14 +160,15 @@ def test_lateral_transition_reaches_the_target_lane(curved_road: object) -> None
     t0 = curved_road.lane_t(-1, 400.0)
     row = np.zeros(9)
     row[[MK.T_T0, MK.T_SHAPE, MK.T_SPAN, MK.T_LANE, MK.T_OFFSET]] = t0, SINUSOIDAL, 4.0, -2, 0.25
-    s, t, vlat = np.array([400.0]), np.array([t0]), np.zeros(1)
+    st = np.zeros((len(MK.STATE), 1))
+    st[MK.S, 0], st[MK.T, 0] = 400.0, t0
     done = np.zeros(1, dtype=bool)
     for now, want_done in ((2.0, False), (4.0, True)):
-        args = (s, t, vlat, np.zeros(1), np.ones(1, dtype=bool), row[None, :], done, *prof)
+        args = (st, np.ones(1, dtype=bool), row[None, :], done, *prof)
         missing, n_done = MK.advance_lat(np.array([0]), now, 0.05, *args)
         assert missing == -1 and bool(done[0]) == want_done and n_done == int(want_done)
         frac = 0.5 if now == 2.0 else 1.0
-        assert t[0] == pytest.approx(t0 + (target + 0.25 - t0) * frac)
+        assert st[MK.T, 0] == pytest.approx(t0 + (target + 0.25 - t0) * frac)
 
 
 def test_placement_and_commands_equal_the_numpy_formulas() -> None:
@@ -184,8 +184,10 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     cx, cy = rng.uniform(0, 2, n), rng.uniform(-0.5, 0.5, n)
     sent = np.hypot(v, v_lat)
     sent[::2] = np.nan
+    st = np.zeros((len(MK.STATE), n))
+    st[MK.X], st[MK.Y], st[MK.H], st[MK.V], st[MK.V_LAT] = x, y, h, v, v_lat
     centres, heading, send = np.zeros((n, 2)), np.zeros(n), np.zeros(n)
-    command_rows(rows, x, y, h, v, v_lat, cx, cy, sent.copy(), centres, heading, send)
+    command_rows(rows, st, cx, cy, sent.copy(), centres, heading, send)
     want = vehicle_to_world(np.stack([cx, cy], 1)[rows], np.stack([x, y], 1)[rows], h[rows])
     assert np.array_equal(centres, want) and np.array_equal(heading, h[rows])
     speed = np.hypot(v, v_lat)[rows]
@@ -193,13 +195,13 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     # placement: heading from the reference line, direction, slip and relative heading
     direction = rng.choice([-1.0, 1.0], n)
     h_rel = rng.uniform(-0.1, 0.1, n)
-    px, py, pz, h_ref = x[rows], y[rows], np.zeros(n), h[rows]
-    out = [np.zeros(n) for _ in range(4)]
-    MK.place_posed(rows, px, py, pz, h_ref, direction, v, v_lat, h_rel, *out)
+    st[MK.H_REL] = h_rel
+    px, py, pz, h_ref = x[rows] + 1.0, y[rows], np.zeros(n), h[rows]
+    MK.place_posed(rows, px, py, pz, h_ref, direction, st)
     slip = np.where(np.abs(v) > 1e-6, np.arctan2(direction * v_lat, v), 0.0)[rows]
     hh = h_ref + np.where(direction[rows] > 0, 0.0, np.pi) + slip + h_rel[rows]
-    assert np.array_equal(out[3][rows], np.remainder(hh + np.pi, 2 * np.pi) - np.pi)
-    assert np.array_equal(out[0][rows], px)
+    assert np.array_equal(st[MK.H][rows], np.remainder(hh + np.pi, 2 * np.pi) - np.pi)
+    assert np.array_equal(st[MK.X][rows], px)
 
 
 def test_lane_keys_flag_road_lane_and_section_changes(curved_road: object) -> None:

@@ -24,45 +24,38 @@ if TYPE_CHECKING:
 STRAIGHT = 1e-15
 
 
+#: Columns of a PlanView's geometry rows: start s (m), start x, y (m), heading (rad), its cos
+#: and sin, curvature (1/m; 0 for a line).
+G_S0, G_X, G_Y, G_HDG, G_COS, G_SIN, G_K = range(7)
+
+
 @dataclass(frozen=True)
 class PlanView:
-    """A road's reference line (lines and arcs only: start s, x, y, heading, its cos and sin,
-    curvature per geometry, sorted by s) and elevation records (start s, cubic
-    coefficients)."""
+    """A road's reference line made of lines and arcs (``geom``: a row per geometry, sorted
+    by s, columns ``G_*``) and elevation records (start s, cubic coefficients)."""
 
     length: float
-    s0: np.ndarray
-    x: np.ndarray
-    y: np.ndarray
-    hdg: np.ndarray
-    cos_hdg: np.ndarray
-    sin_hdg: np.ndarray
-    curvature: np.ndarray
+    geom: np.ndarray
     elev_s0: np.ndarray
     elev_c: np.ndarray
 
     def arrays(self) -> tuple:
-        """The arrays in the order the compiled functions take them (length first)."""
-        return (
-            self.length, self.s0, self.x, self.y, self.hdg, self.cos_hdg, self.sin_hdg,
-            self.curvature, self.elev_s0, self.elev_c,
-        )  # fmt: skip
+        """The arguments of :func:`road_pose_at` before s and t."""
+        return self.length, self.geom, self.elev_s0, self.elev_c
 
 
 def plan_view(road: Road) -> PlanView | None:
     """The PlanView of ``road``; None when a geometry is neither a line nor an arc."""
     if any(g.kind not in ("line", "arc") for g in road.geometries):
         return None
-    g = road.geometries
+    rows = [
+        (g.s0, g.x, g.y, g.hdg, math.cos(g.hdg), math.sin(g.hdg),
+         g.params[0] if g.kind == "arc" else 0.0)
+        for g in road.geometries
+    ]  # fmt: skip
     return PlanView(
         road.length,
-        np.array([x.s0 for x in g], dtype=float),
-        np.array([x.x for x in g], dtype=float),
-        np.array([x.y for x in g], dtype=float),
-        np.array([x.hdg for x in g], dtype=float),
-        np.array([math.cos(x.hdg) for x in g], dtype=float),
-        np.array([math.sin(x.hdg) for x in g], dtype=float),
-        np.array([x.params[0] if x.kind == "arc" else 0.0 for x in g], dtype=float),
+        np.array(rows, dtype=float).reshape(-1, 7),
         np.array([e.s0 for e in road.elevation], dtype=float),
         np.array([(e.a, e.b, e.c, e.d) for e in road.elevation], dtype=float).reshape(-1, 4),
     )
@@ -95,30 +88,27 @@ def line_arc_poses(
 @njit(cache=True)
 def road_pose_at(
     length: float,
-    s0: np.ndarray,
-    x: np.ndarray,
-    y: np.ndarray,
-    hdg: np.ndarray,
-    cos_hdg: np.ndarray,
-    sin_hdg: np.ndarray,
-    curvature: np.ndarray,
+    geom: np.ndarray,
     elev_s0: np.ndarray,
     elev_c: np.ndarray,
     s: float,
     t: float,
 ) -> tuple[float, float, float, float]:
     """(x, y, z, reference-line heading) at road ``s`` (clamped to the road for the
-    reference line, not for the elevation), lateral ``t`` (m)."""
+    reference line, not for the elevation), lateral ``t`` (m), on the road of PlanView
+    arrays ``length``, ``geom``, ``elev_s0``, ``elev_c``."""
     sc = min(max(s, 0.0), length)
     g = 0
-    for j in range(1, len(s0)):
-        if s0[j] <= sc:
+    for j in range(1, len(geom)):
+        if geom[j, G_S0] <= sc:
             g = j
         else:
             break
-    ch, sh = cos_hdg[g], sin_hdg[g]
-    rx, ry, h = line_arc_pose(x[g], y[g], hdg[g], ch, sh, curvature[g], sc - s0[g])
-    if h != hdg[g]:  # on an arc (on a line the heading is the geometry's, cos and sin known)
+    hdg, ch, sh = geom[g, G_HDG], geom[g, G_COS], geom[g, G_SIN]
+    rx, ry, h = line_arc_pose(
+        geom[g, G_X], geom[g, G_Y], hdg, ch, sh, geom[g, G_K], sc - geom[g, G_S0]
+    )
+    if h != hdg:  # on an arc (on a line the heading is the geometry's, cos and sin known)
         ch, sh = math.cos(h), math.sin(h)
     z = cubic_at(elev_s0, elev_c, 0, len(elev_s0), s)
     return rx - t * sh, ry + t * ch, z, h

@@ -12,17 +12,14 @@ import math
 import numpy as np
 from numba import njit
 
+from hiyari.bridge.scenario.engine.motion_kernel import V_LAT, H, V, X, Y
 from hiyari.net.road.lane_profile import section_of
 
 
 @njit(cache=True)
 def command_rows(
     rows: np.ndarray,
-    x: np.ndarray,
-    y: np.ndarray,
-    h: np.ndarray,
-    v: np.ndarray,
-    v_lat: np.ndarray,
+    st: np.ndarray,
     cx: np.ndarray,
     cy: np.ndarray,
     sent_speed: np.ndarray,
@@ -30,17 +27,18 @@ def command_rows(
     heading: np.ndarray,
     send: np.ndarray,
 ) -> None:
-    """For table ``rows``, into the last three arrays: box centres (m, 2) = reference point +
+    """For table ``rows`` (``st``: the ActorTable's state matrix), into the last three arrays: box centres (m, 2) = reference point +
     (``cx``, ``cy``) in the vehicle frame, headings (m,), speeds to send (m,): the speed along
     the motion, NaN when equal to ``sent_speed``, which is updated."""
     for i in range(len(rows)):
         k = rows[i]
-        c, s = math.cos(h[k]), math.sin(h[k])
-        centres[i, 0] = (cx[k] * c - cy[k] * s) + x[k]
-        centres[i, 1] = (cx[k] * s + cy[k] * c) + y[k]
-        heading[i] = h[k]
+        h, v, v_lat = st[H, k], st[V, k], st[V_LAT, k]
+        c, s = math.cos(h), math.sin(h)
+        centres[i, 0] = (cx[k] * c - cy[k] * s) + st[X, k]
+        centres[i, 1] = (cx[k] * s + cy[k] * c) + st[Y, k]
+        heading[i] = h
         # hypot(v, +-0) is |v| exactly (C99 F.9.4.3): saves the call when not sliding
-        speed = abs(v[k]) if v_lat[k] == 0.0 else math.hypot(v[k], v_lat[k])
+        speed = abs(v) if v_lat == 0.0 else math.hypot(v, v_lat)
         send[i] = np.nan if speed == sent_speed[k] else speed
         sent_speed[k] = speed
 

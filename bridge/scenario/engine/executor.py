@@ -518,9 +518,7 @@ class ScenarioEngine:
             self._moved_key = key
         rows, names, length, out = self._moved
         edges, lanes = self._sumo_lanes(rows)
-        command_rows(
-            rows, tb.x, tb.y, tb.h, tb.v, tb.v_lat, self._cx, self._cy, self._sent_speed, *out
-        )
+        command_rows(rows, tb.state, self._cx, self._cy, self._sent_speed, *out)
         sim.move_vehicles(names, out[0], out[1], length, out[2], edges, lanes)
 
     def _sumo_lanes(self, rows: np.ndarray) -> tuple[list[str], list[int]]:

@@ -122,12 +122,14 @@ class ActorTable:
     kept as a list and as codes (index into ``road_ids``); ``direction`` (+1 / -1 along s) is
     recomputed for rows whose road or lane changed (``stale``)."""
 
-    FLOATS = ("s", "t", "v", "accel", "v_lat", "h_rel", "x", "y", "z", "h",
-              "long_travelled", "lat_travelled")  # fmt: skip
+    FLOATS = MK.STATE
 
     def __init__(self, n: int) -> None:
-        for name in self.FLOATS:
-            setattr(self, name, np.zeros(n))
+        #: The float columns as one matrix (row i: column FLOATS[i]); the attributes of the
+        #: same names are views of its rows.
+        self.state = np.zeros((len(self.FLOATS), n))
+        for i, name in enumerate(self.FLOATS):
+            setattr(self, name, self.state[i])
         self.lane = np.zeros(n, dtype=np.int64)
         self.free = np.zeros(n, dtype=bool)
         self.inserted = np.zeros(n, dtype=bool)
@@ -348,9 +350,8 @@ def advance_road_actors(
     for k, target in tb.long_targets.items():
         tb.long_par[k, MK.L_GOAL] = target()
     ended = MK.advance_long(
-        rows, now, dt, tb.kappa, tb.direction, tb.s, tb.t, tb.v, tb.accel, tb.v_lat,
-        tb.long_travelled, tb.lat_travelled, tb.has_long, tb.long_par, tb.long_done,
-    )  # fmt: skip
+        rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par, tb.long_done
+    )
     if ended:
         for k in rows[tb.long_done[rows]].tolist():
             actors[k].long = None
@@ -369,8 +370,8 @@ def _advance_lateral(
     for k, offset in tb.lat_offsets.items():
         tb.lat_par[k, MK.T_OFFSET] = offset()
     missing, ended = MK.advance_lat(
-        rows, now, dt, tb.s, tb.t, tb.v_lat, tb.lat_travelled, tb.has_lat, tb.lat_par,
-        tb.lat_done, *tb.lane_profile(odr).arrays(),
+        rows, now, dt, tb.state, tb.has_lat, tb.lat_par, tb.lat_done,
+        *tb.lane_profile(odr).arrays(),
     )  # fmt: skip
     if missing >= 0:
         a = actors[missing]
@@ -388,15 +389,10 @@ def place_on_road(odr: OpenDriveMap, road: str, table: ActorTable, rows: np.ndar
     tb = table
     rd = odr.road(road)
     if rd.plan_view is not None:
-        MK.place_rows(
-            rows, *rd.plan_view.arrays(), tb.s, tb.t, tb.direction, tb.v, tb.v_lat, tb.h_rel,
-            tb.x, tb.y, tb.z, tb.h,
-        )  # fmt: skip
+        MK.place_rows(rows, *rd.plan_view.arrays(), tb.direction, tb.state)
         return
     x, y, z, h_ref = odr.road_pose(road, tb.s[rows], tb.t[rows])
-    MK.place_posed(
-        rows, x, y, z, h_ref, tb.direction, tb.v, tb.v_lat, tb.h_rel, tb.x, tb.y, tb.z, tb.h
-    )
+    MK.place_posed(rows, x, y, z, h_ref, tb.direction, tb.state)
 
 
 def place_actor(odr: OpenDriveMap, a: Actor) -> None:

@@ -21,6 +21,14 @@ from hiyari.bridge.scenario.engine.shapes import shape_progress
 from hiyari.net.road.lane_profile import lane_centre_at
 from hiyari.net.road.plan_view import road_pose_at
 
+#: The ActorTable's float columns, rows of its ``state`` matrix (one column per actor): road
+#: s and t (m), speed (m/s), acceleration (m/s^2), lateral speed (m/s), heading relative to
+#: the lane (rad), world x, y, z (m) and heading (rad), metres travelled since the running
+#: longitudinal / lateral transition started. One matrix: a kernel takes one argument for
+#: all (numba's dispatch costs about as much per argument as the kernel's work per actor).
+STATE = ("s", "t", "v", "accel", "v_lat", "h_rel", "x", "y", "z", "h",
+         "long_travelled", "lat_travelled")  # fmt: skip
+S, T, V, ACCEL, V_LAT, H_REL, X, Y, Z, H, LONG_TRAV, LAT_TRAV = range(len(STATE))
 #: Columns of the longitudinal parameter rows: start speed (m/s), goal speed (m/s; refreshed
 #: each step for targets that follow another entity), shape code, span (s or m), by distance
 #: (0 / 1), continuous (0 / 1), start time (s), goal reached (0 / 1).
@@ -67,13 +75,7 @@ def advance_long(
     dt: float,
     kappa: np.ndarray,
     direction: np.ndarray,
-    s: np.ndarray,
-    t: np.ndarray,
-    v: np.ndarray,
-    accel: np.ndarray,
-    v_lat: np.ndarray,
-    long_travelled: np.ndarray,
-    lat_travelled: np.ndarray,
+    st: np.ndarray,
     has_long: np.ndarray,
     long_par: np.ndarray,
     long_done: np.ndarray,
@@ -85,25 +87,25 @@ def advance_long(
     n_done = 0
     for i in range(len(rows)):
         k = rows[i]
-        v_old = v[k]
+        v_old = st[V, k]
         v_new = v_old
         ramp = dt  # s of this step spent ramping from v_old to v_new
         long_done[k] = False
         if has_long[k]:
             p = long_par[k]
-            v_new, done = _speed(p, now, long_travelled[k] + v_old * dt)
+            v_new, done = _speed(p, now, st[LONG_TRAV, k] + v_old * dt)
             if done:
                 long_done[k] = True
                 n_done += 1
                 if p[L_BY_DIST] == 0.0:  # ended within the step: at v_new since then
                     ramp = min(dt, max(0.0, p[L_T0] + p[L_SPAN] - (now - dt)))
         ds_path = 0.5 * (v_old + v_new) * ramp + v_new * (dt - ramp)
-        s[k] = s[k] + direction[k] * ds_path / max(1e-3, 1.0 - kappa[k] * t[k])
-        v[k] = v_new
-        accel[k] = (v_new - v_old) / dt
-        long_travelled[k] += ds_path
-        lat_travelled[k] += ds_path
-        v_lat[k] = 0.0
+        st[S, k] = st[S, k] + direction[k] * ds_path / max(1e-3, 1.0 - kappa[k] * st[T, k])
+        st[V, k] = v_new
+        st[ACCEL, k] = (v_new - v_old) / dt
+        st[LONG_TRAV, k] += ds_path
+        st[LAT_TRAV, k] += ds_path
+        st[V_LAT, k] = 0.0
     return n_done
 
 
@@ -112,10 +114,7 @@ def advance_lat(
     rows: np.ndarray,
     now: float,
     dt: float,
-    s: np.ndarray,
-    t: np.ndarray,
-    v_lat: np.ndarray,
-    lat_travelled: np.ndarray,
+    st: np.ndarray,
     has_lat: np.ndarray,
     lat_par: np.ndarray,
     lat_done: np.ndarray,
@@ -145,15 +144,15 @@ def advance_lat(
         p = lat_par[k]
         centre, _, bad = lane_centre_at(
             rec_s0, rec_c, off_first, off_count, sec_first, sec_count, sec_s0, w_first,
-            w_count, max_lane, int(p[T_ROAD]), int(p[T_LANE]), s[k],
+            w_count, max_lane, int(p[T_ROAD]), int(p[T_LANE]), st[S, k],
         )  # fmt: skip
         if bad >= 0:
             if missing < 0:
                 missing = k
             continue
-        t_new, done = _lateral(p, centre + p[T_OFFSET], now, lat_travelled[k])
-        v_lat[k] = (t_new - t[k]) / dt
-        t[k] = t_new
+        t_new, done = _lateral(p, centre + p[T_OFFSET], now, st[LAT_TRAV, k])
+        st[V_LAT, k] = (t_new - st[T, k]) / dt
+        st[T, k] = t_new
         lat_done[k] = done
         n_done += done
     return missing, n_done
@@ -179,59 +178,38 @@ def _set_pose(
     pz: float,
     h_ref: float,
     direction: np.ndarray,
-    v: np.ndarray,
-    v_lat: np.ndarray,
-    h_rel: np.ndarray,
-    x: np.ndarray,
-    y: np.ndarray,
-    z: np.ndarray,
-    h: np.ndarray,
+    st: np.ndarray,
 ) -> None:
     """World pose of row ``k`` at road point (``px``, ``py``, ``pz``) where the reference line
     heads ``h_ref``: the lane's driving direction, the slip of the lateral motion and the
     heading relative to the lane, wrapped into [-pi, pi)."""
+    v = st[V, k]
     slip = 0.0
-    if abs(v[k]) > 1e-6:
-        lat = direction[k] * v_lat[k]
+    if abs(v) > 1e-6:
+        lat = direction[k] * st[V_LAT, k]
         # atan2(+-0, v > 0) is +-0 exactly (C99 F.9.4.4): saves the call when not sliding
-        slip = math.copysign(0.0, lat) if lat == 0.0 and v[k] > 0 else math.atan2(lat, v[k])
-    hh = h_ref + (0.0 if direction[k] > 0 else math.pi) + slip + h_rel[k]
-    x[k], y[k], z[k] = px, py, pz
-    h[k] = _remainder(hh + math.pi, 2 * math.pi) - math.pi
+        slip = math.copysign(0.0, lat) if lat == 0.0 and v > 0 else math.atan2(lat, v)
+    hh = h_ref + (0.0 if direction[k] > 0 else math.pi) + slip + st[H_REL, k]
+    st[X, k], st[Y, k], st[Z, k] = px, py, pz
+    st[H, k] = _remainder(hh + math.pi, 2 * math.pi) - math.pi
 
 
 @njit(cache=True)
 def place_rows(
     rows: np.ndarray,
     length: float,
-    s0: np.ndarray,
-    x0: np.ndarray,
-    y0: np.ndarray,
-    hdg: np.ndarray,
-    cos_hdg: np.ndarray,
-    sin_hdg: np.ndarray,
-    curvature: np.ndarray,
+    geom: np.ndarray,
     elev_s0: np.ndarray,
     elev_c: np.ndarray,
-    s: np.ndarray,
-    t: np.ndarray,
     direction: np.ndarray,
-    v: np.ndarray,
-    v_lat: np.ndarray,
-    h_rel: np.ndarray,
-    x: np.ndarray,
-    y: np.ndarray,
-    z: np.ndarray,
-    h: np.ndarray,
+    st: np.ndarray,
 ) -> None:
     """World poses (x, y, z, heading) of table ``rows`` from their road coordinates on the
-    road whose PlanView arrays come first (one by one: numba dispatches a tuple slowly)."""
+    road of PlanView arrays ``length``, ``geom``, ``elev_s0``, ``elev_c``."""
     for i in range(len(rows)):
         k = rows[i]
-        px, py, pz, h_ref = road_pose_at(
-            length, s0, x0, y0, hdg, cos_hdg, sin_hdg, curvature, elev_s0, elev_c, s[k], t[k]
-        )
-        _set_pose(k, px, py, pz, h_ref, direction, v, v_lat, h_rel, x, y, z, h)
+        px, py, pz, h_ref = road_pose_at(length, geom, elev_s0, elev_c, st[S, k], st[T, k])
+        _set_pose(k, px, py, pz, h_ref, direction, st)
 
 
 @njit(cache=True)
@@ -242,15 +220,9 @@ def place_posed(
     pz: np.ndarray,
     h_ref: np.ndarray,
     direction: np.ndarray,
-    v: np.ndarray,
-    v_lat: np.ndarray,
-    h_rel: np.ndarray,
-    x: np.ndarray,
-    y: np.ndarray,
-    z: np.ndarray,
-    h: np.ndarray,
+    st: np.ndarray,
 ) -> None:
     """As :func:`place_rows` from road points and reference headings already evaluated (one
     per row of ``rows``)."""
     for i in range(len(rows)):
-        _set_pose(rows[i], px[i], py[i], pz[i], h_ref[i], direction, v, v_lat, h_rel, x, y, z, h)
+        _set_pose(rows[i], px[i], py[i], pz[i], h_ref[i], direction, st)
