@@ -5,10 +5,12 @@ An actor on a road holds its reference point in road coordinates (road, lane, s,
 speed v along the lane; s advances by the distance travelled divided by (1 - curvature * t),
 so the speed is the speed along the actor's own curve. t is the lateral position from the
 reference line (left positive). The state of all actors lives in one ActorTable (arrays, a
-row per entity; an Actor's attributes are views of its row), so a step advances every actor on
-a road in one numpy pass and only the running transitions one by one; world poses are computed
-in one batch per road from the OpenDRIVE geometry. Off-road motion (trajectories, routes)
-follows a polyline in the plane.
+column per entity; an Actor's attributes read and write its column), and so do the running
+transitions' parameters: a step advances every actor on a road, its transitions included, in
+compiled passes (``motion_kernel``), and places it in the world from the OpenDRIVE geometry
+(compiled for lines and arcs, else the numpy road pose). Goals that follow another entity are
+read in Python before each pass, while such a transition runs. Off-road motion (trajectories,
+routes) follows a polyline in the plane.
 """
 
 from __future__ import annotations
@@ -117,10 +119,11 @@ class PathMotion:
 
 
 class ActorTable:
-    """Every actor's kinematic state as arrays, one row per entity (scenario order), so that a
-    step advances, places and commands all scripted actors in a few numpy passes. Road ids are
-    kept as a list and as codes (index into ``road_ids``); ``direction`` (+1 / -1 along s) is
-    recomputed for rows whose road or lane changed (``stale``)."""
+    """Every actor's kinematic state and running transitions as arrays, one entry per entity
+    (scenario order), so that a step advances, places and commands all scripted actors in a
+    few compiled passes. Road ids are kept as a list and as codes (index into ``road_ids``);
+    ``direction`` (+1 / -1 along s) is recomputed for rows whose road or lane changed
+    (``stale``)."""
 
     FLOATS = MK.STATE
 
