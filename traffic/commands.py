@@ -10,8 +10,10 @@ converted here), speeds m/s, accelerations m/s^2, times s.
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
+from itertools import repeat
 from typing import Any
 
 import numpy as np
@@ -241,18 +243,21 @@ class Commands:
         v = self._api().vehicle
         move, set_speed = v.moveToXY, v.setSpeed
         h = np.asarray(heading, float)
-        front = point_ahead(np.asarray(centres, float), h, 0.5 * np.asarray(length, float))
-        angle = np.mod(90.0 - np.degrees(h), 360.0)
-        rows = zip(
-            vehicle_ids, edges, lanes, front[:, 0].tolist(), front[:, 1].tolist(),
-            angle.tolist(), np.asarray(speed, float).tolist(), strict=True,
-        )  # fmt: skip
+        c = np.asarray(centres, float)
+        half = 0.5 * np.asarray(length, float)
+        # point_ahead(c, h, half), without building the (N, 2) arrays
+        fx, fy = (c[:, 0] + half * np.cos(h)).tolist(), (c[:, 1] + half * np.sin(h)).tolist()
+        angle = np.mod(90.0 - np.degrees(h), 360.0).tolist()
+        sp = np.asarray(speed, float)
+        n = len(vehicle_ids)
+        if not len(edges) == len(lanes) == len(fx) == len(angle) == len(sp) == n:
+            raise ValueError("move_vehicles: arguments of different lengths")
         # keepRoute 6 as in move_vehicle; positional (vehID, edgeID, lane, x, y, angle,
-        # keepRoute): keyword passing costs as much as the rest of the loop
-        for vid, edge, lane, fx, fy, a, sp in rows:
-            move(vid, edge, lane, fx, fy, a, 6)
-            if sp == sp:
-                set_speed(vid, sp)
+        # keepRoute), driven by map (no Python loop): every move, then the speeds to set (each
+        # vehicle's move still precedes its speed; vehicles do not interact until the step)
+        deque(map(move, vehicle_ids, edges, lanes, fx, fy, angle, repeat(6, n)), maxlen=0)
+        for k in np.flatnonzero(sp == sp).tolist():
+            set_speed(vehicle_ids[k], float(sp[k]))
 
     def move_person(
         self, person_id: str, x: float, y: float, heading: float, edge: str = ""

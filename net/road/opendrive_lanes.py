@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from bisect import bisect_right
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +28,8 @@ from lxml import etree
 from scipy.spatial import cKDTree
 
 from hiyari.errors import HiyariError
+from hiyari.net.road.lane_profile import LaneProfile, lane_centre_at, lane_centres, lane_profile
+from hiyari.net.road.plan_view import PlanView, line_arc_poses, plan_view
 from hiyari.net.sumo.files import check_net
 from hiyari.net.sumo.opendrive import check_opendrive
 
@@ -94,17 +97,9 @@ class Geometry:
 
     def pose(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(x, y, heading) at distance ``u`` (m) from the start along this geometry."""
-        if self.kind == "line":
-            c, s = math.cos(self.hdg), math.sin(self.hdg)
-            return self.x + u * c, self.y + u * s, np.full_like(u, self.hdg)
-        if self.kind == "arc":
-            (k,) = self.params
-            if abs(k) < 1e-15:
-                return Geometry(self.s0, self.x, self.y, self.hdg, self.length, "line").pose(u)
-            h = self.hdg + k * u
-            x = self.x + (np.sin(h) - math.sin(self.hdg)) / k
-            y = self.y - (np.cos(h) - math.cos(self.hdg)) / k
-            return x, y, h
+        if self.kind in ("line", "arc"):
+            k = self.params[0] if self.kind == "arc" else 0.0
+            return line_arc_poses(self.x, self.y, self.hdg, k, np.asarray(u, dtype=float))
         if self.kind == "spiral":
             return self._spiral(u)
         if self.kind == "poly3":
@@ -161,13 +156,6 @@ class LaneSection:
     s1: float
     lanes: dict[int, LaneSpec]
 
-    def width(self, lane_id: int, s: np.ndarray) -> np.ndarray:
-        """Width of lane ``lane_id`` at road ``s`` (m); 0 for the centre lane or unknown ids."""
-        spec = self.lanes.get(lane_id)
-        if spec is None or lane_id == 0:
-            return np.zeros_like(s)
-        return _piecewise(spec.widths, s - self.s0)
-
 
 @dataclass(frozen=True, eq=False)
 class Road:
@@ -198,18 +186,27 @@ class Road:
             return 0
         return max(0, bisect_right([sec.s0 for sec in self.sections], s) - 1)
 
+    @cached_property
+    def straight(self) -> bool:
+        """Whether the reference line is made of straight lines only."""
+        return all(g.kind == "line" for g in self.geometries)
+
+    @cached_property
+    def plan_view(self) -> PlanView | None:
+        """This road's reference line and elevation as arrays (None: not lines and arcs)."""
+        return plan_view(self)
+
+    @cached_property
+    def profile(self) -> LaneProfile:
+        """This road's lane offset and lane widths as arrays (road index 0)."""
+        return lane_profile((self,))
+
     def lane_t(self, lane_id: int, s: float) -> float:
         """t of lane ``lane_id``'s centre line at road ``s`` (scalar ``lane_centre_t``)."""
-        sec = self.sections[self.section_at(s)]
-        if lane_id not in sec.lanes:
-            raise HiyariError(
-                f"road {self.id} has no lane {lane_id} in its lane section at s = {sec.s0:g} m"
-            )
-        side = 1 if lane_id > 0 else -1
-        ds = s - sec.s0
-        inner = sum(_piecewise_at(sec.lanes[side * j].widths, ds) for j in range(1, abs(lane_id)))
-        w = _piecewise_at(sec.lanes[lane_id].widths, ds)
-        return _piecewise_at(self.lane_offset, s) + side * (inner + 0.5 * w)
+        t, _, missing = lane_centre_at(*self.profile.arrays(), 0, int(lane_id), float(s))
+        if missing >= 0:
+            self._no_lane(lane_id, missing)
+        return t
 
     def section_index(self, s: np.ndarray) -> np.ndarray:
         """Index of the lane section that holds road ``s``."""
@@ -219,23 +216,16 @@ class Road:
     def lane_centre_t(self, lane_id: int, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(t of the lane's centre line, lane width) at road ``s``, metres."""
         s = np.atleast_1d(np.asarray(s, dtype=float))
-        t = _piecewise(self.lane_offset, s)
-        width = np.zeros_like(s)
-        k = self.section_index(s)
-        for i, sec in enumerate(self.sections):
-            m = k == i
-            if not m.any():
-                continue
-            if lane_id not in sec.lanes:
-                raise HiyariError(
-                    f"road {self.id} has no lane {lane_id} in its lane section at s = {sec.s0:g} m"
-                )
-            side = 1 if lane_id > 0 else -1
-            inner = sum(sec.width(side * j, s[m]) for j in range(1, abs(lane_id)))
-            w = sec.width(lane_id, s[m])
-            t[m] += side * (inner + 0.5 * w)
-            width[m] = w
+        t, width, missing = lane_centres(*self.profile.arrays(), 0, int(lane_id), s)
+        if missing >= 0:
+            self._no_lane(lane_id, missing)
         return t, width
+
+    def _no_lane(self, lane_id: int, section: int) -> None:
+        raise HiyariError(
+            f"road {self.id} has no lane {lane_id} in its lane section at "
+            f"s = {self.sections[section].s0:g} m"
+        )
 
     def boundaries(self, s: float) -> tuple[np.ndarray, np.ndarray]:
         """Lane ids (outermost right ... outermost left, no 0) and their (n, 2) [right, left]

@@ -8,6 +8,7 @@ a new action of the same kind overrides the running one).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -174,30 +175,31 @@ class ActionStarter:
 
     def _speed(self, element: int, a: Actor, body: SpeedAction, now: float) -> Instance:
         tgt = body.target
+        follow: Callable[[], float] | None = None
         if isinstance(tgt, AbsoluteSpeed):
-            fixed = tgt.value
-
-            def goal() -> float:
-                return fixed
+            goal = tgt.value
         else:
             ref, value, factor = tgt.entity, tgt.value, tgt.kind == "factor"
             at_start = self.e.speed_of(ref)
+            goal = at_start * value if factor else at_start + value
+            if tgt.continuous:
 
-            def goal() -> float:
-                base = self.e.speed_of(ref) if tgt.continuous else at_start
-                return base * value if factor else base + value
+                def follow() -> float:
+                    base = self.e.speed_of(ref)
+                    return base * value if factor else base + value
 
         dyn = body.dynamics
-        continuous = isinstance(tgt, type(tgt)) and getattr(tgt, "continuous", False)
-        change = goal() - a.v
+        continuous = follow is not None
+        change = goal - a.v
         length = span(dyn.shape, dyn.dimension, dyn.value, change, "SpeedAction")
         self._claim(element, a.name, ("longitudinal",))
         if length == 0.0 and not continuous:
-            a.v, a.long = goal(), None
+            a.v, a.long = goal, None
             return Instance(element, a.name, ("longitudinal",), finished=True)
         tr = SpeedTransition(
-            a.v, goal, dyn.shape, length, dyn.dimension == Dimension.DISTANCE, continuous, now
-        )
+            a.v, goal, follow, dyn.shape, length, dyn.dimension == Dimension.DISTANCE,
+            continuous, now,
+        )  # fmt: skip
         a.long, a.long_travelled = tr, 0.0
         return Instance(element, a.name, ("longitudinal",), tr)
 
@@ -235,19 +237,13 @@ class ActionStarter:
             ref = self.e.pose_of(body.target.entity)
             direction = forward(self.e.roads.odr, ref.road, ref.lane)
             lane = lane_shift(ref.lane, int(direction) * body.target.value)
-        road = self.e.roads.odr.road(a.road)
-        offset = body.target_offset
-
-        def target(s: float) -> float:
-            return road.lane_t(lane, s) + offset
-
         dyn = body.dynamics
         return self._lateral(
-            element, a, target, lane, dyn.shape, dyn.dimension, dyn.value, now, False
-        )
+            element, a, lane, body.target_offset, None, dyn.shape, dyn.dimension, dyn.value, now,
+            False,
+        )  # fmt: skip
 
     def _lane_offset(self, element: int, a: Actor, body: LaneOffsetAction, now: float) -> Instance:
-        road = self.e.roads.odr.road(a.road)
         tgt = body.target
 
         def offset() -> float:
@@ -257,22 +253,24 @@ class ActionStarter:
             return ref.t - self.e.roads.odr.road(ref.road).lane_t(ref.lane, ref.s) + tgt.value
 
         fixed = offset()
-
-        def target(s: float) -> float:
-            off = offset() if body.continuous else fixed
-            return road.lane_t(a.lane, s) + off
-
-        duration = lateral_duration(body.shape, body.max_lateral_acc, target(a.s) - a.t)
+        follow = offset if body.continuous else None
+        change = self._lane_t(a.road, a.lane, a.s) + fixed - a.t
+        duration = lateral_duration(body.shape, body.max_lateral_acc, change)
         return self._lateral(
-            element, a, target, a.lane, body.shape, Dimension.TIME, duration, now, body.continuous
-        )
+            element, a, a.lane, fixed, follow, body.shape, Dimension.TIME, duration, now,
+            body.continuous,
+        )  # fmt: skip
+
+    def _lane_t(self, road: str, lane: int, s: float) -> float:
+        return self.e.roads.odr.road(road).lane_t(lane, s)
 
     def _lateral(
         self,
         element: int,
         a: Actor,
-        target: object,
         lane: int,
+        offset: float,
+        follow: Callable[[], float] | None,
         shape: Shape,
         dimension: Dimension,
         value: float,
@@ -281,19 +279,20 @@ class ActionStarter:
     ) -> Instance:
         if a.free or not a.road:
             raise HiyariError(f"lateral action on {a.name!r}, which is not on a road")
-        change = target(a.s) - a.t
+        goal = self._lane_t(a.road, lane, a.s) + offset
         length = (
             value
             if dimension == Dimension.TIME and shape != Shape.STEP
-            else span(shape, dimension, value, change, "lateral action")
+            else span(shape, dimension, value, goal - a.t, "lateral action")
         )
         self._claim(element, a.name, ("lateral",))
         tr = LateralTransition(
-            a.t, target, shape, length, dimension == Dimension.DISTANCE, lane, continuous, now
-        )
+            a.t, a.road, lane, offset, follow, shape, length, dimension == Dimension.DISTANCE,
+            continuous, now,
+        )  # fmt: skip
         a.lat, a.lat_travelled = tr, 0.0
         if length == 0.0 and not continuous:
-            a.t, a.lane, a.lat = target(a.s), lane, None
+            a.t, a.lane, a.lat = goal, lane, None
             place_actor(self.e.roads.odr, a)
             return Instance(element, a.name, ("lateral",), finished=True)
         return Instance(element, a.name, ("lateral",), tr)

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hiyari.bridge.scenario.engine.actions import ActionStarter, Instance
+from hiyari.bridge.scenario.engine.command_kernel import command_rows, lane_keys
 from hiyari.bridge.scenario.engine.conditions import ConditionBank
 from hiyari.bridge.scenario.engine.elements import (
     NO_TRANSITION,
@@ -36,7 +37,6 @@ from hiyari.bridge.scenario.engine.motion import (
     Actor,
     ActorTable,
     advance_road_actors,
-    by_road,
     forward,
 )
 from hiyari.bridge.scenario.engine.positions import Pose, PoseResolver
@@ -45,7 +45,6 @@ from hiyari.bridge.scenario.model.actions import AssignRouteAction
 from hiyari.bridge.scenario.model.entities import EntityKind
 from hiyari.bridge.scenario.model.storyboard import Scenario
 from hiyari.errors import HiyariError
-from hiyari.kinematics import vehicle_to_world
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.commands import VehicleType
@@ -68,14 +67,15 @@ DEFAULT_MAX_SPEED = 100.0
 class _View:
     """What the storyboard's element states decide, kept until one changes (``version``: the
     length of the element log): the triggers evaluated now (T,), the entities the storyboard
-    drives (E,), those whose road coordinates active conditions read (E,) and of these the
-    ones located on the map (not driven)."""
+    drives (E,), those whose road coordinates active conditions read (E,), of these the
+    ones located on the map (not driven; their indices) and the driven ones (E,)."""
 
     version: int
     active: np.ndarray
     driven: np.ndarray
     need: np.ndarray
-    located: np.ndarray
+    located: list[int]
+    own: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -157,8 +157,19 @@ class ScenarioEngine:
         self._lane_key = np.full((n, 3), -2, dtype=np.int64)  # road code, lane, section
         self._edge: list[str] = [""] * n
         self._lane_index: list[int] = [-1] * n
-        self._moved: tuple[np.ndarray, list[str]] = (np.zeros(0, np.intp), [])
+        # the rows commanded (inserted and driven), their names, lengths and the arrays their
+        # centres, headings and speeds are computed into, for the view version and insert
+        # count they were found at
+        self._moved: tuple[np.ndarray, list[str], np.ndarray, tuple[np.ndarray, ...]] = (
+            np.zeros(0, np.intp), [], np.zeros(0), (np.zeros((0, 2)), np.zeros(0), np.zeros(0))
+        )  # fmt: skip
+        self._moved_key: tuple[int, int] = (-1, -1)
+        self._inserts = 0
+        self._lanes_of: tuple[np.ndarray | None, list[str], list[int]] = (None, [], [])
+        # table rows on roads / following paths, for the view and motion versions
+        self._advance_rows: tuple[tuple[int, int], np.ndarray, list[int]] | None = None
         self._sent_speed = np.full(n, np.nan)  # speed last sent to SUMO per entity, m/s
+        self._road = (np.full(n, np.nan), np.full(n, np.nan), np.ones(n))  # see _road_coords
         self._near: dict[str, tuple[str, float]] = {}  # last road and s of located entities
         self._view_cache: _View | None = None
         # log length / (log length, motion version) at the start of the latest storyboard
@@ -272,6 +283,7 @@ class ScenarioEngine:
                 )
             sim.set_speed_mode(name, int(mode))
         a.inserted = True
+        self._inserts += 1
 
     def _sumo_route(self, name: str, edge: str) -> list[str]:
         """SUMO route of a stack-driven entity from ``edge``: on through the edges of its Init
@@ -362,7 +374,8 @@ class ScenarioEngine:
             need = np.zeros(len(self.names), dtype=bool)
             if self.bank.needs_road:
                 need = self.bank.road_entities(active)
-            self._view_cache = _View(version, active, driven, need, need & ~driven)
+            located = np.flatnonzero(need & ~driven).tolist()
+            self._view_cache = _View(version, active, driven, need, located, need & driven)
         return self._view_cache
 
     def _active(self) -> np.ndarray:
@@ -446,10 +459,14 @@ class ScenarioEngine:
     # ------------------------------------------------------------------ motion
     def _advance(self) -> None:
         nxt = self.now + self.dt
-        driven, free = self._driven(), self.table.free
-        rows = np.flatnonzero(driven & ~free)
-        advance_road_actors(self.roads.odr, self._actor_list, rows, nxt, self.dt)
-        for k in np.flatnonzero(driven & free).tolist():
+        view, tb = self._view(), self.table
+        key = (view.version, tb.motion_version)  # free changes only with the motion version
+        if self._advance_rows is None or self._advance_rows[0] != key:
+            on_road = np.flatnonzero(view.driven & ~tb.free)
+            self._advance_rows = (key, on_road, np.flatnonzero(view.driven & tb.free).tolist())
+        _, on_road, on_path = self._advance_rows
+        advance_road_actors(self.roads.odr, self._actor_list, on_road, nxt, self.dt)
+        for k in on_path:
             a = self._actor_list[k]
             if a.path is not None:
                 self.starter.follow_path(a, nxt)
@@ -487,57 +504,61 @@ class ScenarioEngine:
         """Place every inserted scripted actor for the next step; its speed is sent only when
         it changed (SUMO holds the speed set last)."""
         tb = self.table
-        rows = np.flatnonzero(tb.inserted & self._driven())
+        key = (self._view().version, self._inserts)
+        if key != self._moved_key:
+            rows = np.flatnonzero(tb.inserted & self._driven())
+            if not np.array_equal(rows, self._moved[0]):
+                names = [self.names[k] for k in rows.tolist()]
+                m = len(rows)
+                out = (np.empty((m, 2)), np.empty(m), np.empty(m))
+                self._moved = (rows, names, self._length[rows], out)
+                left = np.ones(len(self.names), dtype=bool)
+                left[rows] = False
+                self._sent_speed[left] = np.nan  # others may set its speed meanwhile
+            self._moved_key = key
+        rows, names, length, out = self._moved
         edges, lanes = self._sumo_lanes(rows)
-        if not np.array_equal(rows, self._moved[0]):
-            self._moved = (rows, [self.names[k] for k in rows.tolist()])
-            left = np.ones(len(self.names), dtype=bool)
-            left[rows] = False
-            self._sent_speed[left] = np.nan  # others may set its speed meanwhile
-        ref = np.stack([tb.x[rows], tb.y[rows]], 1)
-        h = tb.h[rows]
-        speed = np.hypot(tb.v[rows], tb.v_lat[rows])
-        send = np.where(speed == self._sent_speed[rows], np.nan, speed)
-        self._sent_speed[rows] = speed
-        sim.move_vehicles(
-            self._moved[1], vehicle_to_world(self._centre_offset[rows], ref, h), h,
-            self._length[rows], send, edges, lanes,
-        )  # fmt: skip
+        command_rows(rows, tb.state, self._cx, self._cy, self._sent_speed, *out)
+        sim.move_vehicles(names, out[0], out[1], length, out[2], edges, lanes)
 
     def _sumo_lanes(self, rows: np.ndarray) -> tuple[list[str], list[int]]:
         """SUMO edge ('' = any) and lane index (-1) of each of ``rows`` (for moveToXY), looked
         up again only for rows whose road, lane or lane section changed."""
         tb = self.table
-        key = np.stack([tb.road_code, tb.lane, np.full(len(self.names), -1)], 1)
-        on_road = rows[~tb.free[rows] & (tb.road_code[rows] >= 0)]
-        for road, r in by_road(tb, on_road):
-            rd = self.roads.odr.road(road)
-            key[r, 2] = rd.section_index(tb.s[r]) if len(rd.sections) > 1 else 0
-        changed = rows[(key[rows] != self._lane_key[rows]).any(1)]
+        prof = tb.lane_profile(self.roads.odr)
+        changed = lane_keys(
+            rows, tb.free, tb.road_code, tb.lane, tb.s, prof.sec_first, prof.sec_count,
+            prof.sec_s0, self._lane_key,
+        )  # fmt: skip
+        if not len(changed) and rows is self._lanes_of[0]:
+            return self._lanes_of[1], self._lanes_of[2]
         for k in changed.tolist():
             ln = None
-            if key[k, 2] >= 0:
+            if self._lane_key[k, 2] >= 0:
                 ln = self.roads.sumo_lane(tb.road[k], int(tb.lane[k]), float(tb.s[k]))
             self._edge[k], self._lane_index[k] = (ln.edge, ln.index) if ln else ("", -1)
-            self._lane_key[k] = key[k]
         rl = rows.tolist()
-        return [self._edge[k] for k in rl], [self._lane_index[k] for k in rl]
+        self._lanes_of = (rows, [self._edge[k] for k in rl], [self._lane_index[k] for k in rl])
+        return self._lanes_of[1], self._lanes_of[2]
 
     # ------------------------------------------------------------------ snapshot
     def _road_coords(self, present: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(E,) road s of the box centre, t and driving direction (+1 / -1) of the present
         entities whose road coordinates the active conditions read (NaN, NaN, 1 for the
-        others): scripted actors' from their state, the others located on the map."""
-        n, tb, view = len(self.names), self.table, self._view()
-        road_s, road_t, road_dir = np.full(n, np.nan), np.full(n, np.nan), np.ones(n)
+        others): scripted actors' from their state, the others located on the map. The
+        arrays are reused from step to step (the snapshot lives for one evaluation)."""
+        tb, view = self.table, self._view()
+        road_s, road_t, road_dir = self._road
         if not self.bank.needs_road:
-            return road_s, road_t, road_dir
+            return road_s, road_t, road_dir  # all NaN, NaN, 1
         tb.refresh(self.roads.odr)
         own_road_coords(
-            view.need & view.driven & present, tb.road_code, tb.s, tb.t, tb.direction,
-            self._cx, road_s, road_t, road_dir,
+            view.own, present, tb.road_code, tb.s, tb.t, tb.direction, self._cx, road_s,
+            road_t, road_dir,
         )  # fmt: skip
-        for k in np.flatnonzero(view.located & present).tolist():
+        for k in view.located:
+            if not present[k]:
+                continue
             p = self.pose_of(self.names[k])
             if p.road:
                 road_dir[k] = forward(self.roads.odr, p.road, p.lane)

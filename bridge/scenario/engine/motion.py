@@ -5,10 +5,12 @@ An actor on a road holds its reference point in road coordinates (road, lane, s,
 speed v along the lane; s advances by the distance travelled divided by (1 - curvature * t),
 so the speed is the speed along the actor's own curve. t is the lateral position from the
 reference line (left positive). The state of all actors lives in one ActorTable (arrays, a
-row per entity; an Actor's attributes are views of its row), so a step advances every actor on
-a road in one numpy pass and only the running transitions one by one; world poses are computed
-in one batch per road from the OpenDRIVE geometry. Off-road motion (trajectories, routes)
-follows a polyline in the plane.
+column per entity; an Actor's attributes read and write its column), and so do the running
+transitions' parameters: a step advances every actor on a road, its transitions included, in
+compiled passes (``motion_kernel``), and places it in the world from the OpenDRIVE geometry
+(compiled for lines and arcs, else the numpy road pose). Goals that follow another entity are
+read in Python before each pass, while such a transition runs. Off-road motion (trajectories,
+routes) follows a polyline in the plane.
 """
 
 from __future__ import annotations
@@ -19,67 +21,59 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hiyari.bridge.scenario.engine.shapes import progress
+from hiyari.bridge.scenario.engine import motion_kernel as MK
+from hiyari.bridge.scenario.engine.shapes import SHAPE_CODE
 from hiyari.bridge.scenario.model.actions import Shape
 from hiyari.bridge.scenario.model.entities import Entity
+from hiyari.net.road.lane_profile import LaneProfile, lane_profile
 from hiyari.net.road.opendrive_lanes import OpenDriveMap
 
 
-@dataclass
+@dataclass(eq=False)
 class SpeedTransition:
-    """Longitudinal: speed from ``v0`` to ``target()`` with ``shape`` over ``span`` seconds
-    (``by_distance``: metres travelled). ``continuous``: keeps tracking the target after."""
+    """Longitudinal: speed from ``v0`` to ``goal`` (m/s) with ``shape`` over ``span`` seconds
+    (``by_distance``: metres travelled) from scenario time ``t0``. ``target``: for a goal
+    that follows another entity, returns it each step. ``continuous``: keeps tracking the
+    goal after."""
 
     v0: float
-    target: Callable[[], float]
+    goal: float
+    target: Callable[[], float] | None
     shape: Shape
     span: float
     by_distance: bool
     continuous: bool
     t0: float
-    travelled: float = 0.0
-    reached: bool = False
 
-    def speed(self, now: float, travelled: float) -> tuple[float, bool]:
-        """(speed at ``now``, done) with ``travelled`` metres since the start."""
-        goal = self.target()
-        x = (
-            1.0
-            if self.span <= 0
-            else (travelled if self.by_distance else now - self.t0) / self.span
-        )
-        if self.reached or x >= 1.0 - 1e-9:
-            self.reached = True
-            return goal, not self.continuous
-        return self.v0 + (goal - self.v0) * progress(self.shape, x), False
+    def row(self) -> list[float]:
+        """Parameter row for the motion kernel (columns ``motion_kernel.L_*``)."""
+        return [self.v0, self.goal, SHAPE_CODE[self.shape], self.span, self.by_distance,
+                self.continuous, self.t0, 0.0]  # fmt: skip
 
 
-@dataclass
+@dataclass(eq=False)
 class LateralTransition:
-    """Lateral: t from ``t0`` to ``target(s)`` with ``shape`` over ``span`` seconds (or metres
-    travelled); at the end the actor is on ``lane`` at ``offset``. ``continuous``: holds the
-    (possibly moving) target afterwards."""
+    """Lateral: t from ``t0`` to the centre line of ``lane`` of road ``road`` plus ``offset``
+    (m) with ``shape`` over ``span`` seconds (or metres travelled) from scenario time
+    ``t_start``; at the end the actor is on ``lane``. ``offset_of``: for an offset that follows
+    another entity, returns it each step. ``continuous``: holds the (possibly moving) target
+    afterwards."""
 
     t0: float
-    target: Callable[[float], float]
+    road: str
+    lane: int
+    offset: float
+    offset_of: Callable[[], float] | None
     shape: Shape
     span: float
     by_distance: bool
-    lane: int
     continuous: bool
     t_start: float
 
-    def lateral(self, now: float, travelled: float, s: float) -> tuple[float, bool]:
-        """(t at ``now`` and road ``s``, done)."""
-        goal = self.target(s)
-        x = (
-            1.0
-            if self.span <= 0
-            else (travelled if self.by_distance else now - self.t_start) / self.span
-        )
-        if x >= 1.0 - 1e-9:
-            return goal, not self.continuous
-        return self.t0 + (goal - self.t0) * progress(self.shape, x), False
+    def row(self, road_code: int) -> list[float]:
+        """Parameter row for the motion kernel (columns ``motion_kernel.T_*``)."""
+        return [self.t0, self.offset, SHAPE_CODE[self.shape], self.span, self.by_distance,
+                self.continuous, self.t_start, self.lane, road_code]  # fmt: skip
 
 
 @dataclass
@@ -125,27 +119,44 @@ class PathMotion:
 
 
 class ActorTable:
-    """Every actor's kinematic state as arrays, one row per entity (scenario order), so that a
-    step advances, places and commands all scripted actors in a few numpy passes. Road ids are
-    kept as a list and as codes (index into ``road_ids``); ``direction`` (+1 / -1 along s) is
-    recomputed for rows whose road or lane changed (``stale``)."""
+    """Every actor's kinematic state and running transitions as arrays, one entry per entity
+    (scenario order), so that a step advances, places and commands all scripted actors in a
+    few compiled passes. Road ids are kept as a list and as codes (index into ``road_ids``);
+    ``direction`` (+1 / -1 along s) is recomputed for rows whose road or lane changed
+    (``stale``)."""
 
-    FLOATS = ("s", "t", "v", "accel", "v_lat", "h_rel", "x", "y", "z", "h",
-              "long_travelled", "lat_travelled")  # fmt: skip
+    FLOATS = MK.STATE
 
     def __init__(self, n: int) -> None:
-        for name in self.FLOATS:
-            setattr(self, name, np.zeros(n))
+        #: The float columns as one matrix (row i: column FLOATS[i]); the attributes of the
+        #: same names are views of its rows.
+        self.state = np.zeros((len(self.FLOATS), n))
+        for i, name in enumerate(self.FLOATS):
+            setattr(self, name, self.state[i])
         self.lane = np.zeros(n, dtype=np.int64)
         self.free = np.zeros(n, dtype=bool)
         self.inserted = np.zeros(n, dtype=bool)
         self.has_long = np.zeros(n, dtype=bool)
         self.has_lat = np.zeros(n, dtype=bool)
+        self.n_lat = 0  # rows with a running lateral transition
         self.road: list[str] = [""] * n
         self.road_ids: list[str] = []
         self.road_code = np.full(n, -1, dtype=np.intp)
         self.direction = np.ones(n)
         self.stale = np.zeros(n, dtype=bool)
+        self.any_stale = False
+        self.long_par = np.zeros((n, 8))  # running transitions' parameters (motion_kernel)
+        self.lat_par = np.zeros((n, 9))
+        self.long_done = np.zeros(n, dtype=bool)
+        self.lat_done = np.zeros(n, dtype=bool)
+        self.kappa = np.zeros(n)  # reference-line curvature at s before the step, 1/m
+        #: Goals / offsets that follow another entity, by row: refreshed every step.
+        self.long_targets: dict[int, Callable[[], float]] = {}
+        self.lat_offsets: dict[int, Callable[[], float]] = {}
+        self._profile: LaneProfile | None = None
+        #: Counts road changes of rows: the grouping of rows by road holds until it moves.
+        self.road_version = 0
+        self._groups: tuple[np.ndarray, int, list[tuple[str, np.ndarray]]] | None = None
         #: Counts installs and removals of transitions and paths: the running actions can
         #: only have finished when it moved.
         self.motion_version = 0
@@ -153,19 +164,43 @@ class ActorTable:
     def set_road(self, k: int, road: str) -> None:
         """Row ``k`` is on ``road`` ('' for none)."""
         self.road[k] = road
-        if road and road not in self.road_ids:
+        self.road_code[k] = self.code_of(road) if road else -1
+        self.mark_stale(k)
+        self.road_version += 1
+
+    def code_of(self, road: str) -> int:
+        """Index of ``road`` in ``road_ids`` (added when new)."""
+        if road not in self.road_ids:
             self.road_ids.append(road)
-        self.road_code[k] = self.road_ids.index(road) if road else -1
+        return self.road_ids.index(road)
+
+    def groups(self, rows: np.ndarray) -> list[tuple[str, np.ndarray]]:
+        """``by_road`` of ``rows``, kept while ``rows`` is the same array and no road changed."""
+        g = self._groups
+        if g is None or g[0] is not rows or g[1] != self.road_version:
+            self._groups = g = (rows, self.road_version, by_road(self, rows))
+        return g[2]
+
+    def lane_profile(self, odr: OpenDriveMap) -> LaneProfile:
+        """The LaneProfile of the roads in ``road_ids`` (in that order)."""
+        if self._profile is None or len(self._profile.sec_first) != len(self.road_ids):
+            self._profile = lane_profile([odr.road(r) for r in self.road_ids])
+        return self._profile
+
+    def mark_stale(self, k: int) -> None:
+        """Row ``k``'s road or lane changed: its direction is recomputed at the next refresh."""
         self.stale[k] = True
+        self.any_stale = True
 
     def refresh(self, odr: OpenDriveMap) -> None:
         """Driving directions of rows whose road or lane changed."""
-        if not self.stale.any():
+        if not self.any_stale:
             return
         for k in np.flatnonzero(self.stale).tolist():
             road = self.road[k]
             self.direction[k] = forward(odr, road, int(self.lane[k])) if road else 1.0
         self.stale[:] = False
+        self.any_stale = False
 
 
 class _Column:
@@ -185,7 +220,7 @@ class _Column:
     def __set__(self, obj: Actor, value: object) -> None:
         getattr(obj.table, self.name)[obj.k] = value
         if self.marks_stale:
-            obj.table.stale[obj.k] = True
+            obj.table.mark_stale(obj.k)
 
 
 class Actor:
@@ -232,9 +267,15 @@ class Actor:
 
     @long.setter
     def long(self, value: SpeedTransition | None) -> None:
+        tb, k = self.table, self.k
         self._long = value
-        self.table.has_long[self.k] = value is not None
-        self.table.motion_version += 1
+        tb.has_long[k] = value is not None
+        tb.long_targets.pop(k, None)
+        if value is not None:
+            tb.long_par[k] = value.row()
+            if value.target is not None:
+                tb.long_targets[k] = value.target
+        tb.motion_version += 1
 
     @property
     def lat(self) -> LateralTransition | None:
@@ -243,9 +284,16 @@ class Actor:
 
     @lat.setter
     def lat(self, value: LateralTransition | None) -> None:
+        tb, k = self.table, self.k
         self._lat = value
-        self.table.has_lat[self.k] = value is not None
-        self.table.motion_version += 1
+        tb.n_lat += (value is not None) - bool(tb.has_lat[k])
+        tb.has_lat[k] = value is not None
+        tb.lat_offsets.pop(k, None)
+        if value is not None:
+            tb.lat_par[k] = value.row(tb.code_of(value.road))
+            if value.offset_of is not None:
+                tb.lat_offsets[k] = value.offset_of
+        tb.motion_version += 1
 
     @property
     def path(self) -> PathMotion | None:
@@ -272,7 +320,7 @@ def forward(odr: OpenDriveMap, road: str, lane: int) -> float:
 def curvature(odr: OpenDriveMap, road: str, s: np.ndarray) -> np.ndarray:
     """Reference-line curvature at road ``s`` (1/m), from the heading 0.5 m either side."""
     rd = odr.road(road)
-    if all(g.kind == "line" for g in rd.geometries):
+    if rd.straight:
         return np.zeros_like(s)
     lo, hi = np.clip(s - 0.5, 0, rd.length), np.clip(s + 0.5, 0, rd.length)
     h_lo, h_hi = rd.reference(lo)[2], rd.reference(hi)[2]
@@ -292,52 +340,62 @@ def advance_road_actors(
     odr: OpenDriveMap, actors: list[Actor], rows: np.ndarray, now: float, dt: float
 ) -> None:
     """Advance the road actors in table ``rows`` (indices into ``actors``, which share one
-    table) by one step to scenario time ``now``: all rows of a road in one numpy pass, the
-    running transitions one by one."""
+    table) by one step to scenario time ``now``: speeds and s, then lateral positions, in one
+    compiled pass each; goals that follow other entities are read before each pass."""
     if not len(rows):
         return
-    table = actors[0].table
-    table.refresh(odr)
-    for road, r in by_road(table, rows):
-        s, t, v_old = table.s[r], table.t[r], table.v[r]
-        v_new = v_old.copy()
-        ramp = np.full(len(r), dt)  # s of this step spent ramping from v_old to v_new
-        for j in np.flatnonzero(table.has_long[r]).tolist():
-            a = actors[r[j]]
-            v_new[j], done = a.long.speed(now, a.long_travelled + v_old[j] * dt)
-            if done:
-                if not a.long.by_distance:  # ended within the step: at v_new since then
-                    ramp[j] = min(dt, max(0.0, a.long.t0 + a.long.span - (now - dt)))
-                a.long = None
-        ds_path = 0.5 * (v_old + v_new) * ramp + v_new * (dt - ramp)
-        kappa = curvature(odr, road, s)
-        table.s[r] = s + table.direction[r] * ds_path / np.maximum(1e-3, 1.0 - kappa * t)
-        table.v[r] = v_new
-        table.accel[r] = (v_new - v_old) / dt
-        table.long_travelled[r] += ds_path
-        table.lat_travelled[r] += ds_path
-        table.v_lat[r] = 0.0
-        for k in r[table.has_lat[r]].tolist():
+    tb = actors[0].table
+    tb.refresh(odr)
+    groups = tb.groups(rows)
+    for road, r in groups:
+        # straight: 0 (rows may come from a curved road)
+        tb.kappa[r] = 0.0 if odr.road(road).straight else curvature(odr, road, tb.s[r])
+    for k, target in tb.long_targets.items():
+        tb.long_par[k, MK.L_GOAL] = target()
+    ended = MK.advance_long(
+        rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par, tb.long_done
+    )
+    if ended:
+        for k in rows[tb.long_done[rows]].tolist():
+            actors[k].long = None
+    if tb.n_lat:
+        _advance_lateral(odr, actors, rows, now, dt)
+    for road, r in groups:
+        place_on_road(odr, road, tb, r)
+
+
+def _advance_lateral(
+    odr: OpenDriveMap, actors: list[Actor], rows: np.ndarray, now: float, dt: float
+) -> None:
+    """The lateral pass of ``advance_road_actors``; the rows whose transition ended are put
+    on their target lane."""
+    tb = actors[0].table
+    for k, offset in tb.lat_offsets.items():
+        tb.lat_par[k, MK.T_OFFSET] = offset()
+    missing, ended = MK.advance_lat(
+        rows, now, dt, tb.state, tb.has_lat, tb.lat_par, tb.lat_done,
+        *tb.lane_profile(odr).arrays(),
+    )  # fmt: skip
+    if missing >= 0:
+        a = actors[missing]
+        odr.road(a.lat.road).lane_t(a.lat.lane, a.s)  # raises: no such lane here
+    if ended:
+        for k in rows[tb.lat_done[rows]].tolist():
             a = actors[k]
-            t_new, done = a.lat.lateral(now, a.lat_travelled, a.s)
-            a.v_lat = (t_new - a.t) / dt
-            a.t = t_new
-            if done:
-                a.lane, a.lat = a.lat.lane, None
-        place_on_road(odr, road, table, r)
+            a.lane, a.lat = a.lat.lane, None
 
 
 def place_on_road(odr: OpenDriveMap, road: str, table: ActorTable, rows: np.ndarray) -> None:
     """World pose (x, y, z, heading) of table ``rows`` on ``road`` from their road
-    coordinates."""
+    coordinates (compiled for roads of lines and arcs, else from the numpy road pose)."""
     table.refresh(odr)
-    x, y, z, h_ref = odr.road_pose(road, table.s[rows], table.t[rows])
-    direction = table.direction[rows]
-    v = table.v[rows]
-    slip = np.where(np.abs(v) > 1e-6, np.arctan2(direction * table.v_lat[rows], v), 0.0)
-    h = h_ref + np.where(direction > 0, 0.0, np.pi) + slip + table.h_rel[rows]
-    table.x[rows], table.y[rows], table.z[rows] = x, y, z
-    table.h[rows] = np.remainder(h + np.pi, 2 * np.pi) - np.pi
+    tb = table
+    rd = odr.road(road)
+    if rd.plan_view is not None:
+        MK.place_rows(rows, *rd.plan_view.arrays(), tb.direction, tb.state)
+        return
+    x, y, z, h_ref = odr.road_pose(road, tb.s[rows], tb.t[rows])
+    MK.place_posed(rows, x, y, z, h_ref, tb.direction, tb.state)
 
 
 def place_actor(odr: OpenDriveMap, a: Actor) -> None:

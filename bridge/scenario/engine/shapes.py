@@ -10,33 +10,40 @@ from __future__ import annotations
 
 import math
 
+from numba import njit
+
 from hiyari.bridge.scenario.model.actions import Dimension, Shape
 from hiyari.errors import HiyariError
 
 PEAK_SLOPE = {Shape.STEP: 0.0, Shape.LINEAR: 1.0, Shape.CUBIC: 1.5, Shape.SINUSOIDAL: math.pi / 2}
 
 
-def progress(shape: Shape, x: float) -> float:
-    """Fraction of the change done at progress ``x`` (clamped to [0, 1])."""
+#: Codes of the shapes in compiled code.
+STEP, LINEAR, CUBIC, SINUSOIDAL = 0, 1, 2, 3
+SHAPE_CODE = {
+    Shape.STEP: STEP,
+    Shape.LINEAR: LINEAR,
+    Shape.CUBIC: CUBIC,
+    Shape.SINUSOIDAL: SINUSOIDAL,
+}
+
+
+@njit(cache=True)
+def shape_progress(code: int, x: float) -> float:
+    """Fraction of the change done at progress ``x`` (clamped to [0, 1]) for shape ``code``."""
     x = min(1.0, max(0.0, x))
-    if shape == Shape.STEP:
+    if code == STEP:
         return 1.0
-    if shape == Shape.LINEAR:
+    if code == LINEAR:
         return x
-    if shape == Shape.CUBIC:
+    if code == CUBIC:
         return x * x * (3.0 - 2.0 * x)
     return 0.5 * (1.0 - math.cos(math.pi * x))
 
 
-def rate(shape: Shape, x: float) -> float:
-    """d progress / dx at ``x`` (0 outside [0, 1])."""
-    if not 0.0 <= x <= 1.0 or shape == Shape.STEP:
-        return 0.0
-    if shape == Shape.LINEAR:
-        return 1.0
-    if shape == Shape.CUBIC:
-        return 6.0 * x * (1.0 - x)
-    return 0.5 * math.pi * math.sin(math.pi * x)
+def progress(shape: Shape, x: float) -> float:
+    """Fraction of the change done at progress ``x`` (clamped to [0, 1])."""
+    return shape_progress(SHAPE_CODE[shape], x)
 
 
 def span(shape: Shape, dimension: Dimension, value: float, change: float, where: str) -> float:

@@ -73,7 +73,8 @@ def gather_entities(
 
 @njit(cache=True)
 def own_road_coords(
-    need: np.ndarray,
+    own: np.ndarray,
+    present: np.ndarray,
     road_code: np.ndarray,
     s: np.ndarray,
     t: np.ndarray,
@@ -84,10 +85,13 @@ def own_road_coords(
     road_dir: np.ndarray,
 ) -> None:
     """Road s of the box centre (reference s plus ``cx``, the centre's offset ahead of the
-    reference point, along the driving direction), t and direction of the ``need`` rows of
-    the actor table that are on a road (``road_code`` >= 0), into the last three arrays."""
-    for k in range(len(need)):
-        if need[k] and road_code[k] >= 0:
+    reference point, along the driving direction), t and direction of the ``own`` and
+    ``present`` rows of the actor table that are on a road (``road_code`` >= 0), into the
+    last three arrays; NaN, NaN, 1 for the others."""
+    for k in range(len(own)):
+        if own[k] and present[k] and road_code[k] >= 0:
             road_dir[k] = direction[k]
             road_s[k] = s[k] + direction[k] * cx[k]
             road_t[k] = t[k]
+        else:
+            road_s[k], road_t[k], road_dir[k] = np.nan, np.nan, 1.0

@@ -1,0 +1,73 @@
+"""The per-step command of the scripted actors in one compiled pass: the centre of each
+actor's box (what SUMO is told to place), its heading and the speed to report, sent only when
+it changed (SUMO holds the speed set last); and which actors' SUMO lane may have changed.
+
+Frames and units: world x, y in metres, headings in radians from world +x, speeds m/s.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from hiyari.bridge.scenario.engine.motion_kernel import V_LAT, H, V, X, Y
+from hiyari.net.road.lane_profile import section_of
+
+
+@njit(cache=True)
+def command_rows(
+    rows: np.ndarray,
+    st: np.ndarray,
+    cx: np.ndarray,
+    cy: np.ndarray,
+    sent_speed: np.ndarray,
+    centres: np.ndarray,
+    heading: np.ndarray,
+    send: np.ndarray,
+) -> None:
+    """For table ``rows`` (``st``: the ActorTable's state matrix), into the last three arrays: box centres (m, 2) = reference point +
+    (``cx``, ``cy``) in the vehicle frame, headings (m,), speeds to send (m,): the speed along
+    the motion, NaN when equal to ``sent_speed``, which is updated."""
+    for i in range(len(rows)):
+        k = rows[i]
+        h, v, v_lat = st[H, k], st[V, k], st[V_LAT, k]
+        c, s = math.cos(h), math.sin(h)
+        centres[i, 0] = (cx[k] * c - cy[k] * s) + st[X, k]
+        centres[i, 1] = (cx[k] * s + cy[k] * c) + st[Y, k]
+        heading[i] = h
+        # hypot(v, +-0) is |v| exactly (C99 F.9.4.3): saves the call when not sliding
+        speed = abs(v) if v_lat == 0.0 else math.hypot(v, v_lat)
+        send[i] = np.nan if speed == sent_speed[k] else speed
+        sent_speed[k] = speed
+
+
+@njit(cache=True)
+def lane_keys(
+    rows: np.ndarray,
+    free: np.ndarray,
+    road_code: np.ndarray,
+    lane: np.ndarray,
+    s: np.ndarray,
+    sec_first: np.ndarray,
+    sec_count: np.ndarray,
+    sec_s0: np.ndarray,
+    key: np.ndarray,
+) -> np.ndarray:
+    """Rows of ``rows`` whose (road code, lane, lane section index on the road; -1 off the
+    roads) differs from ``key`` (E, 3), which is updated: their SUMO lane is to be looked up
+    again. ``sec_*``: the lane sections of the LaneProfile of the table's roads."""
+    changed = np.empty(len(rows), dtype=np.intp)
+    n = 0
+    for i in range(len(rows)):
+        k = rows[i]
+        rc = road_code[k]
+        sec = -1
+        if not free[k] and rc >= 0:
+            sec = section_of(sec_s0, sec_first[rc], sec_count[rc], s[k]) - sec_first[rc]
+        if key[k, 0] != rc or key[k, 1] != lane[k] or key[k, 2] != sec:
+            key[k, 0], key[k, 1], key[k, 2] = rc, lane[k], sec
+            changed[n] = k
+            n += 1
+    return changed[:n]
