@@ -37,7 +37,7 @@ POINT_KINDS = (DISTANCE, REACH, TTC_POINT)
 FIXED_POSITIONS = (WorldPosition, LanePosition, RoadPosition)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def holds(measured: float, value: float, rule: int) -> bool:
     """Whether ``measured`` satisfies rule code ``rule`` (index into Rule: greaterThan,
     lessThan, equalTo, greaterOrEqual, lessOrEqual, notEqualTo) against ``value``; never for
@@ -79,20 +79,20 @@ class EntityRows:
 
 
 # ---------------------------------------------------------------------------------- geometry
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _unrotate(x: float, y: float, c: float, s: float) -> tuple[float, float]:
     """kinematics.unrotate_xy for one vector, with the cos ``c`` and sin ``s`` of the
     heading."""
     return x * c + y * s, -x * s + y * c
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _max0(x: float) -> float:
     """np.maximum(0.0, x): NaN stays NaN."""
     return x if (x > 0.0 or x != x) else 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _outside(x: float, y: float, half_x: float, half_y: float) -> float:
     """kinematics._outside for one point."""
     lx, ly = _max0(abs(x) - half_x), _max0(abs(y) - half_y)
@@ -103,7 +103,7 @@ def _outside(x: float, y: float, half_x: float, half_y: float) -> float:
     return math.hypot(lx, ly)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def footprint_distance(
     ax_: float,
     ay_: float,
@@ -123,7 +123,7 @@ def footprint_distance(
     )  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _footprint_distance(
     ax_: float,
     ay_: float,
@@ -163,7 +163,7 @@ def _footprint_distance(
 
 
 # ---------------------------------------------------------------------------------- pairs
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _entity_distance(
     a: int,
     b: int,
@@ -196,7 +196,7 @@ def _entity_distance(
     return _max0(abs(by) - 0.5 * wa - (length[b] * s + width[b] * c) / 2)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _road_distance(
     a: int,
     b: int,
@@ -222,7 +222,7 @@ def _road_distance(
     return math.hypot(lon, lat)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sign(x: float) -> float:
     if x > 0.0:
         return 1.0
@@ -231,7 +231,7 @@ def _sign(x: float) -> float:
     return x  # 0 or NaN, as np.sign
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _closing(
     a: int,
     b: int,
@@ -256,7 +256,7 @@ def _closing(
     return (dvx * dx + dvy * dy) * _sign(rx * dx + ry * dy)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pair_measure(
     kind: int,
     a: int,
@@ -308,7 +308,7 @@ def pair_measure(
 
 
 # ---------------------------------------------------------------------------------- one entity
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def single_measure(
     kind: int, a: int, b: int, present: np.ndarray, speed: np.ndarray, accel: np.ndarray
 ) -> float:
@@ -324,7 +324,7 @@ def single_measure(
     return speed[a] - speed[b]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def duration_measure(
     kind: int,
     a: int,
@@ -346,7 +346,7 @@ def duration_measure(
     return now - since[row] if present[a] else math.nan
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def point_measure(
     kind: int,
     a: int,

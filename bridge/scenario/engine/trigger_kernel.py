@@ -40,7 +40,7 @@ R_OWNER, R_A, R_B, R_RULE, R_KIND, R_FS, R_DTYPE, R_ROAD, R_ALWAYS = range(9)
 FIRST_TRANSITION = 3
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _row_measure(
     r: int,
     rows: np.ndarray,
