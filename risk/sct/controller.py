@@ -24,7 +24,7 @@ import numpy as np
 
 from hiyari.errors import HiyariError
 from hiyari.kinematics import footprint_corners, overlap_depth
-from hiyari.risk.metrics.contact import contact_gap, first_contact_time
+from hiyari.risk.sct.contact_kernel import first_contacts
 from hiyari.risk.sct.model import SCTModel, StepView, near_contact
 from hiyari.traffic.commands import Commands
 from hiyari.units import G
@@ -192,13 +192,18 @@ class SCTController:
         length, width, v0, a0 = length[keep], width[keep], v0[keep], a0[keep]
         v_max, engaged = v_max[keep], engaged[keep]
         exposed = model.exposed(view, slots).reshape(len(ped), len(times))
-        dims = (slice(None), None, None, None)
         contact = model.config.contact
-        gap = contact_gap(xy[:, :, None], hd[:, :, None], length[dims], width[dims], ped, contact)
-        gap = np.where(exposed, gap, np.inf)[:, 0]  # (V, P * H, K)
+        margin, radius = contact.vehicle_margin, contact.pedestrian_radius
+        vi, ti = np.nonzero(mine)
+        first, ok = first_contacts(
+            xy[:, 0], hd[:, 0], length, width, margin, radius, ped, exposed, vi, ti, times
+        )
         # pedestrians already touching the vehicle cannot be helped by any profile
-        apart = mine & (gap[..., 0] > 0)
-        sct_free = first_contact_time(np.where(apart[..., None], gap, np.inf), times).min(axis=1)
+        apart = np.zeros(mine.shape, bool)
+        apart[vi, ti] = ok
+        sct_free = np.full(mine.shape, np.inf)
+        sct_free[vi[ok], ti[ok]] = first[ok]
+        sct_free = sct_free.min(axis=1)
         plan = apart.any(axis=1) & np.isfinite(sct_free) & ((sct_free < cfg.sct_safe) | engaged)
         w = np.flatnonzero(plan)
         if len(w) == 0:
@@ -207,9 +212,26 @@ class SCTController:
         accel = ramp_profiles(a0[w], self._targets, times, cfg.jerk_limit)  # (W, C, K)
         v, s = travel(accel, v0[w, None, None], v_max[w], dt, cfg.stop_speed)
         xy, hd = model.vehicle_poses(view, rows, s)  # (W, C, K, 2)
-        gap = contact_gap(xy[:, :, None], hd[:, :, None], length[dims], width[dims], ped, contact)
-        gap = np.where(exposed & apart[:, None, :, None], gap, np.inf)
-        sct = first_contact_time(gap, times).min(axis=2)  # (W, C)
+        n_c = xy.shape[1]
+        wi, ti = np.nonzero(apart)  # candidate a = w * C + c plans for its apart tracks only
+        a = (wi[:, None] * n_c + np.arange(n_c)).ravel()
+        t = np.repeat(ti, n_c)
+        first, _ = first_contacts(
+            xy.reshape(-1, len(times), 2),
+            hd.reshape(-1, len(times)),
+            np.repeat(length, n_c),
+            np.repeat(width, n_c),
+            margin,
+            radius,
+            ped,
+            exposed,
+            a,
+            t,
+            times,
+        )
+        cushion = np.full((len(w) * n_c, len(ped)), np.inf)
+        cushion[a, t] = first
+        sct = cushion.min(axis=1).reshape(len(w), n_c)  # (W, C)
         blocks = self._stops_on_crossing(xy[:, :, -1], hd[:, :, -1], v[:, :, -1], length, width)
         # keep crossings clear: never plan to stop on one (unless every plan does)
         sct = np.where(blocks & ~blocks.all(axis=1, keepdims=True), -1.0, sct)

@@ -27,11 +27,11 @@ from hiyari.risk.metrics.contact import (
     SCTConfig,
     contact_gap,
     crossing_conflict,
-    first_contact_time,
     pedestrian_tracks,
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
+from hiyari.risk.sct.contact_kernel import first_contacts
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
@@ -349,9 +349,19 @@ class SCTModel:
         ttc = np.full(n, np.inf)
         c = np.flatnonzero(near_contact(vxy, length, width, ped_cv, ttc_contact))
         if len(c):
-            g = contact_gap(vxy[c], vh[c], length[c, None], width[c, None], ped_cv[c], ttc_contact)
-            g = np.where(self._cv_protected(view, pj[c], ped_cv[c]), np.inf, g)
-            ttc[c] = first_contact_time(g, t)
+            ttc[c], _ = first_contacts(
+                vxy,
+                vh,
+                length,
+                width,
+                ttc_contact.vehicle_margin,
+                ttc_contact.pedestrian_radius,
+                ped_cv[c],
+                ~self._cv_protected(view, pj[c], ped_cv[c]),
+                c,
+                np.arange(len(c)),
+                t,
+            )
         sct = np.full(n, np.inf)
         if not with_sct:
             return ttc, sct, gap
@@ -361,12 +371,21 @@ class SCTModel:
         near = near_contact(vxy[:, None], length[:, None], width[:, None], tracks, contact)
         c = np.flatnonzero(near.any(axis=1))
         if len(c):
-            shape = (slice(None), None, None)
-            g = contact_gap(
-                vxy[c, None], vh[c, None], length[c][shape], width[c][shape], tracks[c], contact
+            h = tracks.shape[1]
+            first, _ = first_contacts(
+                vxy,
+                vh,
+                length,
+                width,
+                contact.vehicle_margin,
+                contact.pedestrian_radius,
+                tracks[c].reshape(len(c) * h, len(t), 2),
+                self.exposed(view, slot[c]).reshape(len(c) * h, len(t)),
+                np.repeat(c, h),
+                np.arange(len(c) * h),
+                t,
             )
-            g = np.where(self.exposed(view, slot[c]), g, np.inf)
-            sct[c] = first_contact_time(g, t).min(axis=-1)
+            sct[c] = first.reshape(len(c), h).min(axis=-1)
         return ttc, sct, gap
 
     def crossing_occupancy(

@@ -1,0 +1,108 @@
+"""First contact of vehicle–pedestrian track pairs in one compiled loop.
+
+The SCT metrics and the SCT controller ask, for many (vehicle pose track, pedestrian track)
+pairs, when the pedestrian disc first touches the grown vehicle rectangle:
+hiyari.risk.metrics.contact.contact_gap at every sample, +inf where the pedestrian is
+protected (off the carriageway), then first_contact_time. In numpy that is a dozen passes
+over (pairs, samples) arrays per call, on every evaluated step; here each pair is walked
+sample by sample and stops at its first contact. The operations are those of contact_gap
+(hiyari.kinematics.rectangle_point_distance: unrotate, clamp, hypot) and first_contact_time,
+written out per scalar in the same order, so the times are numpy's bit for bit
+(tests/test_sct_contact_kernel.py).
+
+Frames and units: network coordinates in metres, headings as their cosine / sine, times s.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def _first_contacts(
+    vxy: np.ndarray,
+    vcos: np.ndarray,
+    vsin: np.ndarray,
+    half_x: np.ndarray,
+    half_y: np.ndarray,
+    radius: float,
+    tracks: np.ndarray,
+    exposed: np.ndarray,
+    a_idx: np.ndarray,
+    t_idx: np.ndarray,
+    times: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    n, k_count = len(a_idx), len(times)
+    first = np.full(n, np.inf)
+    apart = np.zeros(n, np.bool_)
+    for i in range(n):
+        a, t = a_idx[i], t_idx[i]
+        hx, hy = half_x[a], half_y[a]
+        g0 = np.inf
+        for k in range(k_count):
+            if exposed[t, k]:
+                dx = tracks[t, k, 0] - vxy[a, k, 0]
+                dy = tracks[t, k, 1] - vxy[a, k, 1]
+                c, s = vcos[a, k], vsin[a, k]
+                x = dx * c + dy * s
+                y = -dx * s + dy * c
+                lx = abs(x) - hx
+                ly = abs(y) - hy
+                g = math.hypot(max(lx, 0.0), max(ly, 0.0)) - radius
+            else:
+                g = np.inf
+            if k == 0:
+                apart[i] = g > 0.0
+            if g <= 0.0:
+                if k == 0:
+                    first[i] = times[0] + (times[0] - times[0]) * 0.0
+                else:
+                    # an infinite gap before (a protected position): contact starts at the sample
+                    frac = g0 / (g0 - g) if math.isfinite(g0) else 1.0
+                    frac = min(max(frac, 0.0), 1.0)
+                    first[i] = times[k - 1] + (times[k] - times[k - 1]) * frac
+                break
+            g0 = g
+    return first, apart
+
+
+def first_contacts(
+    vxy: np.ndarray,
+    vheading: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    margin: float,
+    radius: float,
+    tracks: np.ndarray,
+    exposed: np.ndarray,
+    a_idx: np.ndarray,
+    t_idx: np.ndarray,
+    times: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """First contact time (s, inf: none within ``times``) and whether the pair is apart at
+    the first sample (gap > 0, a protected pedestrian counts as apart), each (n,), of pairs
+    (vehicle track ``a_idx[i]``, pedestrian track ``t_idx[i]``).
+
+    Vehicle tracks: rectangle centres ``vxy`` (A, K, 2) m, headings (A, K) rad, ``length`` /
+    ``width`` (A,) m grown by ``margin`` m on every side; pedestrian tracks: disc centres
+    ``tracks`` (T, K, 2) m of radius ``radius`` m, ``exposed`` (T, K) bool (False: the
+    position is protected, no contact there); samples at ``times`` (K,) s. Equal to
+    contact_gap, np.where(exposed, gap, inf) and first_contact_time on each pair."""
+    half_x = 0.5 * np.asarray(length, float) + margin
+    half_y = 0.5 * np.asarray(width, float) + margin
+    return _first_contacts(
+        np.ascontiguousarray(vxy, float),
+        np.cos(vheading),
+        np.sin(vheading),
+        half_x,
+        half_y,
+        float(radius),
+        np.ascontiguousarray(tracks, float),
+        np.ascontiguousarray(exposed, np.bool_),
+        np.asarray(a_idx, np.int64),
+        np.asarray(t_idx, np.int64),
+        np.asarray(times, float),
+    )
