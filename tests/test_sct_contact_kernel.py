@@ -1,11 +1,22 @@
-"""The compiled first-contact kernel equals contact_gap + first_contact_time bit for bit."""
+"""The compiled SCT kernels (first contact, path sampling, dart-out kerbs) equal numpy bit for bit."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from hiyari.risk.metrics.contact import ContactGeometry, contact_gap, first_contact_time
+from hiyari.risk.metrics.contact import (
+    ContactGeometry,
+    Path,
+    SCTConfig,
+    contact_gap,
+    first_contact_time,
+    pedestrian_velocity,
+)
+from hiyari.risk.metrics.pedestrian_geometry import KerbSegments
 from hiyari.risk.sct.contact_kernel import first_contacts
+from hiyari.risk.sct.model import PathTable, Segments
 
 
 def _reference(vxy, vh, length, width, contact, tracks, exposed, a, t, times):
@@ -67,3 +78,93 @@ def test_kernel_interpolates_between_samples():
     )
     assert apart[0]
     assert abs(first[0] - 0.27) < 1e-12
+
+
+def _path_at_reference(table, vehicles, s):
+    """PathTable.at in numpy (its former implementation)."""
+    shape = (len(vehicles), *([1] * (s.ndim - 1)))
+    cum = table.cum[vehicles].reshape(*shape, -1)
+    k = np.maximum((s[..., None] >= cum).sum(axis=-1) - 1, 0)
+    k = np.minimum(k, (table.count[vehicles] - 1).reshape(shape))
+    k += table.first[vehicles].reshape(shape)
+    seg = table.seg
+    return seg.start[k] + seg.unit[k] * (s - seg.cum_start[k])[..., None], seg.heading[k]
+
+
+def test_path_sampling_equals_numpy_bit_for_bit():
+    rng = np.random.default_rng(3)
+    paths = []
+    for n in (2, 5, 40):  # a straight segment, a few, a curve of many
+        angle = np.cumsum(rng.normal(0, 0.2, n))
+        steps = rng.uniform(0.5, 4.0, (n, 1)) * np.stack([np.cos(angle), np.sin(angle)], -1)
+        paths.append(Path.of(np.cumsum(steps, axis=0)))
+    table = PathTable.of([Segments.of(p) for p in paths])
+    vehicles = np.array([2, 0, 1, 2])
+    # before the start, on the path, at its vertices, beyond the end
+    s = rng.uniform(-20, 200, (4, 3, 51))
+    s[0, 0, :5] = paths[2].cum[:5]
+    xy, hd = table.at(vehicles, s)
+    ref_xy, ref_hd = _path_at_reference(table, vehicles, s)
+    assert xy.shape == (4, 3, 51, 2) and hd.shape == (4, 3, 51)
+    assert xy.tobytes() == ref_xy.tobytes() and hd.tobytes() == ref_hd.tobytes()
+    # and each equals sampling the vehicle's own Path
+    for i, v in enumerate(vehicles):
+        p_xy, p_hd = paths[v].at(s[i])
+        assert np.allclose(xy[i], p_xy, atol=1e-9) and np.allclose(hd[i], p_hd, atol=1e-12)
+
+
+def _velocity_reference(xy, heading, speed, on_kerb, kerbs, config, open_crossings):
+    """pedestrian_velocity in numpy (its former implementation)."""
+    u = np.stack([np.cos(heading), np.sin(heading)], -1)
+    vel = speed[:, None] * u
+    dart = np.zeros(len(xy), bool)
+    cr = kerbs.crossing
+    usable = (cr < 0) | np.asarray(open_crossings, bool)[np.maximum(cr, 0)]
+    rows = np.flatnonzero(on_kerb)
+    ab = kerbs.b - kerbs.a
+    L2 = np.maximum(np.einsum("kj,kj->k", ab, ab), 1e-12)
+    ap = xy[rows][:, None, :] - kerbs.a[None]
+    f = np.clip(np.einsum("pkj,kj->pk", ap, ab) / L2, 0.0, 1.0)
+    to_seg = f[..., None] * ab[None] - ap
+    dist = np.linalg.norm(to_seg, axis=2)
+    cos_max = math.cos(math.radians(config.dart_out_max_angle_deg))
+    facing = u[rows] @ kerbs.inward.T >= cos_max
+    toward = np.einsum("pj,pkj->pk", u[rows], to_seg) >= cos_max * np.maximum(dist, 1e-9)
+    facing |= toward & (kerbs.crossing >= 0)[None] & (dist > 0.1)
+    ok = facing & usable[None] & (dist <= config.dart_out_distance)
+    dist = np.where(ok, dist, np.inf)
+    best = np.argmin(dist, axis=1)
+    hit = np.isfinite(dist[np.arange(len(rows)), best])
+    r = rows[hit]
+    vel[r] = np.maximum(speed[r], config.dart_out_speed)[:, None] * kerbs.inward[best[hit]]
+    dart[r] = True
+    return vel, dart
+
+
+def test_pedestrian_velocity_equals_numpy_bit_for_bit():
+    rng = np.random.default_rng(11)
+    k = 40
+    a = rng.uniform(-30, 30, (k, 2))
+    angle = rng.uniform(-np.pi, np.pi, k)
+    b = a + rng.uniform(0.5, 8, (k, 1)) * np.stack([np.cos(angle), np.sin(angle)], -1)
+    inward = np.stack([-np.sin(angle), np.cos(angle)], -1)
+    crossing = np.where(rng.random(k) < 0.3, rng.integers(0, 4, k), -1)
+    kerbs = KerbSegments(a, b, inward, crossing)
+    n = 3000
+    # pedestrians near the kerbs: many within the dart-out distance, some exactly on one
+    near = rng.integers(0, k, n)
+    xy = a[near] + rng.uniform(0, 1, (n, 1)) * (b - a)[near] + rng.normal(0, 1.2, (n, 2))
+    xy[:50] = a[near[:50]]
+    heading = rng.uniform(-np.pi, np.pi, n)
+    speed = rng.uniform(0, 2, n)
+    speed[:200] = 0.0
+    on_kerb = rng.random(n) < 0.8
+    config = SCTConfig()
+    for open_crossings in (np.ones(4, bool), np.array([True, False, True, False])):
+        vel, dart = pedestrian_velocity(xy, heading, speed, on_kerb, kerbs, config, open_crossings)
+        ref_vel, ref_dart = _velocity_reference(
+            xy, heading, speed, on_kerb, kerbs, config, open_crossings
+        )
+        assert 100 < dart.sum() < n  # dart-outs and plain walkers both occur
+        assert np.array_equal(dart, ref_dart)
+        assert vel.tobytes() == ref_vel.tobytes()

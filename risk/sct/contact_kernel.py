@@ -106,3 +106,58 @@ def first_contacts(
         np.asarray(t_idx, np.int64),
         np.asarray(times, float),
     )
+
+
+@njit(cache=True)
+def _path_at(
+    cum: np.ndarray,
+    count: np.ndarray,
+    first: np.ndarray,
+    start: np.ndarray,
+    unit: np.ndarray,
+    cum_start: np.ndarray,
+    heading: np.ndarray,
+    vehicles: np.ndarray,
+    s: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    n, m = s.shape
+    xy = np.empty((n, m, 2))
+    hd = np.empty((n, m))
+    for i in range(n):
+        v = vehicles[i]
+        row = cum[v]
+        for j in range(m):
+            sj = s[i, j]
+            below = 0  # the path's arc lengths at or before sj: searchsorted(side="right")
+            for c in row:
+                if sj >= c:
+                    below += 1
+            k = min(max(below - 1, 0), count[v] - 1) + first[v]
+            d = sj - cum_start[k]
+            xy[i, j, 0] = start[k, 0] + unit[k, 0] * d
+            xy[i, j, 1] = start[k, 1] + unit[k, 1] * d
+            hd[i, j] = heading[k]
+    return xy, hd
+
+
+def path_at(
+    cum: np.ndarray,
+    count: np.ndarray,
+    first: np.ndarray,
+    start: np.ndarray,
+    unit: np.ndarray,
+    cum_start: np.ndarray,
+    heading: np.ndarray,
+    vehicles: np.ndarray,
+    s: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(xy (n, ..., 2) m, heading (n, ...) rad) at arc lengths ``s`` (n, ...) m along the
+    paths of ``vehicles`` (n,) in a table of concatenated path segments (see
+    hiyari.risk.sct.model.PathTable: padded arc lengths ``cum`` (V, M), segment counts and
+    first rows (V,), segment starts, unit directions, start arc lengths and headings); beyond
+    either end the end segment is continued straight. PathTable.at's operations per scalar."""
+    flat = np.ascontiguousarray(s, float).reshape(len(vehicles), -1)
+    xy, hd = _path_at(
+        cum, count, first, start, unit, cum_start, heading, np.asarray(vehicles, np.int64), flat
+    )
+    return xy.reshape(*s.shape, 2), hd.reshape(s.shape)

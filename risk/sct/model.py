@@ -31,7 +31,7 @@ from hiyari.risk.metrics.contact import (
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
-from hiyari.risk.sct.contact_kernel import first_contacts
+from hiyari.risk.sct.contact_kernel import first_contacts, path_at
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
@@ -118,15 +118,18 @@ class PathTable:
     def at(self, vehicles: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(xy (..., 2), heading (...)) at arc lengths ``s`` (n, ...) m along the paths of
         ``vehicles`` (n,) (indices into this table); Path.at of each."""
-        shape = (len(vehicles), *([1] * (s.ndim - 1)))
-        cum = self.cum[vehicles].reshape(*shape, -1)
-        # searchsorted(cum, s, side="right") - 1, kept on the path's segments
-        k = np.maximum((s[..., None] >= cum).sum(axis=-1) - 1, 0)
-        k = np.minimum(k, (self.count[vehicles] - 1).reshape(shape))
-        k += self.first[vehicles].reshape(shape)
         seg = self.seg
-        xy = seg.start[k] + seg.unit[k] * (s - seg.cum_start[k])[..., None]
-        return xy, seg.heading[k]
+        return path_at(
+            self.cum,
+            self.count,
+            self.first,
+            seg.start,
+            seg.unit,
+            seg.cum_start,
+            seg.heading,
+            vehicles,
+            s,
+        )
 
 
 class SCTModel:
