@@ -15,7 +15,7 @@ from hiyari.risk.metrics.contact import (
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import KerbSegments
-from hiyari.risk.sct.contact_kernel import first_contacts
+from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs
 from hiyari.risk.sct.model import PathTable, Segments
 
 
@@ -168,3 +168,47 @@ def test_pedestrian_velocity_equals_numpy_bit_for_bit():
         assert 100 < dart.sum() < n  # dart-outs and plain walkers both occur
         assert np.array_equal(dart, ref_dart)
         assert vel.tobytes() == ref_vel.tobytes()
+
+
+def test_near_pairs_equals_numpy_and_never_misses_a_contact():
+    rng = np.random.default_rng(5)
+    times = np.arange(51) * 0.2
+    n_a, n_t = 30, 50
+    heading = rng.uniform(-np.pi, np.pi, (n_a, len(times)))
+    vxy = rng.uniform(-20, 20, (n_a, 1, 2)) + rng.uniform(0, 12, (n_a, 1, 1)) * times[
+        None, :, None
+    ] * np.stack([np.cos(heading[:, :1]), np.sin(heading[:, :1])], -1)
+    tracks = (
+        rng.uniform(-20, 20, (n_t, 1, 2)) + rng.normal(0, 1.5, (n_t, 1, 2)) * times[None, :, None]
+    )
+    length, width = rng.uniform(3, 12, n_a), rng.uniform(1.5, 2.6, n_a)
+    a = np.repeat(np.arange(n_a), n_t)
+    t = np.tile(np.arange(n_t), n_a)
+    upto = rng.integers(1, len(times) + 1, len(a))
+    near = near_pairs(vxy, length, width, 0.2, 0.3, tracks, a, t, upto)
+    # the former numpy form, per pair up to its own sample
+    reach = np.hypot(0.5 * length + 0.2, 0.5 * width + 0.2) + 0.3 + 1e-6
+    ref = np.array(
+        [
+            ((tracks[j, :u] - vxy[i, :u]) ** 2).sum(-1).min() <= reach[i] * reach[i]
+            for i, j, u in zip(a, t, upto, strict=True)
+        ]
+    )
+    assert 50 < near.sum() < len(near) - 50
+    assert np.array_equal(near, ref)
+    # a pair that is not near has no contact at any of those samples
+    first, _ = first_contacts(
+        vxy,
+        heading,
+        length,
+        width,
+        0.2,
+        0.3,
+        tracks,
+        np.ones((n_t, len(times)), bool),
+        a,
+        t,
+        times,
+    )
+    touched = first < times[upto - 1]  # a contact at a sample before upto
+    assert touched.sum() > 10 and near[touched].all()

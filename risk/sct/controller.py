@@ -24,8 +24,8 @@ import numpy as np
 
 from hiyari.errors import HiyariError
 from hiyari.kinematics import footprint_corners, overlap_depth
-from hiyari.risk.sct.contact_kernel import first_contacts
-from hiyari.risk.sct.model import SCTModel, StepView, near_contact
+from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs
+from hiyari.risk.sct.model import SCTModel, StepView
 from hiyari.traffic.commands import Commands
 from hiyari.units import G
 
@@ -249,7 +249,7 @@ class SCTController:
     ) -> np.ndarray:
         """(V,) bool: vehicles (centres ``xy`` (V, K, 2) under their own driver, sizes (V,) m)
         that may touch one of their pedestrian tracks (``ped`` (T, K, 2), ``mine`` (V, T))
-        (model.near_contact); the others need no plan. A vehicle not ``engaged`` (V,) needs
+        (contact_kernel.near_pairs); the others need no plan. A vehicle not ``engaged`` (V,) needs
         one only for a contact before sct_safe: it is tested up to the first sample at or
         after sct_safe (a contact first found later is interpolated back to the previous
         sample at most). An engaged one is handed back only when no contact is predicted
@@ -257,14 +257,19 @@ class SCTController:
         times = self.model.times
         upto = min(int(np.searchsorted(times, self.config.sct_safe)) + 1, len(times))
         contact = self.model.config.contact
-        shape = (slice(None), None)
-        near = near_contact(
-            xy[:, None, :upto], length[shape], width[shape], ped[None, :, :upto], contact
+        vi, ti = np.nonzero(mine)  # only a vehicle's own tracks count
+        near = near_pairs(
+            xy,
+            length,
+            width,
+            contact.vehicle_margin,
+            contact.pedestrian_radius,
+            ped,
+            vi,
+            ti,
+            np.where(engaged[vi], len(times), upto),
         )
-        e = np.flatnonzero(engaged)
-        if len(e):
-            near[e] = near_contact(xy[e, None], length[e][shape], width[e][shape], ped, contact)
-        return (near & mine).any(axis=1)
+        return np.bincount(vi[near], minlength=len(xy)) > 0
 
     def _pick(self, sct: np.ndarray) -> np.ndarray:
         """(W,) the candidate each vehicle drives, from SCTs (W, C) of its candidates.

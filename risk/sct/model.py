@@ -31,7 +31,7 @@ from hiyari.risk.metrics.contact import (
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
-from hiyari.risk.sct.contact_kernel import first_contacts, path_at
+from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs, path_at
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
@@ -326,7 +326,7 @@ class SCTModel:
         hiyari.risk.metrics.contact.safety_cushion_time on the step's shared pedestrian
         tracks. Pedestrians off the carriageway are protected in both. The gap is the TTC
         shapes' distance now (<= 0: touching). ``with_sct`` False: SCT is not computed (inf).
-        Pairs whose tracks never come near enough to touch (near_contact) are inf without
+        Pairs whose tracks never come near enough to touch (contact_kernel.near_pairs) are inf without
         further work.
         """
         n = len(vi)
@@ -350,7 +350,18 @@ class SCTModel:
             on_road = shapely.contains_xy(road, now[:, 0], now[:, 1])[pinv]
             gap = np.where(on_road, gap, np.inf)
         ttc = np.full(n, np.inf)
-        c = np.flatnonzero(near_contact(vxy, length, width, ped_cv, ttc_contact))
+        every = np.arange(n)
+        near = near_pairs(
+            vxy,
+            length,
+            width,
+            ttc_contact.vehicle_margin,
+            ttc_contact.pedestrian_radius,
+            ped_cv,
+            every,
+            every,
+        )
+        c = np.flatnonzero(near)
         if len(c):
             ttc[c], _ = first_contacts(
                 vxy,
@@ -371,10 +382,19 @@ class SCTModel:
         slot = view.ped_slot[pj]
         contact = self.config.contact
         tracks = view.tracks[slot]
-        near = near_contact(vxy[:, None], length[:, None], width[:, None], tracks, contact)
-        c = np.flatnonzero(near.any(axis=1))
+        h = tracks.shape[1]
+        near = near_pairs(
+            vxy,
+            length,
+            width,
+            contact.vehicle_margin,
+            contact.pedestrian_radius,
+            tracks.reshape(n * h, len(t), 2),
+            np.repeat(every, h),
+            np.arange(n * h),
+        )
+        c = np.flatnonzero(near.reshape(n, h).any(axis=1))
         if len(c):
-            h = tracks.shape[1]
             first, _ = first_contacts(
                 vxy,
                 vh,
@@ -422,24 +442,6 @@ class SCTModel:
             )
             has[sel], vin[sel], pin[sel] = h, v, p
         return has, vin, pin
-
-
-def near_contact(
-    centre: np.ndarray,
-    length: np.ndarray,
-    width: np.ndarray,
-    points: np.ndarray,
-    contact: ContactGeometry,
-) -> np.ndarray:
-    """(...) bool: whether ``points`` (..., K, 2) come within reach of rectangles (centres
-    (..., K, 2) m, ``length`` / ``width`` (...) m, broadcasting) at some sample: the
-    rectangle grown by the margin lies within its circumscribed circle, so contact_gap <= 0
-    needs the point within that circle plus the disc. False: no contact at any sample. A
-    micrometre of slack keeps rounding from ever excluding a contact."""
-    m = contact.vehicle_margin
-    reach = np.hypot(0.5 * length + m, 0.5 * width + m) + contact.pedestrian_radius + 1e-6
-    d = points - centre
-    return (d * d).sum(axis=-1).min(axis=-1) <= reach * reach
 
 
 def _distinct(rows: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
