@@ -16,6 +16,7 @@ from hiyari.risk.metrics.contact import (
 )
 from hiyari.risk.metrics.pedestrian_geometry import KerbSegments
 from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs
+from hiyari.risk.sct.controller import ramp_profiles, travel
 from hiyari.risk.sct.model import PathTable, Segments
 
 
@@ -212,3 +213,34 @@ def test_near_pairs_equals_numpy_and_never_misses_a_contact():
     )
     touched = first < times[upto - 1]  # a contact at a sample before upto
     assert touched.sum() > 10 and near[touched].all()
+
+
+def _travel_reference(accel, v0, v_max, dt, stop_speed=0.0):
+    """controller.travel in numpy (its former implementation)."""
+    zero = np.zeros((*accel.shape[:-1], 1))
+    dv = 0.5 * (accel[..., 1:] + accel[..., :-1]) * dt
+    v = np.clip(v0 + np.concatenate([zero, np.cumsum(dv, -1)], -1), 0, v_max)
+    if stop_speed > 0:
+        slow = (v < stop_speed) & (accel[..., -1:] <= 0)
+        v = np.where(np.logical_or.accumulate(slow, axis=-1), 0.0, v)
+    ds = 0.5 * (v[..., 1:] + v[..., :-1]) * dt
+    return v, np.concatenate([zero, np.cumsum(ds, -1)], -1)
+
+
+def test_travel_equals_numpy_bit_for_bit():
+    rng = np.random.default_rng(2)
+    times = np.arange(51) * 0.2
+    targets = np.linspace(-4, 1.5, 12)
+    a0 = rng.uniform(-3, 2, 20)
+    accel = ramp_profiles(a0, targets, times, 3.0)  # (20, 12, 51)
+    v0 = rng.uniform(0, 15, (20, 1, 1))
+    v0[:3] = 0.0
+    v_max = np.maximum(rng.uniform(8, 16, (20, 1, 1)), v0)
+    for stop in (0.0, 1.0):
+        v, s = travel(accel, v0, v_max, 0.2, stop)
+        ref_v, ref_s = _travel_reference(accel, v0, v_max, 0.2, stop)
+        assert v.tobytes() == ref_v.tobytes() and s.tobytes() == ref_s.tobytes()
+    assert (v == 0).any() and (v == v_max).any()  # both clips were exercised
+    v, s = travel(np.full((1, 11), -2.0), 10.0, 14.0, 0.1)  # scalars broadcast too
+    ref_v, ref_s = _travel_reference(np.full((1, 11), -2.0), 10.0, 14.0, 0.1)
+    assert v.tobytes() == ref_v.tobytes() and s.tobytes() == ref_s.tobytes()

@@ -221,3 +221,34 @@ def near_pairs(
         np.asarray(t_idx, np.int64),
         np.asarray(upto, np.int64),
     )
+
+
+@njit(cache=True)
+def travel_rows(
+    accel: np.ndarray, v0: np.ndarray, v_max: np.ndarray, dt: float, stop_speed: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Speeds and distances (n, K) of acceleration profiles ``accel`` (n, K) m/s^2 from
+    speeds ``v0`` (n,) m/s within 0 .. ``v_max`` (n,) m/s, sampled every ``dt`` s, braking
+    profiles stopping below ``stop_speed``: hiyari.risk.sct.controller.travel per row."""
+    n, k_count = accel.shape
+    v = np.empty((n, k_count))
+    s = np.empty((n, k_count))
+    for i in range(n):
+        # speeds: v0 plus the running sum of trapezoidal speed changes, clipped to 0 .. v_max
+        v[i, 0] = min(max(v0[i] + 0.0, 0.0), v_max[i])
+        c = 0.0
+        for k in range(1, k_count):
+            dv = 0.5 * (accel[i, k] + accel[i, k - 1]) * dt
+            c = dv if k == 1 else c + dv
+            v[i, k] = min(max(v0[i] + c, 0.0), v_max[i])
+        if stop_speed > 0 and accel[i, k_count - 1] <= 0:
+            stopped = False
+            for k in range(k_count):
+                stopped = stopped or v[i, k] < stop_speed
+                if stopped:
+                    v[i, k] = 0.0
+        s[i, 0] = 0.0
+        for k in range(1, k_count):
+            ds = 0.5 * (v[i, k] + v[i, k - 1]) * dt
+            s[i, k] = ds if k == 1 else s[i, k - 1] + ds
+    return v, s

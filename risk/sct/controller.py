@@ -24,7 +24,7 @@ import numpy as np
 
 from hiyari.errors import HiyariError
 from hiyari.kinematics import footprint_corners, overlap_depth
-from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs
+from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs, travel_rows
 from hiyari.risk.sct.model import SCTModel, StepView
 from hiyari.traffic.commands import Commands
 from hiyari.units import G
@@ -103,15 +103,22 @@ def travel(
     (..., C, K) sampled every ``dt`` s from speed ``v0``; speeds are kept within 0 ..
     ``v_max`` (``v0`` and ``v_max`` broadcast against the profiles' leading axes: (..., 1, 1)
     per vehicle). A stopped vehicle stays stopped while the profile brakes. A profile that ends
-    braking comes to a full stop once it is slower than ``stop_speed`` m/s."""
-    zero = np.zeros((*accel.shape[:-1], 1))
-    dv = 0.5 * (accel[..., 1:] + accel[..., :-1]) * dt
-    v = np.clip(v0 + np.concatenate([zero, np.cumsum(dv, -1)], -1), 0, v_max)
-    if stop_speed > 0:
-        slow = (v < stop_speed) & (accel[..., -1:] <= 0)
-        v = np.where(np.logical_or.accumulate(slow, axis=-1), 0.0, v)
-    ds = 0.5 * (v[..., 1:] + v[..., :-1]) * dt
-    return v, np.concatenate([zero, np.cumsum(ds, -1)], -1)
+    braking comes to a full stop once it is slower than ``stop_speed`` m/s. Compiled
+    (contact_kernel.travel_rows): one pass per profile."""
+    lead = accel.shape[:-1]
+
+    def per_profile(x: float | np.ndarray) -> np.ndarray:
+        x = np.asarray(x, float)
+        return np.ascontiguousarray(np.broadcast_to(x[..., 0] if x.ndim else x, lead)).ravel()
+
+    v, s = travel_rows(
+        np.ascontiguousarray(accel, float).reshape(-1, accel.shape[-1]),
+        per_profile(v0),
+        per_profile(v_max),
+        float(dt),
+        float(stop_speed),
+    )
+    return v.reshape(accel.shape), s.reshape(accel.shape)
 
 
 class SCTController:
