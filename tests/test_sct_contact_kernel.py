@@ -15,7 +15,12 @@ from hiyari.risk.metrics.contact import (
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import KerbSegments
-from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs
+from hiyari.risk.sct.contact_kernel import (
+    first_contacts,
+    near_pairs,
+    pair_time_bounds,
+    within_reach,
+)
 from hiyari.risk.sct.controller import ramp_profiles, travel
 from hiyari.risk.sct.model import PathTable, Segments
 
@@ -244,3 +249,57 @@ def test_travel_equals_numpy_bit_for_bit():
     v, s = travel(np.full((1, 11), -2.0), 10.0, 14.0, 0.1)  # scalars broadcast too
     ref_v, ref_s = _travel_reference(np.full((1, 11), -2.0), 10.0, 14.0, 0.1)
     assert v.tobytes() == ref_v.tobytes() and s.tobytes() == ref_s.tobytes()
+
+
+def _project_reference(table, xy):
+    """PathTable.project in numpy (its former implementation)."""
+    s, own = table.seg, table.owner
+    p = xy[own]
+    f = np.clip(np.einsum("ij,ij->i", p - s.start, s.vector) / s.length2, 0.0, 1.0)
+    d = np.linalg.norm(s.start + f[:, None] * s.vector - p, axis=1)
+    low = np.minimum.reduceat(d, table.first)
+    hit = np.flatnonzero(d == low[own])
+    k = hit[np.searchsorted(own[hit], np.arange(len(table.first)))]
+    return s.cum_start[k] + f[k] * np.sqrt(s.length2[k])
+
+
+def test_projection_equals_numpy_bit_for_bit():
+    rng = np.random.default_rng(4)
+    paths = []
+    for n in rng.integers(2, 60, 30):
+        angle = np.cumsum(rng.normal(0, 0.3, n))
+        steps = rng.uniform(0.5, 4.0, (n, 1)) * np.stack([np.cos(angle), np.sin(angle)], -1)
+        paths.append(Path.of(np.cumsum(steps, axis=0)))
+    table = PathTable.of([Segments.of(p) for p in paths])
+    xy = np.array([p.points[len(p.points) // 2] for p in paths]) + rng.normal(0, 3, (30, 2))
+    xy[0] = paths[0].points[0]  # on a vertex: two segments at the same distance
+    s = table.project(xy)
+    assert s.tobytes() == _project_reference(table, xy).tobytes()
+    assert np.allclose(s, [p.project(q) for p, q in zip(paths, xy, strict=True)])
+
+
+def test_pair_time_bounds_equal_numpy_bit_for_bit():
+    rng = np.random.default_rng(9)
+    vxy, pxy = rng.uniform(-80, 80, (12, 2)), rng.uniform(-20, 20, (9, 2))
+    length, width = rng.uniform(3, 12, 12), rng.uniform(1.5, 2.6, 12)
+    speed = rng.uniform(0, 15, 12)
+    reach = 0.5 * np.hypot(length, width) + 0.2
+    tau_now, tau_acc = pair_time_bounds(vxy, pxy, reach, 0.3, speed, 2.5, 3.0)
+    d = np.sqrt(((vxy[:, None] - pxy[None]) ** 2).sum(-1))
+    gap = np.maximum(d - reach[:, None] - 0.3, 0.0)
+    closing = speed[:, None] + 2.5
+    assert tau_now.tobytes() == (gap / closing).tobytes()
+    ref_acc = 2.0 * gap / (closing + np.sqrt(closing**2 + 2.0 * 3.0 * gap))
+    assert tau_acc.tobytes() == ref_acc.tobytes()
+    assert (tau_acc <= tau_now).all()  # accelerating can only bring contact earlier
+
+
+def test_within_reach_equals_numpy():
+    rng = np.random.default_rng(10)
+    vxy, pxy = rng.uniform(-80, 80, (40, 2)), rng.uniform(-20, 20, (7, 2))
+    reach = rng.uniform(2, 7, 40)
+    speed, ped_speed = rng.uniform(0, 15, 40), rng.uniform(0, 3, 7)
+    out = within_reach(vxy, pxy, reach, 0.3, speed, ped_speed, 4.0, 0.5 * 3.0 * 4.0 * 4.0)
+    gap = np.linalg.norm(vxy[:, None] - pxy[None], axis=2) - reach[:, None] - 0.3
+    ref = (gap <= (speed[:, None] + ped_speed[None]) * 4.0 + 0.5 * 3.0 * 4.0 * 4.0).any(axis=1)
+    assert 5 < ref.sum() < 35 and np.array_equal(out, ref)

@@ -40,6 +40,7 @@ from hiyari.risk.metrics.incidents import (
     IncidentDetector,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
+from hiyari.risk.sct.contact_kernel import pair_time_bounds
 from hiyari.risk.sct.controller import SCTController, SCTControllerConfig
 from hiyari.risk.sct.model import SCTModel
 from hiyari.sumo_tools import run_sumo_tool
@@ -434,14 +435,16 @@ def _pair_time_bounds(
 ) -> tuple[np.ndarray, np.ndarray]:
     """(V, P) lower bounds (s) on when vehicle rows ``vin`` and pedestrian rows ``pin`` could
     touch: at their current speeds, and with the vehicle accelerating at its bound."""
-    d = np.sqrt(((st.xyz[vin, None, :2] - st.xyz[None, pin, :2]) ** 2).sum(-1))
     reach = 0.5 * np.hypot(st.length[vin], st.width[vin]) + cfg.sct.vehicle_margin
-    gap = np.maximum(d - reach[:, None] - cfg.sct.pedestrian_radius, 0.0)
-    closing = st.speed[vin, None] + cfg.max_pedestrian_speed
-    a = cfg.controller.max_accel
-    tau_now = gap / closing
-    tau_acc = 2.0 * gap / (closing + np.sqrt(closing**2 + 2.0 * a * gap))
-    return tau_now, tau_acc
+    return pair_time_bounds(
+        np.ascontiguousarray(st.xyz[vin, :2]),
+        np.ascontiguousarray(st.xyz[pin, :2]),
+        reach,
+        cfg.sct.pedestrian_radius,
+        st.speed[vin],
+        cfg.max_pedestrian_speed,
+        cfg.controller.max_accel,
+    )
 
 
 def _evaluate(

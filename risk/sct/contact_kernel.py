@@ -252,3 +252,89 @@ def travel_rows(
             ds = 0.5 * (v[i, k] + v[i, k - 1]) * dt
             s[i, k] = ds if k == 1 else s[i, k - 1] + ds
     return v, s
+
+
+@njit(cache=True)
+def project_rows(
+    xy: np.ndarray,
+    first: np.ndarray,
+    count: np.ndarray,
+    start: np.ndarray,
+    vector: np.ndarray,
+    length2: np.ndarray,
+    cum_start: np.ndarray,
+) -> np.ndarray:
+    """(V,) arc length (m) of the point of each vehicle's path (segments ``first[v]`` ..
+    ``first[v] + count[v] - 1`` of a PathTable: starts, vectors, squared lengths, start arc
+    lengths) nearest to ``xy`` (V, 2) m; the first segment at the least distance.
+    PathTable.project's operations per scalar."""
+    out = np.empty(len(first))
+    for v in range(len(first)):
+        low, best, best_f = np.inf, first[v], 0.0
+        for k in range(first[v], first[v] + count[v]):
+            px = xy[v, 0] - start[k, 0]
+            py = xy[v, 1] - start[k, 1]
+            f = (px * vector[k, 0] + py * vector[k, 1]) / length2[k]
+            f = min(max(f, 0.0), 1.0)
+            dx = start[k, 0] + f * vector[k, 0] - xy[v, 0]
+            dy = start[k, 1] + f * vector[k, 1] - xy[v, 1]
+            d = math.sqrt(dx * dx + dy * dy)
+            if d < low or k == first[v]:
+                low, best, best_f = d, k, f
+        out[v] = cum_start[best] + best_f * math.sqrt(length2[best])
+    return out
+
+
+@njit(cache=True)
+def pair_time_bounds(
+    vxy: np.ndarray,
+    pxy: np.ndarray,
+    reach: np.ndarray,
+    radius: float,
+    speed: np.ndarray,
+    ped_speed: float,
+    accel: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(V, P) lower bounds (s) on when vehicles (centres ``vxy`` (V, 2) m, circumscribed
+    ``reach`` (V,) m, speeds (V,) m/s) and pedestrians (``pxy`` (P, 2) m, disc ``radius`` m,
+    at most ``ped_speed`` m/s) could touch: at their current speeds, and with the vehicle
+    accelerating at ``accel`` m/s^2 (hiyari.bridge.campaign.sct_study's bound, per scalar)."""
+    n_v, n_p = len(vxy), len(pxy)
+    tau_now = np.empty((n_v, n_p))
+    tau_acc = np.empty((n_v, n_p))
+    for i in range(n_v):
+        closing = speed[i] + ped_speed
+        for j in range(n_p):
+            dx = vxy[i, 0] - pxy[j, 0]
+            dy = vxy[i, 1] - pxy[j, 1]
+            gap = max(math.sqrt(dx * dx + dy * dy) - reach[i] - radius, 0.0)
+            tau_now[i, j] = gap / closing
+            tau_acc[i, j] = 2.0 * gap / (closing + math.sqrt(closing * closing + 2.0 * accel * gap))
+    return tau_now, tau_acc
+
+
+@njit(cache=True)
+def within_reach(
+    vxy: np.ndarray,
+    pxy: np.ndarray,
+    reach: np.ndarray,
+    radius: float,
+    speed: np.ndarray,
+    ped_speed: np.ndarray,
+    horizon: float,
+    accel_travel: float,
+) -> np.ndarray:
+    """(V,) bool: vehicles (centres ``vxy`` (V, 2) m, circumscribed ``reach`` (V,) m, speeds
+    (V,) m/s) that could touch some pedestrian (``pxy`` (P, 2) m, disc ``radius`` m, speeds
+    ``ped_speed`` (P,) m/s) within ``horizon`` s, the vehicle gaining at most
+    ``accel_travel`` m by accelerating (SCTController._within_reach, per scalar)."""
+    out = np.zeros(len(vxy), np.bool_)
+    for i in range(len(vxy)):
+        for j in range(len(pxy)):
+            dx = vxy[i, 0] - pxy[j, 0]
+            dy = vxy[i, 1] - pxy[j, 1]
+            gap = math.sqrt(dx * dx + dy * dy) - reach[i] - radius
+            if gap <= (speed[i] + ped_speed[j]) * horizon + accel_travel:
+                out[i] = True
+                break
+    return out

@@ -24,7 +24,12 @@ import numpy as np
 
 from hiyari.errors import HiyariError
 from hiyari.kinematics import footprint_corners, overlap_depth
-from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs, travel_rows
+from hiyari.risk.sct.contact_kernel import (
+    first_contacts,
+    near_pairs,
+    travel_rows,
+    within_reach,
+)
 from hiyari.risk.sct.model import SCTModel, StepView
 from hiyari.traffic.commands import Commands
 from hiyari.units import G
@@ -374,14 +379,20 @@ class SCTController:
         """
         cfg, state = self.config, view.state
         v, p = view.veh_rows, view.ped_rows
-        d = np.linalg.norm(state.xyz[v, None, :2] - state.xyz[None, p, :2], axis=2)
         sc = self.model.config
         reach = 0.5 * np.hypot(state.length[v], state.width[v]) + sc.vehicle_margin
-        gap = d - reach[:, None] - sc.pedestrian_radius
         ped_speed = np.linalg.norm(view.ped_velocity, axis=1) * max(sc.speed_factors)
         t = cfg.sct_safe
-        travel = (state.speed[v, None] + ped_speed[None]) * t + 0.5 * cfg.max_accel * t * t
-        return (gap <= travel).any(axis=1)
+        return within_reach(
+            np.ascontiguousarray(state.xyz[v, :2]),
+            np.ascontiguousarray(state.xyz[p, :2]),
+            reach,
+            sc.pedestrian_radius,
+            state.speed[v],
+            ped_speed,
+            t,
+            0.5 * cfg.max_accel * t * t,
+        )
 
     def release_all(self, sim: Commands, present: set[str]) -> None:
         """Hand every controlled vehicle still in the simulation back to its own driver."""

@@ -31,7 +31,7 @@ from hiyari.risk.metrics.contact import (
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
-from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs, path_at
+from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs, path_at, project_rows
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
@@ -105,15 +105,16 @@ class PathTable:
     def project(self, xy: np.ndarray) -> np.ndarray:
         """(V,) arc length (m) of the point of each vehicle's path nearest to ``xy`` (V, 2);
         Path.project of each."""
-        s, own = self.seg, self.owner
-        p = xy[own]
-        f = np.clip(np.einsum("ij,ij->i", p - s.start, s.vector) / s.length2, 0.0, 1.0)
-        d = np.linalg.norm(s.start + f[:, None] * s.vector - p, axis=1)
-        # the first segment of each vehicle's at its least distance, as argmin picks it
-        low = np.minimum.reduceat(d, self.first) if len(d) else d
-        hit = np.flatnonzero(d == low[own])
-        k = hit[np.searchsorted(own[hit], np.arange(len(self.first)))]
-        return s.cum_start[k] + f[k] * np.sqrt(s.length2[k])
+        s = self.seg
+        return project_rows(
+            np.ascontiguousarray(xy, float),
+            self.first,
+            self.count,
+            s.start,
+            s.vector,
+            s.length2,
+            s.cum_start,
+        )
 
     def at(self, vehicles: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(xy (..., 2), heading (...)) at arc lengths ``s`` (n, ...) m along the paths of
