@@ -366,7 +366,7 @@ class SCTController:
                     self.interventions += 1
         if present is None:
             present = set(state.ids[view.veh_rows].tolist())
-        for vid in self.controlled - decided:
+        for vid in sorted(self.controlled - decided):  # a set: fix the order of commands
             if vid in present:
                 sim.release_speed(vid)  # back to its own driver
         self.controlled = decided
@@ -396,7 +396,7 @@ class SCTController:
 
     def release_all(self, sim: Commands, present: set[str]) -> None:
         """Hand every controlled vehicle still in the simulation back to its own driver."""
-        for vid in self.controlled & present:
+        for vid in sorted(self.controlled & present):
             sim.release_speed(vid)
         self.controlled = set()
 
