@@ -158,6 +158,7 @@ class ArmResult:
     time_loss: np.ndarray  # (vehicles,) s, SUMO's timeLoss (delay against free flow)
     person_time_loss: np.ndarray  # (persons,) s
     interventions: int = 0
+    cpu_seconds: float = 0.0  # this process's CPU time over the same span as wall_seconds
 
     @property
     def incidents(self) -> list[Encounter]:
@@ -325,7 +326,7 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
             end_time=end,
             extra_args=("--tripinfo-output", str(trip_file)),
         )
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         with Simulation(sim_cfg, detect_collisions=False) as sim:
             links = _crossing_links(sim, geometry)
             while sim.time < end - eps:
@@ -396,7 +397,7 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
                 if skip >= 1:
                     sim.skip_ahead(round(now + skip * dt, 6))
                     model.forget_absent(set(sim.vehicle_ids()))
-        wall = time.perf_counter() - t0
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         trips = _read_tripinfo(trip_file)
     if progress is not None:
         progress(end - reported)
@@ -416,6 +417,7 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
         time_loss=trips[1],
         person_time_loss=trips[2],
         interventions=controller.interventions if controller is not None else 0,
+        cpu_seconds=cpu,
     )
 
 
@@ -552,9 +554,10 @@ def run_study(
     return results, time.perf_counter() - t0
 
 
-def run_bare(task: ArmTask, read_state: bool = False) -> float:
-    """Wall time (s) of the same SUMO run as ``task`` with no metrics and no controller:
-    libsumo stepping only, or (``read_state``) stepping with a WorldState read per step."""
+def run_bare(task: ArmTask, read_state: bool = False) -> tuple[float, float]:
+    """Wall and CPU time (s) of the same SUMO run as ``task`` with no metrics and no
+    controller: libsumo stepping only, or (``read_state``) stepping with a WorldState read
+    per step."""
     cfg = task.study
     sim_cfg = SimConfig(
         net=task.net,
@@ -565,10 +568,10 @@ def run_bare(task: ArmTask, read_state: bool = False) -> float:
     )
     end = cfg.run_seconds - 1e-6
     with Simulation(sim_cfg, detect_collisions=False) as sim:
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         if read_state:
             while sim.time < end:
                 sim.step()
         else:
             sim.run_bare(cfg.run_seconds)
-        return time.perf_counter() - t0
+        return time.perf_counter() - t0, time.process_time() - c0
