@@ -40,6 +40,7 @@ from hiyari.risk.metrics.incidents import (
     IncidentDetector,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
+from hiyari.risk.sct.contact_kernel import pair_time_bounds
 from hiyari.risk.sct.controller import SCTController, SCTControllerConfig
 from hiyari.risk.sct.model import SCTModel
 from hiyari.sumo_tools import run_sumo_tool
@@ -157,6 +158,7 @@ class ArmResult:
     time_loss: np.ndarray  # (vehicles,) s, SUMO's timeLoss (delay against free flow)
     person_time_loss: np.ndarray  # (persons,) s
     interventions: int = 0
+    cpu_seconds: float = 0.0  # this process's CPU time over the same span as wall_seconds
 
     @property
     def incidents(self) -> list[Encounter]:
@@ -324,7 +326,7 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
             end_time=end,
             extra_args=("--tripinfo-output", str(trip_file)),
         )
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         with Simulation(sim_cfg, detect_collisions=False) as sim:
             links = _crossing_links(sim, geometry)
             while sim.time < end - eps:
@@ -395,7 +397,7 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
                 if skip >= 1:
                     sim.skip_ahead(round(now + skip * dt, 6))
                     model.forget_absent(set(sim.vehicle_ids()))
-        wall = time.perf_counter() - t0
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         trips = _read_tripinfo(trip_file)
     if progress is not None:
         progress(end - reported)
@@ -415,6 +417,7 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
         time_loss=trips[1],
         person_time_loss=trips[2],
         interventions=controller.interventions if controller is not None else 0,
+        cpu_seconds=cpu,
     )
 
 
@@ -434,14 +437,16 @@ def _pair_time_bounds(
 ) -> tuple[np.ndarray, np.ndarray]:
     """(V, P) lower bounds (s) on when vehicle rows ``vin`` and pedestrian rows ``pin`` could
     touch: at their current speeds, and with the vehicle accelerating at its bound."""
-    d = np.sqrt(((st.xyz[vin, None, :2] - st.xyz[None, pin, :2]) ** 2).sum(-1))
     reach = 0.5 * np.hypot(st.length[vin], st.width[vin]) + cfg.sct.vehicle_margin
-    gap = np.maximum(d - reach[:, None] - cfg.sct.pedestrian_radius, 0.0)
-    closing = st.speed[vin, None] + cfg.max_pedestrian_speed
-    a = cfg.controller.max_accel
-    tau_now = gap / closing
-    tau_acc = 2.0 * gap / (closing + np.sqrt(closing**2 + 2.0 * a * gap))
-    return tau_now, tau_acc
+    return pair_time_bounds(
+        np.ascontiguousarray(st.xyz[vin, :2]),
+        np.ascontiguousarray(st.xyz[pin, :2]),
+        reach,
+        cfg.sct.pedestrian_radius,
+        st.speed[vin],
+        cfg.max_pedestrian_speed,
+        cfg.controller.max_accel,
+    )
 
 
 def _evaluate(
@@ -549,9 +554,10 @@ def run_study(
     return results, time.perf_counter() - t0
 
 
-def run_bare(task: ArmTask, read_state: bool = False) -> float:
-    """Wall time (s) of the same SUMO run as ``task`` with no metrics and no controller:
-    libsumo stepping only, or (``read_state``) stepping with a WorldState read per step."""
+def run_bare(task: ArmTask, read_state: bool = False) -> tuple[float, float]:
+    """Wall and CPU time (s) of the same SUMO run as ``task`` with no metrics and no
+    controller: libsumo stepping only, or (``read_state``) stepping with a WorldState read
+    per step."""
     cfg = task.study
     sim_cfg = SimConfig(
         net=task.net,
@@ -562,10 +568,10 @@ def run_bare(task: ArmTask, read_state: bool = False) -> float:
     )
     end = cfg.run_seconds - 1e-6
     with Simulation(sim_cfg, detect_collisions=False) as sim:
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         if read_state:
             while sim.time < end:
                 sim.step()
         else:
             sim.run_bare(cfg.run_seconds)
-        return time.perf_counter() - t0
+        return time.perf_counter() - t0, time.process_time() - c0

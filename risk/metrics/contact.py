@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
+from numba import njit
 
 from hiyari.kinematics import (
     heading_vector,
@@ -197,17 +198,42 @@ class Path:
 
 
 # ---------------------------------------------------------------------------- pedestrians
-def _segment_distance(
-    xy: np.ndarray, a: np.ndarray, b: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """(P, K) distance from P points to K segments a -> b, and (P, K, 2) the vectors from
-    each point to its nearest point on each segment."""
-    ab = b - a
-    L2 = np.maximum(np.einsum("kj,kj->k", ab, ab), 1e-12)
-    ap = xy[:, None, :] - a[None]
-    f = np.clip(np.einsum("pkj,kj->pk", ap, ab) / L2, 0.0, 1.0)
-    to_seg = f[..., None] * ab[None] - ap
-    return np.linalg.norm(to_seg, axis=2), to_seg
+@njit(cache=True)
+def _dart_out_kerbs(
+    xy: np.ndarray,
+    u: np.ndarray,
+    facing: np.ndarray,
+    a: np.ndarray,
+    ab: np.ndarray,
+    length2: np.ndarray,
+    is_end: np.ndarray,
+    usable: np.ndarray,
+    cos_max: float,
+    reach: float,
+) -> np.ndarray:
+    """(P,) per pedestrian the nearest usable kerb segment it faces within ``reach`` m (-1:
+    none); ``facing`` (P, K) whether its heading faces each segment's inward normal."""
+    n, m = facing.shape
+    best = np.full(n, -1)
+    for p in range(n):
+        low = np.inf
+        for k in range(m):
+            # nearest point of segment k: the numpy steps of the reference, per scalar
+            apx = xy[p, 0] - a[k, 0]
+            apy = xy[p, 1] - a[k, 1]
+            f = (apx * ab[k, 0] + apy * ab[k, 1]) / length2[k]
+            f = min(max(f, 0.0), 1.0)
+            tx = f * ab[k, 0] - apx
+            ty = f * ab[k, 1] - apy
+            dist = math.sqrt(tx * tx + ty * ty)
+            ok = facing[p, k]
+            if not ok and is_end[k] and dist > 0.1:
+                # crossing ends: also walking towards the crossing's end (round the corner)
+                ok = u[p, 0] * tx + u[p, 1] * ty >= cos_max * max(dist, 1e-9)
+            if ok and usable[k] and dist <= reach and dist < low:
+                low = dist
+                best[p] = k
+    return best
 
 
 def pedestrian_velocity(
@@ -226,7 +252,8 @@ def pedestrian_velocity(
     walking speed; the others keep their velocity. Facing: the heading is within
     ``dart_out_max_angle_deg`` of the inward direction or, for crossing ends, of the direction
     to the crossing end (a pedestrian walking round the corner to the crossing). ``open_crossings`` (C,) bool: crossings pedestrians may enter now
-    (signals); ends of closed crossings do not count. None: all open.
+    (signals); ends of closed crossings do not count. None: all open. Among several kerbs the
+    nearest counts (the first of equals).
     """
     u = heading_vector(heading)
     vel = speed[:, None] * u
@@ -238,16 +265,23 @@ def pedestrian_velocity(
         cr = kerbs.crossing
         usable = (cr < 0) | np.asarray(open_crossings, bool)[np.maximum(cr, 0)]
     rows = np.flatnonzero(on_kerb)
-    dist, to_seg = _segment_distance(xy[rows], kerbs.a, kerbs.b)
     cos_max = math.cos(math.radians(config.dart_out_max_angle_deg))
+    ab = kerbs.b - kerbs.a
+    length2 = np.maximum(np.einsum("kj,kj->k", ab, ab), 1e-12)
     facing = u[rows] @ kerbs.inward.T >= cos_max
-    # crossing ends: also walking towards the crossing's end (e.g. round the corner)
-    toward = np.einsum("pj,pkj->pk", u[rows], to_seg) >= cos_max * np.maximum(dist, 1e-9)
-    facing |= toward & (kerbs.crossing >= 0)[None] & (dist > 0.1)
-    ok = facing & usable[None] & (dist <= config.dart_out_distance)
-    dist = np.where(ok, dist, np.inf)
-    best = np.argmin(dist, axis=1)
-    hit = np.isfinite(dist[np.arange(len(rows)), best])
+    best = _dart_out_kerbs(
+        np.ascontiguousarray(xy[rows], float),
+        np.ascontiguousarray(u[rows]),
+        facing,
+        np.ascontiguousarray(kerbs.a, float),
+        ab,
+        length2,
+        kerbs.crossing >= 0,
+        usable,
+        cos_max,
+        float(config.dart_out_distance),
+    )
+    hit = best >= 0
     r = rows[hit]
     step_speed = np.maximum(speed[r], config.dart_out_speed)
     vel[r] = step_speed[:, None] * kerbs.inward[best[hit]]

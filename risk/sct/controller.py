@@ -24,8 +24,13 @@ import numpy as np
 
 from hiyari.errors import HiyariError
 from hiyari.kinematics import footprint_corners, overlap_depth
-from hiyari.risk.metrics.contact import contact_gap, first_contact_time
-from hiyari.risk.sct.model import SCTModel, StepView, near_contact
+from hiyari.risk.sct.contact_kernel import (
+    first_contacts,
+    near_pairs,
+    travel_rows,
+    within_reach,
+)
+from hiyari.risk.sct.model import SCTModel, StepView
 from hiyari.traffic.commands import Commands
 from hiyari.units import G
 
@@ -103,15 +108,22 @@ def travel(
     (..., C, K) sampled every ``dt`` s from speed ``v0``; speeds are kept within 0 ..
     ``v_max`` (``v0`` and ``v_max`` broadcast against the profiles' leading axes: (..., 1, 1)
     per vehicle). A stopped vehicle stays stopped while the profile brakes. A profile that ends
-    braking comes to a full stop once it is slower than ``stop_speed`` m/s."""
-    zero = np.zeros((*accel.shape[:-1], 1))
-    dv = 0.5 * (accel[..., 1:] + accel[..., :-1]) * dt
-    v = np.clip(v0 + np.concatenate([zero, np.cumsum(dv, -1)], -1), 0, v_max)
-    if stop_speed > 0:
-        slow = (v < stop_speed) & (accel[..., -1:] <= 0)
-        v = np.where(np.logical_or.accumulate(slow, axis=-1), 0.0, v)
-    ds = 0.5 * (v[..., 1:] + v[..., :-1]) * dt
-    return v, np.concatenate([zero, np.cumsum(ds, -1)], -1)
+    braking comes to a full stop once it is slower than ``stop_speed`` m/s. Compiled
+    (contact_kernel.travel_rows): one pass per profile."""
+    lead = accel.shape[:-1]
+
+    def per_profile(x: float | np.ndarray) -> np.ndarray:
+        x = np.asarray(x, float)
+        return np.ascontiguousarray(np.broadcast_to(x[..., 0] if x.ndim else x, lead)).ravel()
+
+    v, s = travel_rows(
+        np.ascontiguousarray(accel, float).reshape(-1, accel.shape[-1]),
+        per_profile(v0),
+        per_profile(v_max),
+        float(dt),
+        float(stop_speed),
+    )
+    return v.reshape(accel.shape), s.reshape(accel.shape)
 
 
 class SCTController:
@@ -192,13 +204,18 @@ class SCTController:
         length, width, v0, a0 = length[keep], width[keep], v0[keep], a0[keep]
         v_max, engaged = v_max[keep], engaged[keep]
         exposed = model.exposed(view, slots).reshape(len(ped), len(times))
-        dims = (slice(None), None, None, None)
         contact = model.config.contact
-        gap = contact_gap(xy[:, :, None], hd[:, :, None], length[dims], width[dims], ped, contact)
-        gap = np.where(exposed, gap, np.inf)[:, 0]  # (V, P * H, K)
+        margin, radius = contact.vehicle_margin, contact.pedestrian_radius
+        vi, ti = np.nonzero(mine)
+        first, ok = first_contacts(
+            xy[:, 0], hd[:, 0], length, width, margin, radius, ped, exposed, vi, ti, times
+        )
         # pedestrians already touching the vehicle cannot be helped by any profile
-        apart = mine & (gap[..., 0] > 0)
-        sct_free = first_contact_time(np.where(apart[..., None], gap, np.inf), times).min(axis=1)
+        apart = np.zeros(mine.shape, bool)
+        apart[vi, ti] = ok
+        sct_free = np.full(mine.shape, np.inf)
+        sct_free[vi[ok], ti[ok]] = first[ok]
+        sct_free = sct_free.min(axis=1)
         plan = apart.any(axis=1) & np.isfinite(sct_free) & ((sct_free < cfg.sct_safe) | engaged)
         w = np.flatnonzero(plan)
         if len(w) == 0:
@@ -207,9 +224,26 @@ class SCTController:
         accel = ramp_profiles(a0[w], self._targets, times, cfg.jerk_limit)  # (W, C, K)
         v, s = travel(accel, v0[w, None, None], v_max[w], dt, cfg.stop_speed)
         xy, hd = model.vehicle_poses(view, rows, s)  # (W, C, K, 2)
-        gap = contact_gap(xy[:, :, None], hd[:, :, None], length[dims], width[dims], ped, contact)
-        gap = np.where(exposed & apart[:, None, :, None], gap, np.inf)
-        sct = first_contact_time(gap, times).min(axis=2)  # (W, C)
+        n_c = xy.shape[1]
+        wi, ti = np.nonzero(apart)  # candidate a = w * C + c plans for its apart tracks only
+        a = (wi[:, None] * n_c + np.arange(n_c)).ravel()
+        t = np.repeat(ti, n_c)
+        first, _ = first_contacts(
+            xy.reshape(-1, len(times), 2),
+            hd.reshape(-1, len(times)),
+            np.repeat(length, n_c),
+            np.repeat(width, n_c),
+            margin,
+            radius,
+            ped,
+            exposed,
+            a,
+            t,
+            times,
+        )
+        cushion = np.full((len(w) * n_c, len(ped)), np.inf)
+        cushion[a, t] = first
+        sct = cushion.min(axis=1).reshape(len(w), n_c)  # (W, C)
         blocks = self._stops_on_crossing(xy[:, :, -1], hd[:, :, -1], v[:, :, -1], length, width)
         # keep crossings clear: never plan to stop on one (unless every plan does)
         sct = np.where(blocks & ~blocks.all(axis=1, keepdims=True), -1.0, sct)
@@ -227,7 +261,7 @@ class SCTController:
     ) -> np.ndarray:
         """(V,) bool: vehicles (centres ``xy`` (V, K, 2) under their own driver, sizes (V,) m)
         that may touch one of their pedestrian tracks (``ped`` (T, K, 2), ``mine`` (V, T))
-        (model.near_contact); the others need no plan. A vehicle not ``engaged`` (V,) needs
+        (contact_kernel.near_pairs); the others need no plan. A vehicle not ``engaged`` (V,) needs
         one only for a contact before sct_safe: it is tested up to the first sample at or
         after sct_safe (a contact first found later is interpolated back to the previous
         sample at most). An engaged one is handed back only when no contact is predicted
@@ -235,14 +269,19 @@ class SCTController:
         times = self.model.times
         upto = min(int(np.searchsorted(times, self.config.sct_safe)) + 1, len(times))
         contact = self.model.config.contact
-        shape = (slice(None), None)
-        near = near_contact(
-            xy[:, None, :upto], length[shape], width[shape], ped[None, :, :upto], contact
+        vi, ti = np.nonzero(mine)  # only a vehicle's own tracks count
+        near = near_pairs(
+            xy,
+            length,
+            width,
+            contact.vehicle_margin,
+            contact.pedestrian_radius,
+            ped,
+            vi,
+            ti,
+            np.where(engaged[vi], len(times), upto),
         )
-        e = np.flatnonzero(engaged)
-        if len(e):
-            near[e] = near_contact(xy[e, None], length[e][shape], width[e][shape], ped, contact)
-        return (near & mine).any(axis=1)
+        return np.bincount(vi[near], minlength=len(xy)) > 0
 
     def _pick(self, sct: np.ndarray) -> np.ndarray:
         """(W,) the candidate each vehicle drives, from SCTs (W, C) of its candidates.
@@ -327,7 +366,7 @@ class SCTController:
                     self.interventions += 1
         if present is None:
             present = set(state.ids[view.veh_rows].tolist())
-        for vid in self.controlled - decided:
+        for vid in sorted(self.controlled - decided):  # a set: fix the order of commands
             if vid in present:
                 sim.release_speed(vid)  # back to its own driver
         self.controlled = decided
@@ -340,18 +379,24 @@ class SCTController:
         """
         cfg, state = self.config, view.state
         v, p = view.veh_rows, view.ped_rows
-        d = np.linalg.norm(state.xyz[v, None, :2] - state.xyz[None, p, :2], axis=2)
         sc = self.model.config
         reach = 0.5 * np.hypot(state.length[v], state.width[v]) + sc.vehicle_margin
-        gap = d - reach[:, None] - sc.pedestrian_radius
         ped_speed = np.linalg.norm(view.ped_velocity, axis=1) * max(sc.speed_factors)
         t = cfg.sct_safe
-        travel = (state.speed[v, None] + ped_speed[None]) * t + 0.5 * cfg.max_accel * t * t
-        return (gap <= travel).any(axis=1)
+        return within_reach(
+            np.ascontiguousarray(state.xyz[v, :2]),
+            np.ascontiguousarray(state.xyz[p, :2]),
+            reach,
+            sc.pedestrian_radius,
+            state.speed[v],
+            ped_speed,
+            t,
+            0.5 * cfg.max_accel * t * t,
+        )
 
     def release_all(self, sim: Commands, present: set[str]) -> None:
         """Hand every controlled vehicle still in the simulation back to its own driver."""
-        for vid in self.controlled & present:
+        for vid in sorted(self.controlled & present):
             sim.release_speed(vid)
         self.controlled = set()
 

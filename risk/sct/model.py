@@ -27,11 +27,11 @@ from hiyari.risk.metrics.contact import (
     SCTConfig,
     contact_gap,
     crossing_conflict,
-    first_contact_time,
     pedestrian_tracks,
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
+from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs, path_at, project_rows
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
@@ -105,28 +105,32 @@ class PathTable:
     def project(self, xy: np.ndarray) -> np.ndarray:
         """(V,) arc length (m) of the point of each vehicle's path nearest to ``xy`` (V, 2);
         Path.project of each."""
-        s, own = self.seg, self.owner
-        p = xy[own]
-        f = np.clip(np.einsum("ij,ij->i", p - s.start, s.vector) / s.length2, 0.0, 1.0)
-        d = np.linalg.norm(s.start + f[:, None] * s.vector - p, axis=1)
-        # the first segment of each vehicle's at its least distance, as argmin picks it
-        low = np.minimum.reduceat(d, self.first) if len(d) else d
-        hit = np.flatnonzero(d == low[own])
-        k = hit[np.searchsorted(own[hit], np.arange(len(self.first)))]
-        return s.cum_start[k] + f[k] * np.sqrt(s.length2[k])
+        s = self.seg
+        return project_rows(
+            np.ascontiguousarray(xy, float),
+            self.first,
+            self.count,
+            s.start,
+            s.vector,
+            s.length2,
+            s.cum_start,
+        )
 
     def at(self, vehicles: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(xy (..., 2), heading (...)) at arc lengths ``s`` (n, ...) m along the paths of
         ``vehicles`` (n,) (indices into this table); Path.at of each."""
-        shape = (len(vehicles), *([1] * (s.ndim - 1)))
-        cum = self.cum[vehicles].reshape(*shape, -1)
-        # searchsorted(cum, s, side="right") - 1, kept on the path's segments
-        k = np.maximum((s[..., None] >= cum).sum(axis=-1) - 1, 0)
-        k = np.minimum(k, (self.count[vehicles] - 1).reshape(shape))
-        k += self.first[vehicles].reshape(shape)
         seg = self.seg
-        xy = seg.start[k] + seg.unit[k] * (s - seg.cum_start[k])[..., None]
-        return xy, seg.heading[k]
+        return path_at(
+            self.cum,
+            self.count,
+            self.first,
+            seg.start,
+            seg.unit,
+            seg.cum_start,
+            seg.heading,
+            vehicles,
+            s,
+        )
 
 
 class SCTModel:
@@ -323,7 +327,7 @@ class SCTModel:
         hiyari.risk.metrics.contact.safety_cushion_time on the step's shared pedestrian
         tracks. Pedestrians off the carriageway are protected in both. The gap is the TTC
         shapes' distance now (<= 0: touching). ``with_sct`` False: SCT is not computed (inf).
-        Pairs whose tracks never come near enough to touch (near_contact) are inf without
+        Pairs whose tracks never come near enough to touch (contact_kernel.near_pairs) are inf without
         further work.
         """
         n = len(vi)
@@ -347,26 +351,65 @@ class SCTModel:
             on_road = shapely.contains_xy(road, now[:, 0], now[:, 1])[pinv]
             gap = np.where(on_road, gap, np.inf)
         ttc = np.full(n, np.inf)
-        c = np.flatnonzero(near_contact(vxy, length, width, ped_cv, ttc_contact))
+        every = np.arange(n)
+        near = near_pairs(
+            vxy,
+            length,
+            width,
+            ttc_contact.vehicle_margin,
+            ttc_contact.pedestrian_radius,
+            ped_cv,
+            every,
+            every,
+        )
+        c = np.flatnonzero(near)
         if len(c):
-            g = contact_gap(vxy[c], vh[c], length[c, None], width[c, None], ped_cv[c], ttc_contact)
-            g = np.where(self._cv_protected(view, pj[c], ped_cv[c]), np.inf, g)
-            ttc[c] = first_contact_time(g, t)
+            ttc[c], _ = first_contacts(
+                vxy,
+                vh,
+                length,
+                width,
+                ttc_contact.vehicle_margin,
+                ttc_contact.pedestrian_radius,
+                ped_cv[c],
+                ~self._cv_protected(view, pj[c], ped_cv[c]),
+                c,
+                np.arange(len(c)),
+                t,
+            )
         sct = np.full(n, np.inf)
         if not with_sct:
             return ttc, sct, gap
         slot = view.ped_slot[pj]
         contact = self.config.contact
         tracks = view.tracks[slot]
-        near = near_contact(vxy[:, None], length[:, None], width[:, None], tracks, contact)
-        c = np.flatnonzero(near.any(axis=1))
+        h = tracks.shape[1]
+        near = near_pairs(
+            vxy,
+            length,
+            width,
+            contact.vehicle_margin,
+            contact.pedestrian_radius,
+            tracks.reshape(n * h, len(t), 2),
+            np.repeat(every, h),
+            np.arange(n * h),
+        )
+        c = np.flatnonzero(near.reshape(n, h).any(axis=1))
         if len(c):
-            shape = (slice(None), None, None)
-            g = contact_gap(
-                vxy[c, None], vh[c, None], length[c][shape], width[c][shape], tracks[c], contact
+            first, _ = first_contacts(
+                vxy,
+                vh,
+                length,
+                width,
+                contact.vehicle_margin,
+                contact.pedestrian_radius,
+                tracks[c].reshape(len(c) * h, len(t), 2),
+                self.exposed(view, slot[c]).reshape(len(c) * h, len(t)),
+                np.repeat(c, h),
+                np.arange(len(c) * h),
+                t,
             )
-            g = np.where(self.exposed(view, slot[c]), g, np.inf)
-            sct[c] = first_contact_time(g, t).min(axis=-1)
+            sct[c] = first.reshape(len(c), h).min(axis=-1)
         return ttc, sct, gap
 
     def crossing_occupancy(
@@ -400,24 +443,6 @@ class SCTModel:
             )
             has[sel], vin[sel], pin[sel] = h, v, p
         return has, vin, pin
-
-
-def near_contact(
-    centre: np.ndarray,
-    length: np.ndarray,
-    width: np.ndarray,
-    points: np.ndarray,
-    contact: ContactGeometry,
-) -> np.ndarray:
-    """(...) bool: whether ``points`` (..., K, 2) come within reach of rectangles (centres
-    (..., K, 2) m, ``length`` / ``width`` (...) m, broadcasting) at some sample: the
-    rectangle grown by the margin lies within its circumscribed circle, so contact_gap <= 0
-    needs the point within that circle plus the disc. False: no contact at any sample. A
-    micrometre of slack keeps rounding from ever excluding a contact."""
-    m = contact.vehicle_margin
-    reach = np.hypot(0.5 * length + m, 0.5 * width + m) + contact.pedestrian_radius + 1e-6
-    d = points - centre
-    return (d * d).sum(axis=-1).min(axis=-1) <= reach * reach
 
 
 def _distinct(rows: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:

@@ -1,0 +1,305 @@
+"""The compiled SCT kernels (first contact, path sampling, dart-out kerbs) equal numpy bit for bit."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from hiyari.risk.metrics.contact import (
+    ContactGeometry,
+    Path,
+    SCTConfig,
+    contact_gap,
+    first_contact_time,
+    pedestrian_velocity,
+)
+from hiyari.risk.metrics.pedestrian_geometry import KerbSegments
+from hiyari.risk.sct.contact_kernel import (
+    first_contacts,
+    near_pairs,
+    pair_time_bounds,
+    within_reach,
+)
+from hiyari.risk.sct.controller import ramp_profiles, travel
+from hiyari.risk.sct.model import PathTable, Segments
+
+
+def _reference(vxy, vh, length, width, contact, tracks, exposed, a, t, times):
+    gap = contact_gap(vxy[a], vh[a], length[a, None], width[a, None], tracks[t], contact)  # (n, K)
+    gap = np.where(exposed[t], gap, np.inf)
+    return first_contact_time(gap, times), gap[:, 0] > 0
+
+
+def test_kernel_equals_numpy_bit_for_bit():
+    rng = np.random.default_rng(7)
+    times = np.arange(51) * 0.2
+    n_a, n_t = 40, 60
+    # vehicles driving along x through the pedestrians' area, pedestrians crossing it
+    start = rng.uniform(-30, 0, (n_a, 1, 2))
+    speed = rng.uniform(0, 15, (n_a, 1, 1))
+    heading = rng.uniform(-np.pi, np.pi, (n_a, len(times)))
+    vxy = start + speed * times[None, :, None] * np.stack([np.cos(heading), np.sin(heading)], -1)
+    tracks = (
+        rng.uniform(-10, 10, (n_t, 1, 2)) + rng.normal(0, 1.5, (n_t, 1, 2)) * times[None, :, None]
+    )
+    tracks[:5] = vxy[:5]  # touching from the first sample
+    exposed = rng.random((n_t, len(times))) < 0.8
+    exposed[5:10] = False  # protected throughout
+    length, width = rng.uniform(3, 12, n_a), rng.uniform(1.5, 2.6, n_a)
+    a = np.repeat(np.arange(n_a), n_t)
+    t = np.tile(np.arange(n_t), n_a)
+    contact = ContactGeometry(0.2, 0.3)
+    first, apart = first_contacts(
+        vxy, heading, length, width, 0.2, 0.3, tracks, exposed, a, t, times
+    )
+    ref_first, ref_apart = _reference(
+        vxy, heading, length, width, contact, tracks, exposed, a, t, times
+    )
+    assert np.isfinite(first).sum() > 100 and np.isinf(first).sum() > 100  # both kinds occur
+    assert (first == 0).any() and not apart.all()  # contacts from the first sample too
+    assert np.array_equal(first, ref_first)
+    assert np.array_equal(apart, ref_apart)
+    assert first.tobytes() == ref_first.tobytes()
+
+
+def test_kernel_interpolates_between_samples():
+    # a point pedestrian standing 5 m ahead of a 4 m x 2 m car driving at 10 m/s along +x:
+    # the front (2 m ahead of the centre) reaches x = 5 - 0.3 at t = 0.27 s
+    times = np.arange(11) * 0.1
+    vxy = np.stack([10.0 * times, np.zeros_like(times)], -1)[None]
+    tracks = np.tile([5.0, 0.0], (1, len(times), 1))
+    first, apart = first_contacts(
+        vxy,
+        np.zeros((1, len(times))),
+        np.array([4.0]),
+        np.array([2.0]),
+        0.0,
+        0.3,
+        tracks,
+        np.ones((1, len(times)), bool),
+        np.array([0]),
+        np.array([0]),
+        times,
+    )
+    assert apart[0]
+    assert abs(first[0] - 0.27) < 1e-12
+
+
+def _path_at_reference(table, vehicles, s):
+    """PathTable.at in numpy (its former implementation)."""
+    shape = (len(vehicles), *([1] * (s.ndim - 1)))
+    cum = table.cum[vehicles].reshape(*shape, -1)
+    k = np.maximum((s[..., None] >= cum).sum(axis=-1) - 1, 0)
+    k = np.minimum(k, (table.count[vehicles] - 1).reshape(shape))
+    k += table.first[vehicles].reshape(shape)
+    seg = table.seg
+    return seg.start[k] + seg.unit[k] * (s - seg.cum_start[k])[..., None], seg.heading[k]
+
+
+def test_path_sampling_equals_numpy_bit_for_bit():
+    rng = np.random.default_rng(3)
+    paths = []
+    for n in (2, 5, 40):  # a straight segment, a few, a curve of many
+        angle = np.cumsum(rng.normal(0, 0.2, n))
+        steps = rng.uniform(0.5, 4.0, (n, 1)) * np.stack([np.cos(angle), np.sin(angle)], -1)
+        paths.append(Path.of(np.cumsum(steps, axis=0)))
+    table = PathTable.of([Segments.of(p) for p in paths])
+    vehicles = np.array([2, 0, 1, 2])
+    # before the start, on the path, at its vertices, beyond the end
+    s = rng.uniform(-20, 200, (4, 3, 51))
+    s[0, 0, :5] = paths[2].cum[:5]
+    xy, hd = table.at(vehicles, s)
+    ref_xy, ref_hd = _path_at_reference(table, vehicles, s)
+    assert xy.shape == (4, 3, 51, 2) and hd.shape == (4, 3, 51)
+    assert xy.tobytes() == ref_xy.tobytes() and hd.tobytes() == ref_hd.tobytes()
+    # and each equals sampling the vehicle's own Path
+    for i, v in enumerate(vehicles):
+        p_xy, p_hd = paths[v].at(s[i])
+        assert np.allclose(xy[i], p_xy, atol=1e-9) and np.allclose(hd[i], p_hd, atol=1e-12)
+
+
+def _velocity_reference(xy, heading, speed, on_kerb, kerbs, config, open_crossings):
+    """pedestrian_velocity in numpy (its former implementation)."""
+    u = np.stack([np.cos(heading), np.sin(heading)], -1)
+    vel = speed[:, None] * u
+    dart = np.zeros(len(xy), bool)
+    cr = kerbs.crossing
+    usable = (cr < 0) | np.asarray(open_crossings, bool)[np.maximum(cr, 0)]
+    rows = np.flatnonzero(on_kerb)
+    ab = kerbs.b - kerbs.a
+    L2 = np.maximum(np.einsum("kj,kj->k", ab, ab), 1e-12)
+    ap = xy[rows][:, None, :] - kerbs.a[None]
+    f = np.clip(np.einsum("pkj,kj->pk", ap, ab) / L2, 0.0, 1.0)
+    to_seg = f[..., None] * ab[None] - ap
+    dist = np.linalg.norm(to_seg, axis=2)
+    cos_max = math.cos(math.radians(config.dart_out_max_angle_deg))
+    facing = u[rows] @ kerbs.inward.T >= cos_max
+    toward = np.einsum("pj,pkj->pk", u[rows], to_seg) >= cos_max * np.maximum(dist, 1e-9)
+    facing |= toward & (kerbs.crossing >= 0)[None] & (dist > 0.1)
+    ok = facing & usable[None] & (dist <= config.dart_out_distance)
+    dist = np.where(ok, dist, np.inf)
+    best = np.argmin(dist, axis=1)
+    hit = np.isfinite(dist[np.arange(len(rows)), best])
+    r = rows[hit]
+    vel[r] = np.maximum(speed[r], config.dart_out_speed)[:, None] * kerbs.inward[best[hit]]
+    dart[r] = True
+    return vel, dart
+
+
+def test_pedestrian_velocity_equals_numpy_bit_for_bit():
+    rng = np.random.default_rng(11)
+    k = 40
+    a = rng.uniform(-30, 30, (k, 2))
+    angle = rng.uniform(-np.pi, np.pi, k)
+    b = a + rng.uniform(0.5, 8, (k, 1)) * np.stack([np.cos(angle), np.sin(angle)], -1)
+    inward = np.stack([-np.sin(angle), np.cos(angle)], -1)
+    crossing = np.where(rng.random(k) < 0.3, rng.integers(0, 4, k), -1)
+    kerbs = KerbSegments(a, b, inward, crossing)
+    n = 3000
+    # pedestrians near the kerbs: many within the dart-out distance, some exactly on one
+    near = rng.integers(0, k, n)
+    xy = a[near] + rng.uniform(0, 1, (n, 1)) * (b - a)[near] + rng.normal(0, 1.2, (n, 2))
+    xy[:50] = a[near[:50]]
+    heading = rng.uniform(-np.pi, np.pi, n)
+    speed = rng.uniform(0, 2, n)
+    speed[:200] = 0.0
+    on_kerb = rng.random(n) < 0.8
+    config = SCTConfig()
+    for open_crossings in (np.ones(4, bool), np.array([True, False, True, False])):
+        vel, dart = pedestrian_velocity(xy, heading, speed, on_kerb, kerbs, config, open_crossings)
+        ref_vel, ref_dart = _velocity_reference(
+            xy, heading, speed, on_kerb, kerbs, config, open_crossings
+        )
+        assert 100 < dart.sum() < n  # dart-outs and plain walkers both occur
+        assert np.array_equal(dart, ref_dart)
+        assert vel.tobytes() == ref_vel.tobytes()
+
+
+def test_near_pairs_equals_numpy_and_never_misses_a_contact():
+    rng = np.random.default_rng(5)
+    times = np.arange(51) * 0.2
+    n_a, n_t = 30, 50
+    heading = rng.uniform(-np.pi, np.pi, (n_a, len(times)))
+    vxy = rng.uniform(-20, 20, (n_a, 1, 2)) + rng.uniform(0, 12, (n_a, 1, 1)) * times[
+        None, :, None
+    ] * np.stack([np.cos(heading[:, :1]), np.sin(heading[:, :1])], -1)
+    tracks = (
+        rng.uniform(-20, 20, (n_t, 1, 2)) + rng.normal(0, 1.5, (n_t, 1, 2)) * times[None, :, None]
+    )
+    length, width = rng.uniform(3, 12, n_a), rng.uniform(1.5, 2.6, n_a)
+    a = np.repeat(np.arange(n_a), n_t)
+    t = np.tile(np.arange(n_t), n_a)
+    upto = rng.integers(1, len(times) + 1, len(a))
+    near = near_pairs(vxy, length, width, 0.2, 0.3, tracks, a, t, upto)
+    # the former numpy form, per pair up to its own sample
+    reach = np.hypot(0.5 * length + 0.2, 0.5 * width + 0.2) + 0.3 + 1e-6
+    ref = np.array(
+        [
+            ((tracks[j, :u] - vxy[i, :u]) ** 2).sum(-1).min() <= reach[i] * reach[i]
+            for i, j, u in zip(a, t, upto, strict=True)
+        ]
+    )
+    assert 50 < near.sum() < len(near) - 50
+    assert np.array_equal(near, ref)
+    # a pair that is not near has no contact at any of those samples
+    first, _ = first_contacts(
+        vxy,
+        heading,
+        length,
+        width,
+        0.2,
+        0.3,
+        tracks,
+        np.ones((n_t, len(times)), bool),
+        a,
+        t,
+        times,
+    )
+    touched = first < times[upto - 1]  # a contact at a sample before upto
+    assert touched.sum() > 10 and near[touched].all()
+
+
+def _travel_reference(accel, v0, v_max, dt, stop_speed=0.0):
+    """controller.travel in numpy (its former implementation)."""
+    zero = np.zeros((*accel.shape[:-1], 1))
+    dv = 0.5 * (accel[..., 1:] + accel[..., :-1]) * dt
+    v = np.clip(v0 + np.concatenate([zero, np.cumsum(dv, -1)], -1), 0, v_max)
+    if stop_speed > 0:
+        slow = (v < stop_speed) & (accel[..., -1:] <= 0)
+        v = np.where(np.logical_or.accumulate(slow, axis=-1), 0.0, v)
+    ds = 0.5 * (v[..., 1:] + v[..., :-1]) * dt
+    return v, np.concatenate([zero, np.cumsum(ds, -1)], -1)
+
+
+def test_travel_equals_numpy_bit_for_bit():
+    rng = np.random.default_rng(2)
+    times = np.arange(51) * 0.2
+    targets = np.linspace(-4, 1.5, 12)
+    a0 = rng.uniform(-3, 2, 20)
+    accel = ramp_profiles(a0, targets, times, 3.0)  # (20, 12, 51)
+    v0 = rng.uniform(0, 15, (20, 1, 1))
+    v0[:3] = 0.0
+    v_max = np.maximum(rng.uniform(8, 16, (20, 1, 1)), v0)
+    for stop in (0.0, 1.0):
+        v, s = travel(accel, v0, v_max, 0.2, stop)
+        ref_v, ref_s = _travel_reference(accel, v0, v_max, 0.2, stop)
+        assert v.tobytes() == ref_v.tobytes() and s.tobytes() == ref_s.tobytes()
+    assert (v == 0).any() and (v == v_max).any()  # both clips were exercised
+    v, s = travel(np.full((1, 11), -2.0), 10.0, 14.0, 0.1)  # scalars broadcast too
+    ref_v, ref_s = _travel_reference(np.full((1, 11), -2.0), 10.0, 14.0, 0.1)
+    assert v.tobytes() == ref_v.tobytes() and s.tobytes() == ref_s.tobytes()
+
+
+def _project_reference(table, xy):
+    """PathTable.project in numpy (its former implementation)."""
+    s, own = table.seg, table.owner
+    p = xy[own]
+    f = np.clip(np.einsum("ij,ij->i", p - s.start, s.vector) / s.length2, 0.0, 1.0)
+    d = np.linalg.norm(s.start + f[:, None] * s.vector - p, axis=1)
+    low = np.minimum.reduceat(d, table.first)
+    hit = np.flatnonzero(d == low[own])
+    k = hit[np.searchsorted(own[hit], np.arange(len(table.first)))]
+    return s.cum_start[k] + f[k] * np.sqrt(s.length2[k])
+
+
+def test_projection_equals_numpy_bit_for_bit():
+    rng = np.random.default_rng(4)
+    paths = []
+    for n in rng.integers(2, 60, 30):
+        angle = np.cumsum(rng.normal(0, 0.3, n))
+        steps = rng.uniform(0.5, 4.0, (n, 1)) * np.stack([np.cos(angle), np.sin(angle)], -1)
+        paths.append(Path.of(np.cumsum(steps, axis=0)))
+    table = PathTable.of([Segments.of(p) for p in paths])
+    xy = np.array([p.points[len(p.points) // 2] for p in paths]) + rng.normal(0, 3, (30, 2))
+    xy[0] = paths[0].points[0]  # on a vertex: two segments at the same distance
+    s = table.project(xy)
+    assert s.tobytes() == _project_reference(table, xy).tobytes()
+    assert np.allclose(s, [p.project(q) for p, q in zip(paths, xy, strict=True)])
+
+
+def test_pair_time_bounds_equal_numpy_bit_for_bit():
+    rng = np.random.default_rng(9)
+    vxy, pxy = rng.uniform(-80, 80, (12, 2)), rng.uniform(-20, 20, (9, 2))
+    length, width = rng.uniform(3, 12, 12), rng.uniform(1.5, 2.6, 12)
+    speed = rng.uniform(0, 15, 12)
+    reach = 0.5 * np.hypot(length, width) + 0.2
+    tau_now, tau_acc = pair_time_bounds(vxy, pxy, reach, 0.3, speed, 2.5, 3.0)
+    d = np.sqrt(((vxy[:, None] - pxy[None]) ** 2).sum(-1))
+    gap = np.maximum(d - reach[:, None] - 0.3, 0.0)
+    closing = speed[:, None] + 2.5
+    assert tau_now.tobytes() == (gap / closing).tobytes()
+    ref_acc = 2.0 * gap / (closing + np.sqrt(closing**2 + 2.0 * 3.0 * gap))
+    assert tau_acc.tobytes() == ref_acc.tobytes()
+    assert (tau_acc <= tau_now).all()  # accelerating can only bring contact earlier
+
+
+def test_within_reach_equals_numpy():
+    rng = np.random.default_rng(10)
+    vxy, pxy = rng.uniform(-80, 80, (40, 2)), rng.uniform(-20, 20, (7, 2))
+    reach = rng.uniform(2, 7, 40)
+    speed, ped_speed = rng.uniform(0, 15, 40), rng.uniform(0, 3, 7)
+    out = within_reach(vxy, pxy, reach, 0.3, speed, ped_speed, 4.0, 0.5 * 3.0 * 4.0 * 4.0)
+    gap = np.linalg.norm(vxy[:, None] - pxy[None], axis=2) - reach[:, None] - 0.3
+    ref = (gap <= (speed[:, None] + ped_speed[None]) * 4.0 + 0.5 * 3.0 * 4.0 * 4.0).any(axis=1)
+    assert 5 < ref.sum() < 35 and np.array_equal(out, ref)
