@@ -32,9 +32,12 @@ else
 	  $(SUDO) apt-get update && $(SUDO) apt-get install -y chromium; }
 endif
 
+# The suite runs on TEST_WORKERS pytest-xdist workers (the two cores of a developer machine
+# and CI); `make test TEST_WORKERS=0` runs it in one process, for debugging.
+TEST_WORKERS ?= 2
 test: $(STAMP) browser
 	$(BIN)/ruff check .
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n $(TEST_WORKERS)
 
 lint: $(STAMP)
 	$(BIN)/ruff check . && $(BIN)/ruff format --check .

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 import shutil
 import tempfile
@@ -17,9 +18,28 @@ SHARED = Path(__file__).resolve().parents[2] / "shared"
 HIYARI_TEMP = ("hiyari-run-*", "hiyari-net-*", "hiyari-sumo-*", "hiyari-sim-*", "hiyari-study-*")
 
 
+def _xdist_worker(config: pytest.Config) -> str | None:
+    """The pytest-xdist worker id ("gw0", ...) when this process is one, else None."""
+    workerinput = getattr(config, "workerinput", None)
+    return None if workerinput is None else workerinput["workerid"]
+
+
 def pytest_configure(config: pytest.Config) -> None:
     """Every temporary folder of this session (and of the processes it starts) goes into one
-    folder of its own, so leftovers are this suite's and not another program's."""
+    folder of its own, so leftovers are this suite's and not another program's.
+
+    Under pytest-xdist the controller makes that folder before it starts the workers, which
+    inherit it (TMPDIR), and checks it once they have all finished. Each worker keeps its own
+    numba kernel cache: two workers compiling different signatures of one kernel at the same
+    moment can both number their entry 1 in numba's shared index, and the index and the data
+    file then come from different compilations."""
+    worker = _xdist_worker(config)
+    if worker is not None:
+        # in .pytest_cache the kernels compile once per worker and clone, not once per run
+        name = f"numba-{worker}"
+        cache = config.cache.mkdir(name) if hasattr(config, "cache") else None
+        os.environ["NUMBA_CACHE_DIR"] = str(cache or Path(tempfile.gettempdir()) / name)
+        return
     base = Path(tempfile.mkdtemp(prefix="hiyari-tests-"))
     config.stash[_TEMP_KEY] = (base, os.environ.get("TMPDIR"))
     os.environ["TMPDIR"] = str(base)
@@ -28,6 +48,8 @@ def pytest_configure(config: pytest.Config) -> None:
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     """Fail the session when a test left one of hiyari's temporary folders behind."""
+    if _xdist_worker(session.config) is not None:
+        return  # the controller checks the folder all workers shared
     base, previous = session.config.stash[_TEMP_KEY]
     left = sorted(p.name for pattern in HIYARI_TEMP for p in base.glob(pattern))
     if left:
@@ -43,6 +65,31 @@ def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
 
 
 _TEMP_KEY = pytest.StashKey[tuple[Path, str | None]]()
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> object | None:
+    """``-n 2`` (``make test``): each test goes to whichever worker is free, except that the
+    tests of a module with a module-scoped fixture (a reference sweep, a study, a recorded run,
+    a browser) go to one worker together, which builds the fixture once. Those groups are
+    handed out first, so that no long one is left for the end. (pytest-xdist's own ``--dist
+    loadgroup`` would do the grouping, but under pytest 9 its group suffix no longer reaches
+    the test ids.)"""
+    if config.getvalue("dist") != "load":
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    class ModuleFixtureScheduling(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            module = nodeid.split("::", 1)[0]
+            return module if _has_module_fixture(config.rootpath / module) else nodeid
+
+    return ModuleFixtureScheduling(config, log)
+
+
+@functools.cache
+def _has_module_fixture(path: Path) -> bool:
+    return 'scope="module"' in path.read_text()
 
 
 @pytest.fixture(scope="session")

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import faulthandler
+import importlib
 import json
 import os
 import random
@@ -51,6 +52,20 @@ SHARED = REPO.parent / "shared"
 #: are reported, not failed.
 OWNED_ELSEWHERE = ("traffic/demand.py", "net/sumo/opendrive", "net/road/geometry.py")
 CASE_TIMEOUT_S = 120.0
+#: What the fuzzed commands (sim, net, run, sweep, replay) import when they run: the command
+#: line imports a command's work only when it runs, and each forked child should start with it.
+COMMAND_IMPORTS = (
+    "hiyari.traffic.traffic_run",
+    "hiyari.net.road.geometry",
+    "hiyari.net.mesh.export",
+    "hiyari.net.mesh.road_mesh",
+    "hiyari.net.sumo.opendrive",
+    "hiyari.bridge.campaign.sweep",
+    "hiyari.bridge.scenario.run",
+    "hiyari.bridge.scenario.xosc_runs",
+    "hiyari.bridge.record.recover",
+    "hiyari.bridge.replay.export",
+)
 EVIL = [
     "nan", "NaN", "inf", "-inf", "-1", "0", "-0", "1e308", "-1e308", "1e-320", "",
     " ", "abc", "1,2", "1,2,x", "0,0 0,0", "999999999999", "ü", "x" * 300, "1e", "0x10",
@@ -613,6 +628,8 @@ def run_cases(cases: list[Case], jobs: int = 2) -> list[Result]:
     from hiyari.bridge.cli.main import build_parser
 
     build_parser()  # import every command module once, before forking
+    for module in COMMAND_IMPORTS:  # and what the fuzzed commands import when they run
+        importlib.import_module(module)
     results: list[Result | None] = [None] * len(cases)
     pending = list(enumerate(cases))
     running: dict[int, tuple[int, int, Path, float, bytearray]] = {}

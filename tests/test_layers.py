@@ -4,12 +4,14 @@ packages below it, only traffic/ imports libsumo, only the CLI picks matplotlib'
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 LAYER = {"hiyari": 0, "net": 1, "traffic": 2, "sensors": 3, "risk": 3, "bridge": 4}
 
 
+@functools.cache  # parsed once for the tests of this file (they only read the trees)
 def _modules() -> list[tuple[str, Path, ast.Module]]:
     out = []
     for pkg in LAYER:

@@ -70,17 +70,27 @@ def test_ray_local_cluster_same_table(reference, tmp_path):
 
 
 def _start_sweep(scen: Path, out: Path, tmp: Path, workers: int) -> subprocess.Popen:
-    """`hiyari sweep` in its own process group, its temporary folders in ``tmp``."""
+    """`hiyari sweep` in its own process group, its temporary folders in ``tmp``, with
+    Ctrl-C enabled as in a terminal's foreground job.
+
+    A test run started in the background by a shell without job control (``make test &`` in a
+    script, some CI runners) has SIGINT ignored, and an ignored signal stays ignored across
+    exec: the sweep would ignore the Ctrl-C and finish with status 0. A handled signal is reset
+    to its default across exec, so SIGINT is handled here while the process starts."""
     tmp.mkdir(exist_ok=True)
-    return subprocess.Popen(
-        [sys.executable, "-m", "hiyari", "sweep", str(scen), "-o", str(out), "-j", str(workers)]
-        + ["-q"],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-        env={**os.environ, "TMPDIR": str(tmp)},
-    )
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        return subprocess.Popen(
+            [sys.executable, "-m", "hiyari", "sweep", str(scen), "-o", str(out)]
+            + ["-j", str(workers), "-q"],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            text=True,
+            start_new_session=True,
+            env={**os.environ, "TMPDIR": str(tmp)},
+        )
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def test_killed_sweep_resumes_only_missing_rows(reference, tmp_path):

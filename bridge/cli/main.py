@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import re
+import os
 import signal
 import sys
 import threading
 
 from hiyari import __version__
+from hiyari.bridge.cli.parser import Parser
 from hiyari.errors import HiyariError
 
 # Each module has register(subparsers) adding a parser whose defaults set func(args) -> int.
@@ -30,15 +31,6 @@ COMMAND_MODULES = [
 ]
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse, but a usage error is a HiyariError: one line, exit status 1."""
-
-    def error(self, message: str) -> None:  # type: ignore[override]
-        # "argument --duration/-d: expected ..." -> "--duration: expected ..."
-        option = re.sub(r"^argument (-[-\w]+)(?:/-[-\w]+)*: ", r"\1: ", message)
-        raise HiyariError(option if option != message else f"{self.prog}: {message}")
-
-
 class Terminated(KeyboardInterrupt):
     """SIGTERM, delivered like Ctrl-C so that every ``finally`` and ``with`` unwinds
     (temporary folders removed, workers stopped, partial outputs discarded)."""
@@ -50,7 +42,7 @@ def _terminate(signum: int, frame: object) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The full argument parser with every subcommand registered."""
-    parser = _Parser(prog="hiyari", description="Automated-driving safety evaluation on SUMO.")
+    parser = Parser(prog="hiyari", description="Automated-driving safety evaluation on SUMO.")
     parser.add_argument("--version", action="version", version=f"hiyari {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in COMMAND_MODULES:
@@ -61,10 +53,12 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status (1 for a HiyariError or a usage error, 130 on
     Ctrl-C, 143 on SIGTERM)."""
-    # the one place that picks matplotlib's backend: files only, no display needed
-    import matplotlib
-
-    matplotlib.use("Agg")
+    # the one place that picks matplotlib's backend: files only, no display needed; set
+    # without importing matplotlib, which most commands never load
+    if "matplotlib" in sys.modules:
+        sys.modules["matplotlib"].use("Agg")
+    else:
+        os.environ["MPLBACKEND"] = "Agg"
     previous = None
     if threading.current_thread() is threading.main_thread():  # where handlers may be set
         previous = signal.signal(signal.SIGTERM, _terminate)

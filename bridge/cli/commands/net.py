@@ -17,10 +17,6 @@ from pathlib import Path
 
 from hiyari.bridge.cli import numbers
 from hiyari.errors import HiyariError
-from hiyari.net.mesh.export import SUFFIXES, export_mesh
-from hiyari.net.mesh.materials import Material
-from hiyari.net.mesh.road_mesh import MeshParams, build_scene_mesh
-from hiyari.net.road.geometry import RoadGeometry
 from hiyari.net.sumo.build import (
     CatalogueRoadParams,
     CityGridParams,
@@ -34,9 +30,6 @@ from hiyari.net.sumo.build import (
     build_r157_road,
     param_docs,
 )
-from hiyari.net.sumo.files import check_net
-from hiyari.net.sumo.opendrive import ImportOptions, import_opendrive
-from hiyari.sumo_tools import check_net_loads
 
 GENERATORS = {
     "expressway": (ExpresswayParams, build_expressway),
@@ -55,6 +48,9 @@ GENERATORS = {
 
 
 def _summary(net: Path) -> str:
+    # the work of each subcommand is imported where it runs: `hiyari --help` stays fast
+    from hiyari.net.road.geometry import RoadGeometry
+
     g = RoadGeometry.from_net(net)
     kinds = Counter(ln.kind.value for ln in g.lanes.values() if not ln.internal)
     normal = sum(1 for e in g.edges.values() if e.function == "")
@@ -76,6 +72,8 @@ def _warn(message: str) -> None:
 
 
 def _run_import(args: argparse.Namespace) -> None:
+    from hiyari.net.sumo.opendrive import ImportOptions, import_opendrive
+
     opts = ImportOptions(
         all_lanes=args.all_lanes,
         curve_resolution=args.curve_resolution,
@@ -86,6 +84,13 @@ def _run_import(args: argparse.Namespace) -> None:
 
 
 def _run_mesh(args: argparse.Namespace) -> None:
+    from hiyari.net.mesh.export import SUFFIXES, export_mesh
+    from hiyari.net.mesh.materials import Material
+    from hiyari.net.mesh.road_mesh import MeshParams, build_scene_mesh
+    from hiyari.net.road.geometry import RoadGeometry
+    from hiyari.net.sumo.files import check_net
+    from hiyari.sumo_tools import check_net_loads
+
     for out in args.out:
         if Path(out).suffix.lower() not in SUFFIXES:
             raise HiyariError(f"{out}: unknown mesh format (use {', '.join(SUFFIXES)})")
@@ -115,7 +120,8 @@ def _add_params(parser: argparse.ArgumentParser, cls: type) -> None:
     docs = param_docs(cls)
     for f in dataclasses.fields(cls):
         flag = "--" + f.name.replace("_", "-")
-        text = f"{docs[f.name]} (default: {f.default})"
+        # argparse expands %-formats in help texts: a literal % (a grade in %) is doubled
+        text = f"{docs[f.name]} (default: {f.default})".replace("%", "%%")
         if isinstance(f.default, bool):
             parser.add_argument(
                 flag, action=argparse.BooleanOptionalAction, default=f.default, help=text

@@ -6,14 +6,11 @@ import argparse
 from pathlib import Path
 
 from hiyari.bridge.cli import numbers
-from hiyari.bridge.cli.sensor_frame import SENSOR_KINDS, FrameRequest, render_sensor_frame
-from hiyari.sensors.camera.config import CAMERA_PRESETS
-from hiyari.sensors.environment.presets import PRESETS
-from hiyari.sensors.lidar.config import LIDAR_PRESETS
-from hiyari.sensors.radar.config import RADAR_PRESETS
 
 
 def run(args: argparse.Namespace) -> int:
+    from hiyari.bridge.cli.sensor_frame import FrameRequest, render_sensor_frame
+
     req = FrameRequest(
         sensor=args.sensor,
         preset=args.preset,
@@ -39,11 +36,23 @@ def run(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("sensors", help="ray-cast sensor models (LiDAR, radar, camera)")
     ssub = p.add_subparsers(dest="sensors_command", required=True, metavar="SUBCOMMAND")
-    r = ssub.add_parser(
+    ssub.add_parser(
         "render",
         help="one frame through one sensor under a disturbance preset: raw output, objects, PNG",
-        description=f"Disturbance presets: {', '.join(PRESETS)}. LiDAR: {', '.join(LIDAR_PRESETS)}; "
-        f"radar: {', '.join(RADAR_PRESETS)}; camera: {', '.join(CAMERA_PRESETS)}.",
+        setup=_render_arguments,  # the presets load the sensor models: only when used
+    )
+
+
+def _render_arguments(r: argparse.ArgumentParser) -> None:
+    from hiyari.bridge.cli.sensor_frame import SENSOR_KINDS
+    from hiyari.sensors.camera.config import CAMERA_PRESETS
+    from hiyari.sensors.environment.presets import PRESETS
+    from hiyari.sensors.lidar.config import LIDAR_PRESETS
+    from hiyari.sensors.radar.config import RADAR_PRESETS
+
+    r.description = (
+        f"Disturbance presets: {', '.join(PRESETS)}. LiDAR: {', '.join(LIDAR_PRESETS)}; "
+        f"radar: {', '.join(RADAR_PRESETS)}; camera: {', '.join(CAMERA_PRESETS)}."
     )
     r.add_argument("--sensor", default="lidar", help=f"one of {', '.join(SENSOR_KINDS)}")
     r.add_argument("--preset", default="clear", help="perception-disturbance preset (see above)")

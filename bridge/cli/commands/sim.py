@@ -11,10 +11,6 @@ from pathlib import Path
 from hiyari.atomic import write_text_atomic
 from hiyari.bridge.cli import numbers
 from hiyari.errors import HiyariError, about
-from hiyari.net.sumo.files import check_net
-from hiyari.traffic.demand import DemandConfig, write_demand
-from hiyari.traffic.simulation import SimConfig
-from hiyari.traffic.traffic_run import run_traffic
 
 
 def parse_mix(text: str) -> dict[str, float]:
@@ -46,6 +42,12 @@ def check_output(path: str | None, option: str) -> Path | None:
 
 
 def run(args: argparse.Namespace) -> int:
+    # SUMO is imported here, not at the top, so that the other commands do not load it
+    from hiyari.net.sumo.files import check_net
+    from hiyari.traffic.demand import DemandConfig, write_demand
+    from hiyari.traffic.simulation import SimConfig
+    from hiyari.traffic.traffic_run import run_traffic
+
     json_out = check_output(args.json, "--json")
     routes = [Path(r) for r in args.routes]
     generated: list[Path] = []

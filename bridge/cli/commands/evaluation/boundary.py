@@ -12,7 +12,6 @@ from hiyari.risk.cc.boundary import (
     cut_out_datasheet,
     decel_datasheet,
 )
-from hiyari.risk.cc.datasheet_plot import plot_cut_in, plot_cut_out, plot_decel
 from hiyari.risk.cc.model import CONVENTIONS, CCParams
 
 
@@ -91,6 +90,9 @@ def _grid(text: str, name: str) -> Grid:
 
 
 def run(args: argparse.Namespace) -> int:
+    # matplotlib is loaded when a datasheet is drawn, not for the other commands
+    from hiyari.risk.cc.datasheet_plot import plot_cut_in, plot_cut_out, plot_decel
+
     params = model_params(args)
     out = Path(args.out)
     started = time.perf_counter()

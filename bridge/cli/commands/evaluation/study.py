@@ -5,17 +5,22 @@ from __future__ import annotations
 import argparse
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from hiyari.bridge.campaign.sct_report import SEED_REDUCTION, reduction, summarise, write_report
-from hiyari.bridge.campaign.sct_study import VARIANTS, StudyConfig, run_study
 from hiyari.bridge.cli import numbers
 from hiyari.errors import HiyariError
-from hiyari.risk.metrics.incidents import IncidentConfig
-from hiyari.risk.sct.controller import SCTControllerConfig
+
+if TYPE_CHECKING:
+    from hiyari.bridge.campaign.sct_study import StudyConfig
 
 
 def study_config(args: argparse.Namespace) -> StudyConfig:
     """The StudyConfig the command line asks for (validated)."""
+    # the study loads SUMO and the SCT model: imported when it runs, not for `hiyari --help`
+    from hiyari.bridge.campaign.sct_study import VARIANTS, StudyConfig
+    from hiyari.risk.metrics.incidents import IncidentConfig
+    from hiyari.risk.sct.controller import SCTControllerConfig
+
     variants = tuple(v.strip() for v in args.variants.split(",") if v.strip())
     if args.variants == "both":
         variants = tuple(VARIANTS)
@@ -40,6 +45,14 @@ def study_config(args: argparse.Namespace) -> StudyConfig:
 
 
 def run_sct(args: argparse.Namespace) -> int:
+    from hiyari.bridge.campaign.sct_report import (
+        SEED_REDUCTION,
+        reduction,
+        summarise,
+        write_report,
+    )
+    from hiyari.bridge.campaign.sct_study import run_study
+
     config = study_config(args)
     if args.jobs is not None and args.jobs < 1:
         raise HiyariError(f"--jobs must be >= 1, got {args.jobs}")
@@ -76,12 +89,18 @@ def run_sct(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("study", help="incident studies over long SUMO runs")
     studies = p.add_subparsers(dest="study", required=True, metavar="STUDY")
-    s = studies.add_parser(
+    studies.add_parser(
         "sct",
         help="SUMO drivers vs Safety Cushion Time drivers at a pedestrian intersection",
         description="Runs the baseline arm (SUMO's drivers) and the SCT arm with the same "
         "demand and seeds, in parallel processes, and writes a report (Markdown, PNG, CSV).",
+        setup=_sct_arguments,  # the defaults come from the study's configuration
     )
+
+
+def _sct_arguments(s: argparse.ArgumentParser) -> None:
+    from hiyari.bridge.campaign.sct_study import StudyConfig
+
     d = StudyConfig()
     s.add_argument("--out", "-o", default="out/study_sct", help="report folder")
     s.add_argument(

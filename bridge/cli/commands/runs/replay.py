@@ -9,12 +9,13 @@ import threading
 from pathlib import Path
 
 from hiyari.bridge.cli import numbers
-from hiyari.bridge.record.reader import Recording
-from hiyari.bridge.replay.scene import LIDAR_COLOR_MODES, ReplayOptions
 from hiyari.errors import HiyariError
 
 
 def run(args: argparse.Namespace) -> int:
+    from hiyari.bridge.record.reader import Recording
+    from hiyari.bridge.replay.scene import ReplayOptions
+
     if not 0 <= args.port <= 65535:
         raise HiyariError(f"--port must be 0..65535, got {args.port}")
     if args.recover:
@@ -61,10 +62,16 @@ def run(args: argparse.Namespace) -> int:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
+    sub.add_parser(
         "replay",
         help="replay a recording (.mcap) in the browser, or export it as static HTML",
+        setup=_arguments,  # the colour modes come with viser: loaded only when used
     )
+
+
+def _arguments(p: argparse.ArgumentParser) -> None:
+    from hiyari.bridge.replay.scene import LIDAR_COLOR_MODES
+
     p.add_argument("recording", type=Path, help="recording written by the Recorder (.mcap)")
     p.add_argument("--host", default="127.0.0.1", help="address to serve on")
     p.add_argument(

@@ -1,0 +1,55 @@
+"""The command line's argument parser: a usage error is a HiyariError, and a command's options
+may be added only when that command is used, so that ``hiyari --help`` and each command import
+only the modules they need."""
+
+from __future__ import annotations
+
+import argparse
+import re
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from hiyari.errors import HiyariError
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is a HiyariError: one line, exit status 1.
+
+    ``setup(parser)``, when given, adds the parser's arguments the first time it parses or
+    formats its help: for a command whose option choices and defaults come from modules that
+    are slow to import (numba kernels, viser, SUMO), which the other commands should not pay.
+    """
+
+    def __init__(
+        self, *args: Any, setup: Callable[[argparse.ArgumentParser], None] | None = None, **kw: Any
+    ) -> None:
+        super().__init__(*args, **kw)
+        self._setup = setup
+
+    def _ready(self) -> None:
+        setup, self._setup = self._setup, None
+        if setup is not None:
+            setup(self)
+
+    def parse_known_args(  # type: ignore[override]
+        self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
+    ) -> tuple[argparse.Namespace, list[str]]:
+        """argparse's, after the deferred set-up."""
+        self._ready()
+        return super().parse_known_args(args, namespace)
+
+    def format_usage(self) -> str:
+        """argparse's, after the deferred set-up."""
+        self._ready()
+        return super().format_usage()
+
+    def format_help(self) -> str:
+        """argparse's, after the deferred set-up."""
+        self._ready()
+        return super().format_help()
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        """Raise the usage error as a HiyariError (printed as one line by ``main``)."""
+        # "argument --duration/-d: expected ..." -> "--duration: expected ..."
+        option = re.sub(r"^argument (-[-\w]+)(?:/-[-\w]+)*: ", r"\1: ", message)
+        raise HiyariError(option if option != message else f"{self.prog}: {message}")
