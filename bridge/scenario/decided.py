@@ -29,6 +29,7 @@ import numpy as np
 from hiyari.bridge.scenario.engine import ScenarioEngine
 from hiyari.bridge.scenario.engine.elements import STANDBY
 from hiyari.bridge.scenario.engine.motion import Actor
+from hiyari.bridge.scenario.engine.motion_kernel import L_GOAL, L_REACHED
 from hiyari.bridge.scenario.engine.shapes import progress
 from hiyari.bridge.scenario.model.entities import EntityKind
 from hiyari.bridge.scenario.result import RunResult
@@ -119,14 +120,17 @@ class DecidedEnd:
         if tr is not None:
             if tr.continuous or tr.by_distance:
                 return None
-            goal = tr.target()
+            par = a.table.long_par[
+                a.k
+            ]  # the goal and whether it was reached, as the kernel has them
+            goal, reached = par[L_GOAL], par[L_REACHED] != 0.0
             x = (
                 (self.engine.now + steps * self.dt - tr.t0) / tr.span
                 if tr.span > 0
                 else steps + 1.0
             )
             frac = np.array([progress(tr.shape, float(xi)) for xi in x])
-            v = np.where(tr.reached | (x >= 1.0 - 1e-9), goal, tr.v0 + (goal - tr.v0) * frac)
+            v = np.where(reached | (x >= 1.0 - 1e-9), goal, tr.v0 + (goal - tr.v0) * frac)
         v[0] = a.v - a.accel * self.dt
         s = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * self.dt)])
         return s[idx], v[idx]

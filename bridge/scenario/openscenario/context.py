@@ -121,8 +121,13 @@ class Ctx:
         return None if el.get(name) is None else self.num(el, name)
 
     def int(self, el: etree._Element, name: str, default: int | None = None) -> int:
-        """Attribute ``name`` as an int (an integral float is accepted)."""
+        """Attribute ``name`` as an int (an integral float is accepted) within xsd:int's
+        32-bit range."""
         x = self.num(el, name, None if default is None else float(default))
+        if not -(2**31) <= x <= 2**31 - 1:
+            raise HiyariError(
+                f"{self.where(el)}: <{el.tag}> {name} = {x:g} is outside the 32-bit integer range"
+            )
         if x != int(x):
             raise HiyariError(f"{self.where(el)}: <{el.tag}> {name} = {x:g} is not an integer")
         return int(x)
