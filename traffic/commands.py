@@ -243,10 +243,8 @@ class Commands:
         v = self._api().vehicle
         move, set_speed = v.moveToXY, v.setSpeed
         h = np.asarray(heading, float)
-        c = np.asarray(centres, float)
-        half = 0.5 * np.asarray(length, float)
-        # point_ahead(c, h, half), without building the (N, 2) arrays
-        fx, fy = (c[:, 0] + half * np.cos(h)).tolist(), (c[:, 1] + half * np.sin(h)).tolist()
+        front = point_ahead(np.asarray(centres, float), h, 0.5 * np.asarray(length, float))
+        fx, fy = front[:, 0].tolist(), front[:, 1].tolist()
         angle = np.mod(90.0 - np.degrees(h), 360.0).tolist()
         sp = np.asarray(speed, float)
         n = len(vehicle_ids)
