@@ -233,3 +233,11 @@ def test_net_mesh_refuses_a_net_sumo_rejects(
 def test_usage_errors_are_one_line(capsys):
     status, _, err = _main(capsys, "sim", "--duration", "5")
     _one_line(status, err, "--config", "--net")
+
+
+def test_usage_errors_name_the_program_once():
+    top = _hiyari("demo", "--bogus")
+    _assert_one_line_error(top, "unrecognized arguments: --bogus")
+    assert top.stderr.count("hiyari") == 1, top.stderr
+    sub = _hiyari("run")
+    _assert_one_line_error(sub, "hiyari run: ", "required: scenario")

@@ -52,4 +52,7 @@ class Parser(argparse.ArgumentParser):
         """Raise the usage error as a HiyariError (printed as one line by ``main``)."""
         # "argument --duration/-d: expected ..." -> "--duration: expected ..."
         option = re.sub(r"^argument (-[-\w]+)(?:/-[-\w]+)*: ", r"\1: ", message)
-        raise HiyariError(option if option != message else f"{self.prog}: {message}")
+        if option != message:
+            raise HiyariError(option)
+        # main prints "hiyari: error:" already; name the subcommand only ("hiyari run: ...")
+        raise HiyariError(f"{self.prog}: {message}" if " " in self.prog else message)
