@@ -207,7 +207,9 @@ class KalmanFusion:
         tr.t = time
 
     def _associate(self, obs: list[_Obs], ego: Pose, time: float) -> None:
-        world = [_to_world(o, ego) for o in obs]  # (xy, cov, unit line of sight)
+        # positions of all observations in one call (elementwise: the same values as one by one)
+        xys = ego.vehicle_to_world(np.array([o.xy for o in obs]))
+        world = [_to_world(o, ego, xy) for o, xy in zip(obs, xys, strict=True)]
         measured = [self._measurement(o, w, ego) for o, w in zip(obs, world, strict=True)]
         cost = self._cost(measured)
         used: set[int] = set()
@@ -343,14 +345,14 @@ def _block_diagonal(blocks: list[np.ndarray]) -> np.ndarray:
     return out
 
 
-def _to_world(o: _Obs, ego: Pose) -> _World:
-    """Position, polar covariance and line-of-sight unit vector in the network frame."""
+def _to_world(o: _Obs, ego: Pose, xy: np.ndarray) -> _World:
+    """Position ``xy`` (the observation's, network frame), polar covariance and line-of-sight
+    unit vector in the network frame."""
     r = float(np.hypot(*o.xy))
     b = float(np.arctan2(o.xy[1], o.xy[0]))
     rot = rotation_2d(ego.heading + b)
     cross = max(r * o.sigma_az, 0.05)
     cov = rot @ np.diag([o.sigma_r**2, cross**2]) @ rot.T
-    xy = ego.vehicle_to_world(o.xy)
     return xy, cov, rot[:, 0]
 
 
