@@ -10,12 +10,17 @@ rays) per simulated second, the raw cast being one Embree query per LiDAR scan (
 radar cycle (20 Hz) of the rig's rays into one prebuilt scene holding the road and the actors
 of the last step (nothing else); on one thread, and with the rays in two threads.
 
+Wall times on this shared 2-core machine swing with other load, so the CPU seconds per
+simulated second of each part (process CPU, cast threads included) are printed too, with the
+CPU limit 1 / (SUMO + raw cast CPU) and the load average.
+
 Run: .venv/bin/python benchmarks/closed_loop.py [--seconds 30]
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -49,8 +54,9 @@ PARAMS = {
 STEP = 0.025
 
 
-def bare(cs: ConcreteScenario, work: Path) -> tuple[float, int, int]:
-    """The same SUMO run, ego driven by SUMO, no sensors or stack: (sim s / wall s, veh, ped)."""
+def bare(cs: ConcreteScenario, work: Path) -> tuple[float, float, int, int]:
+    """The same SUMO run, ego driven by SUMO, no sensors or stack: (sim s / wall s, CPU s
+    per sim s, vehicles, persons)."""
     preset = build_scenario(cs, work)
     cfg = SimConfig(net=preset.network.path, routes=preset.routes, step_length=STEP, seed=cs.seed)
     with Simulation(cfg) as sim:
@@ -58,18 +64,20 @@ def bare(cs: ConcreteScenario, work: Path) -> tuple[float, int, int]:
         ScenarioEngine(preset.scenario, preset.roads, STEP).start(sim)
         sim.set_speed_mode(preset.scenario.ego, SPEED_MODE_DEFAULT)
         n = int(round(cs.duration / STEP))
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         for _ in range(n):
             state = sim.step()
-        wall = time.perf_counter() - t0
-    return cs.duration / wall, int(state.is_vehicle.sum()), int(state.is_pedestrian.sum())
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    nveh, nper = int(state.is_vehicle.sum()), int(state.is_pedestrian.sum())
+    return cs.duration / wall, cpu / cs.duration, nveh, nper
 
 
 def raw_cast_seconds(
     net: Path, world: WorldState, ego_id: str, repeats: int = 5
-) -> tuple[float, float]:
+) -> tuple[float, float, float]:
     """Wall seconds of the raw Embree casts of one simulated second of the rig's LiDAR and
-    radar rays (fastest of ``repeats``), on one thread and in two threads."""
+    radar rays (fastest of ``repeats``), on one thread and in two threads, and the CPU seconds
+    of the one-thread casts (least of ``repeats``)."""
     mesh = build_scene_mesh(RoadNetwork(net).geometry, buildings=False)
     actors = build_actor_mesh(world, ActorAppearance(), world.ids == ego_id)
     both = SceneMesh.concatenate(
@@ -102,19 +110,23 @@ def raw_cast_seconds(
             f.result()
 
     out = []
-    for cast in (one, two):
+    for cast, clock in (
+        (one, time.perf_counter),
+        (two, time.perf_counter),
+        (one, time.thread_time),
+    ):
         best = []
         for o, d, r, rate in bundles:
             cast(o, d, r)
             t = []
             for _ in range(repeats):
-                t0 = time.perf_counter()
+                t0 = clock()
                 cast(o, d, r)
-                t.append(time.perf_counter() - t0)
+                t.append(clock() - t0)
             best.append(min(t) * rate)
         out.append(sum(best))
     pool.shutdown()
-    return out[0], out[1]
+    return out[0], out[1], out[2]
 
 
 def main() -> None:
@@ -133,10 +145,14 @@ def main() -> None:
         environment="clear",
     )
     with tempfile.TemporaryDirectory(prefix="hiyari-bench-") as tmp:
-        base_rt, nveh, nper = bare(cs, Path(tmp) / "bare")
+        load0 = os.getloadavg()
+        base_rt, base_cpu, nveh, nper = bare(cs, Path(tmp) / "bare")
         counts: dict = {}
 
         def on_step(world: WorldState, step: EgoStep, collisions: list) -> None:
+            # CPU of this process (cast threads included) from the first stack step on
+            clock = counts.setdefault("clock", [time.process_time(), world.time])
+            counts["cpu"] = (time.process_time() - clock[0]) / max(world.time - clock[1], 1e-9)
             counts["world"] = world
             counts["veh"] = int(world.is_vehicle.sum())
             counts["ped"] = int(world.is_pedestrian.sum())
@@ -145,7 +161,8 @@ def main() -> None:
 
         res = run_concrete(cs, RunOptions(), on_step=on_step)
         net = build_scenario(cs, Path(tmp) / "limit").network.path
-        raw1, raw2 = raw_cast_seconds(net, counts["world"], "ego")
+        raw1, raw2, raw_cpu = raw_cast_seconds(net, counts["world"], "ego")
+        load1 = os.getloadavg()
     loop_rt = res.sim_seconds / res.wall_seconds
     sumo_s = 1.0 / base_rt  # wall seconds of SUMO + WorldState per simulated second
     print(
@@ -167,6 +184,18 @@ def main() -> None:
         f"raw Embree cast per simulated second (LiDAR 10 Hz + radar 20 Hz rays): "
         f"{raw1 * 1e3:.0f} ms on 1 thread, {raw2 * 1e3:.0f} ms in 2 threads; "
         f"SUMO + WorldState {sumo_s * 1e3:.0f} ms"
+    )
+    loop_cpu = counts["cpu"]
+    print(
+        f"CPU s per simulated s (robust to other load; cast threads included): SUMO + WorldState "
+        f"{base_cpu:.3f}, closed loop {loop_cpu:.3f} ({loop_cpu / base_cpu:.1f}x), raw Embree "
+        f"cast {raw_cpu:.3f}; CPU limit 1 / (SUMO + raw cast) = {1 / (base_cpu + raw_cpu):.2f}, "
+        f"the loop's CPU rate 1 / CPU = {1 / loop_cpu:.2f} ({(base_cpu + raw_cpu) / loop_cpu:.2f} "
+        "of the limit)"
+    )
+    print(
+        f"load average (1, 5, 15 min) before {load0[0]:.1f} {load0[1]:.1f} {load0[2]:.1f}, "
+        f"after {load1[0]:.1f} {load1[1]:.1f} {load1[2]:.1f} on {os.cpu_count()} cores"
     )
     print(
         f"closed loop runs {loop_rt:.2f}x real time (target >= 5; baseline 1.9-2.5); "

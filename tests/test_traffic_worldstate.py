@@ -117,3 +117,23 @@ def test_corners_and_velocity_frames():
     assert ws.corners()[0, 0] == pytest.approx([9.0, 7.0])
     assert ws.corners()[0, 2] == pytest.approx([11.0, 3.0])
     assert ws.velocity[0] == pytest.approx([0.0, 2.0])
+
+
+def test_index_and_rows_look_up_ids():
+    from hiyari.sensors.scene.synthetic import actor_world
+
+    world = actor_world(
+        [
+            dict(id="b", cls=ActorClass.CAR, x=0.0, y=0.0),
+            dict(id="a", cls=ActorClass.PEDESTRIAN, x=5.0, y=1.0),
+            dict(id="c", cls=ActorClass.TRUCK, x=9.0, y=2.0),
+        ]
+    )
+    assert [world.index(i) for i in ("b", "a", "c")] == [0, 1, 2]
+    assert world.rows(["c", "nobody", "b"]).tolist() == [2, -1, 0]
+    assert world.rows([]).dtype == np.int64 and len(world.rows([])) == 0
+    with pytest.raises(KeyError):
+        world.index("nobody")
+    # the map is per state: a selection looks up its own rows
+    sub = world.select(np.array([2, 0]))
+    assert sub.index("b") == 1 and sub.rows(["a"]).tolist() == [-1]

@@ -8,7 +8,9 @@ acceleration in m/s^2 along the heading; sizes in metres. Time in seconds of sim
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -76,10 +78,18 @@ class WorldState:
 
     def index(self, actor_id: str) -> int:
         """Row of ``actor_id``; KeyError when absent."""
-        hits = np.flatnonzero(self.ids == actor_id)
-        if hits.size == 0:
-            raise KeyError(actor_id)
-        return int(hits[0])
+        return self._row_of[actor_id]
+
+    def rows(self, actor_ids: Iterable[str]) -> np.ndarray:
+        """(K,) int64 row of each of ``actor_ids``, -1 where absent."""
+        row_of = self._row_of
+        return np.array([row_of.get(a, -1) for a in actor_ids], np.int64)
+
+    @cached_property
+    def _row_of(self) -> dict[str, int]:
+        """Id -> row, built on first use (a state is looked up many times per step); the
+        first row of an id that occurs twice, as a scan would find it."""
+        return {a: k for k, a in reversed(list(enumerate(self.ids.tolist())))}
 
     def select(self, mask: np.ndarray) -> WorldState:
         """A WorldState with only the rows where ``mask`` (bool or index array) selects."""

@@ -210,7 +210,7 @@ def _count(
     st.false_positives += int((~tp).sum())
     if tp.any():
         pos_world = ol.position[tp] @ ol.frame_to_world[:3, :3].T + ol.frame_to_world[:3, 3]
-        rows = np.array([_row(world, t) for t in ol.truth[tp]])
+        rows = world.rows(ol.truth[tp])
         ok = rows >= 0
         err = np.linalg.norm(pos_world[ok, :2] - world.xyz[rows[ok], :2], axis=1)
         st.position_error_sum += float(err.sum())
@@ -220,8 +220,3 @@ def _count(
             k = world.index(target)
             st.target_first_time = world.time
             st.target_first_range = float(np.hypot(*(world.xyz[k, :2] - [ego.x, ego.y])))
-
-
-def _row(world: WorldState, actor_id: str) -> int:
-    hits = np.flatnonzero(world.ids == actor_id)
-    return int(hits[0]) if hits.size else -1

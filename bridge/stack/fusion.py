@@ -15,7 +15,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import block_diag
 from scipy.optimize import linear_sum_assignment
 from scipy.stats import chi2
 
@@ -67,6 +66,10 @@ class FusionConfig:
 #: Association cost of a pair outside the gate.
 _NO_PAIR = 1e6
 
+#: Rows of the 4 x 4 identity: the position and the velocity measurement matrices.
+_H_POSITION = np.eye(4)[:2]
+_H_VELOCITY = np.eye(4)[2:]
+
 
 @dataclass
 class _Track:
@@ -104,6 +107,8 @@ class KalmanFusion:
         self._gates = {n: float(chi2.ppf(self.config.gate_probability, n)) for n in (2, 3, 4, 5)}
         self._tracks: list[_Track] = []
         self._next_id = 1
+        # (dt, F, F^T, Q) of the last prediction: every step predicts over the same dt
+        self._motion: tuple[float, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def update(self, lists: list[ObjectList], ego: Pose, time: float) -> ObjectList:
         """Fuse this step's object lists (any sensors); return confirmed tracks, ego frame."""
@@ -190,16 +195,21 @@ class KalmanFusion:
         dt = time - tr.t
         if dt <= 0:
             return
-        f = np.eye(4)
-        f[0, 2] = f[1, 3] = dt
-        q = self.config.accel_noise**2
-        g = np.array([[dt**2 / 2, 0], [0, dt**2 / 2], [dt, 0], [0, dt]])
+        if self._motion is None or self._motion[0] != dt:
+            f = np.eye(4)
+            f[0, 2] = f[1, 3] = dt
+            q = self.config.accel_noise**2
+            g = np.array([[dt**2 / 2, 0], [0, dt**2 / 2], [dt, 0], [0, dt]])
+            self._motion = (dt, f, f.T, q * g @ g.T)
+        _, f, ft, qg = self._motion
         tr.x = f @ tr.x
-        tr.p = f @ tr.p @ f.T + q * g @ g.T
+        tr.p = f @ tr.p @ ft + qg
         tr.t = time
 
     def _associate(self, obs: list[_Obs], ego: Pose, time: float) -> None:
-        world = [_to_world(o, ego) for o in obs]  # (xy, cov, unit line of sight)
+        # positions of all observations in one call (elementwise: the same values as one by one)
+        xys = ego.vehicle_to_world(np.array([o.xy for o in obs]))
+        world = [_to_world(o, ego, xy) for o, xy in zip(obs, xys, strict=True)]
         measured = [self._measurement(o, w, ego) for o, w in zip(obs, world, strict=True)]
         cost = self._cost(measured)
         used: set[int] = set()
@@ -244,9 +254,9 @@ class KalmanFusion:
         speeds too keeps a stationary radar ghost at a moving car's position (guard-rail
         multipath) from being taken for that car and stopping its track in one update."""
         xy, cov, unit = w
-        rows, zs, rs = [np.eye(4)[:2]], [xy], [cov]
+        rows, zs, rs = [_H_POSITION], [xy], [cov]
         if np.all(np.isfinite(o.vel)):
-            rows.append(np.eye(4)[2:])
+            rows.append(_H_VELOCITY)
             zs.append(ego.vehicle_to_world_vec(o.vel) + ego.velocity)
             rs.append(np.eye(2) * self.config.full_velocity_sigma**2)
         if np.isfinite(o.radial):
@@ -254,7 +264,7 @@ class KalmanFusion:
             rows.append(np.array([[0.0, 0.0, unit[0], unit[1]]]))
             zs.append(np.array([o.radial + ego.velocity @ unit]))
             rs.append(np.array([[self.config.radial_speed_sigma**2]]))
-        return np.vstack(rows), np.concatenate(zs), block_diag(*rs)
+        return np.vstack(rows), np.concatenate(zs), _block_diagonal(rs)
 
     def _update(self, tr: _Track, o: _Obs, measurement: _Measurement, time: float) -> None:
         _kalman(tr, *measurement)
@@ -323,14 +333,26 @@ def _kalman(tr: _Track, h: np.ndarray, z: np.ndarray, r: np.ndarray) -> None:
     tr.p = (np.eye(4) - k @ h) @ tr.p
 
 
-def _to_world(o: _Obs, ego: Pose) -> _World:
-    """Position, polar covariance and line-of-sight unit vector in the network frame."""
+def _block_diagonal(blocks: list[np.ndarray]) -> np.ndarray:
+    """The square blocks on the diagonal of one zero matrix (scipy's block_diag, without its
+    per-call checks: this runs for every observation)."""
+    n = sum(len(b) for b in blocks)
+    out = np.zeros((n, n))
+    a = 0
+    for b in blocks:
+        out[a : a + len(b), a : a + len(b)] = b
+        a += len(b)
+    return out
+
+
+def _to_world(o: _Obs, ego: Pose, xy: np.ndarray) -> _World:
+    """Position ``xy`` (the observation's, network frame), polar covariance and line-of-sight
+    unit vector in the network frame."""
     r = float(np.hypot(*o.xy))
     b = float(np.arctan2(o.xy[1], o.xy[0]))
     rot = rotation_2d(ego.heading + b)
     cross = max(r * o.sigma_az, 0.05)
     cov = rot @ np.diag([o.sigma_r**2, cross**2]) @ rot.T
-    xy = ego.vehicle_to_world(o.xy)
     return xy, cov, rot[:, 0]
 
 

@@ -96,10 +96,11 @@ class Camera:
 
     def _albedo(self, scene: RayScene, world: WorldState, rows: np.ndarray) -> np.ndarray:
         app = scene.appearance
-        out = np.empty(len(rows))
-        for i, r in enumerate(rows):
-            cls = ActorClass(world.cls[r])
-            mat = _BODY.get(cls) or app.clothing_by_id.get(world.ids[r], app.clothing)
+        cls = world.cls[rows]
+        out = np.full(len(rows), DEFAULT_OPTICS[Material.VEHICLE_PAINT].visible)
+        # people and riders: their own clothing (vehicle classes are painted)
+        for i in np.flatnonzero(~np.isin(cls, list(_BODY))):
+            mat = app.clothing_by_id.get(world.ids[rows[i]], app.clothing)
             out[i] = DEFAULT_OPTICS[mat].visible
         return out
 
@@ -109,7 +110,7 @@ class Camera:
         scene.ensure(world)
         s2w = self.sensor_to_world(ego)
         rot, cam = s2w[:3, :3], s2w[:3, 3]
-        rows = np.setdiff1d(np.arange(len(world)), np.flatnonzero(world.ids == scene.ego_id))
+        rows = np.flatnonzero(world.ids != scene.ego_id)
         rel = (world.xyz[rows] - cam) @ rot
         dist = np.linalg.norm(rel, axis=1)
         near = (rel[:, 0] > 0.5) & (dist < c.max_range_m + 10)

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from hiyari.kinematics import Pose, rotate_xy
+from hiyari.kinematics import Pose
 from hiyari.net.mesh.materials import DEFAULT_OPTICS, Material
 from hiyari.sensors.environment.conditions import Environment, Soiling
 from hiyari.sensors.environment.soiling import soiling_mask
@@ -24,6 +24,7 @@ from hiyari.sensors.frames import Mount, sensor_to_world
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.recognition import LidarRecognitionConfig, recognise_lidar
 from hiyari.sensors.lidar.returns import detected_returns
+from hiyari.sensors.lidar.scan_kernel import add_range_noise, return_points, scan_rays
 from hiyari.sensors.outputs import HIT_NONE, ObjectList, PointCloud
 from hiyari.sensors.scene.ray_scene import DirectionIndex, RayScene, SensorRays
 from hiyari.traffic.world_state import WorldState
@@ -128,17 +129,15 @@ class Lidar:
         s2w = self.sensor_to_world(ego)
         rot, origin = s2w[:3, :3], s2w[:3, 3]
         rot32 = rot.astype(np.float32)
-        dirs_w = np.empty((c.rays, 3), np.float32)
-        dirs_w[:, 0], dirs_w[:, 1] = rotate_xy(self._ego_x, self._ego_y, ego.heading)
-        dirs_w[:, 2] = self._ego_z
         v_ego = np.append(ego.velocity, 0.0)
-        if np.any(v_ego):
-            origins = np.empty((c.rays, 3), np.float32)
-            for k in range(3):
-                origins[:, k] = np.float32(origin[k]) + self.fire_time * np.float32(v_ego[k])
-        else:
-            origins = np.empty((c.rays, 3), np.float32)
-            origins[:] = origin.astype(np.float32)
+        dirs_w, origins = scan_rays(
+            (self._ego_x, self._ego_y, self._ego_z),
+            (np.float32(np.cos(ego.heading)), np.float32(np.sin(ego.heading))),
+            origin.astype(np.float32),
+            v_ego.astype(np.float32),
+            self.fire_time,
+            bool(np.any(v_ego)),
+        )
         cast_dirs = dirs_w
         if len(self._spot_rays) and env.soiling.spot_deflection_deg > 0:
             cast_dirs = dirs_w.copy()
@@ -164,8 +163,7 @@ class Lidar:
         if env.rain_mm_h > 0:
             ray, r, inten, hit = self._rain_ghosts(env, rng, ray, r, inten, hit)
 
-        xyz = np.take(self.directions, ray, axis=0)
-        xyz *= r[:, None]
+        xyz = return_points(self.directions, ray, r)
         moving = np.flatnonzero(hit >= 0)
         if len(moving):
             v = scene.actor_velocity(hit[moving]).astype(np.float32)
@@ -174,10 +172,9 @@ class Lidar:
                 r = r.copy()
                 r[moving] = np.linalg.norm(xyz[moving], axis=1)
         if c.range_noise_m > 0 and len(r):
-            noisy = r + np.float32(c.range_noise_m) * rng.standard_normal(len(r), dtype=np.float32)
-            noisy = np.maximum(noisy, np.float32(c.min_range_m))
-            xyz *= (noisy / r)[:, None]
-            r = noisy
+            draws = rng.standard_normal(len(r), dtype=np.float32)
+            sigma, least = np.float32(c.range_noise_m), np.float32(c.min_range_m)
+            r = add_range_noise(xyz, r, sigma, draws, least)
         return PointCloud(
             time=world.time,
             sensor=self.name,

@@ -21,8 +21,9 @@ from embreex.rtcore import EmbreeDevice
 from hiyari.errors import HiyariError
 from hiyari.kinematics import rotate_xy, unrotate_xy
 from hiyari.net.mesh.scene_mesh import SceneMesh
-from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
+from hiyari.sensors.outputs import HIT_NONE
 from hiyari.sensors.scene.actor_shapes import ActorAppearance, ActorMesh, build_actor_mesh
+from hiyari.sensors.scene.cast_kernel import actor_candidates, static_hits
 from hiyari.traffic.world_state import WorldState
 
 NO_MATERIAL = 255
@@ -227,23 +228,18 @@ class RayScene:
         self, origins: np.ndarray, directions: np.ndarray, max_range: float, out: Hits
     ) -> None:
         """Static-scene hits into ``out`` (filled with misses), in chunks spread over the
-        worker threads: Embree and the numpy passes over a chunk release the GIL."""
+        worker threads: Embree and the compiled pass over a chunk release the GIL."""
         n = len(directions)
+
+        tables = (self._static_material_ext, self._static_normal_ext)
+        no_normal = np.zeros((0, 3), np.float32)
 
         def chunk(a: int, b: int) -> None:
             d = directions[a:b]
             rs = self._static.run(origins[a:b], d, dists=np.float32(max_range), output=1)
-            prim = rs["primID"]
-            found = prim >= 0
-            out.distance[a:b] = np.where(found, rs["tfar"], np.float32(np.inf))
-            out.hit[a:b] = np.where(found, np.int32(HIT_STATIC), np.int32(HIT_NONE))
-            # index -1 (a miss) picks the sentinel last row of each table (zero normal)
-            out.material[a:b] = np.take(self._static_material_ext, prim)
-            nrm = np.take(self._static_normal_ext, prim, axis=0)
-            dot = nrm[:, 0] * d[:, 0] + nrm[:, 1] * d[:, 1] + nrm[:, 2] * d[:, 2]
-            out.cos_incidence[a:b] = np.abs(dot)
-            if out.normal is not None:
-                out.normal[a:b] = nrm * np.where(dot > 0, np.float32(-1), np.float32(1))[:, None]
+            normal = out.normal[a:b] if out.normal is not None else no_normal
+            parts = (out.distance[a:b], out.hit[a:b], out.material[a:b], out.cos_incidence[a:b])
+            static_hits(rs["primID"], rs["tfar"], d, tables, (*parts, normal))
 
         if self._pool is None or n < 2 * CAST_CHUNK:
             chunk(0, n)
@@ -298,13 +294,8 @@ class RayScene:
         if rays is None:
             idx = np.arange(len(directions))
         else:
-            near, low, high = self.actor_bins(rays, max_range)
-            b, el = rays.index.bin, rays.index.elevation
-            idx = np.flatnonzero(
-                (out.distance > np.take(near, b))
-                & (el >= np.take(low, b))
-                & (el <= np.take(high, b))
-            )
+            bins = self.actor_bins(rays, max_range)
+            idx = actor_candidates(out.distance, rays.index.bin, rays.index.elevation, bins)
         if not len(idx):
             return
         limit = np.minimum(out.distance[idx], np.float32(max_range))
