@@ -11,7 +11,7 @@ import pytest
 
 from hiyari.bridge.scenario.engine import measures as M
 from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
-from hiyari.bridge.scenario.engine.snapshot import gather_entities
+from hiyari.bridge.scenario.engine.snapshot import F_HEADING, gather_entities
 from hiyari.bridge.scenario.model import (
     Condition,
     CoordinateSystem,
@@ -117,7 +117,16 @@ def test_gathered_reference_points_equal_vehicle_to_world() -> None:
     xyz, h = rng.uniform(-50, 50, (6, 3)), rng.uniform(-np.pi, np.pi, 6)
     offset = rng.uniform(-2, 2, (4, 2))
     rows = np.array([3, -1, 0, 5])
-    present, centre, ref, heading, _, _ = gather_entities(rows, xyz, h, h, h, offset)
+    present, centre, ref, out = (
+        np.zeros(4, bool),
+        np.zeros((4, 2)),
+        np.zeros((4, 2)),
+        np.zeros((6, 4)),
+    )
+    no = np.zeros(4, bool)
+    gather_entities(rows, xyz, h, h, h, offset, no, np.full(4, -1), np.zeros((12, 4)), np.ones(4),
+                    present, centre, ref, out)  # fmt: skip
+    heading = out[F_HEADING]
     assert present.tolist() == [True, False, True, True]
     k = rows[present]
     assert np.array_equal(centre[present], xyz[k, :2])

@@ -40,7 +40,16 @@ from hiyari.bridge.scenario.engine.motion import (
     forward,
 )
 from hiyari.bridge.scenario.engine.positions import Pose, PoseResolver
-from hiyari.bridge.scenario.engine.snapshot import Snapshot, gather_entities, own_road_coords
+from hiyari.bridge.scenario.engine.snapshot import (
+    F_ACCEL,
+    F_HEADING,
+    F_ROAD_DIR,
+    F_ROAD_S,
+    F_ROAD_T,
+    F_SPEED,
+    Snapshot,
+    gather_entities,
+)
 from hiyari.bridge.scenario.model.actions import AssignRouteAction
 from hiyari.bridge.scenario.model.entities import EntityKind
 from hiyari.bridge.scenario.model.storyboard import Scenario
@@ -169,7 +178,11 @@ class ScenarioEngine:
         # table rows on roads / following paths, for the view and motion versions
         self._advance_rows: tuple[tuple[int, int], np.ndarray, list[int]] | None = None
         self._sent_speed = np.full(n, np.nan)  # speed last sent to SUMO per entity, m/s
-        self._road = (np.full(n, np.nan), np.full(n, np.nan), np.ones(n))  # see _road_coords
+        # the snapshot's arrays, filled in place every step (see snapshot.gather_entities)
+        self._present = np.zeros(n, dtype=bool)
+        self._centre, self._ref = np.zeros((n, 2)), np.zeros((n, 2))
+        self._ent = np.zeros((6, n))
+        self._no_contact = np.zeros(n, dtype=bool)  # never written
         self._near: dict[str, tuple[str, float]] = {}  # last road and s of located entities
         self._view_cache: _View | None = None
         # log length / (log length, motion version) at the start of the latest storyboard
@@ -542,29 +555,19 @@ class ScenarioEngine:
         return self._lanes_of[1], self._lanes_of[2]
 
     # ------------------------------------------------------------------ snapshot
-    def _road_coords(self, present: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(E,) road s of the box centre, t and driving direction (+1 / -1) of the present
-        entities whose road coordinates the active conditions read (NaN, NaN, 1 for the
-        others): scripted actors' from their state, the others located on the map. The
-        arrays are reused from step to step (the snapshot lives for one evaluation)."""
-        tb, view = self.table, self._view()
-        road_s, road_t, road_dir = self._road
-        if not self.bank.needs_road:
-            return road_s, road_t, road_dir  # all NaN, NaN, 1
-        tb.refresh(self.roads.odr)
-        own_road_coords(
-            view.own, present, tb.road_code, tb.s, tb.t, tb.direction, self._cx, road_s,
-            road_t, road_dir,
-        )  # fmt: skip
-        for k in view.located:
+    def _located_road_coords(self, present: np.ndarray) -> None:
+        """Road s of the box centre, t and direction (+1 / -1) of the present entities the
+        storyboard does not drive whose road coordinates the active conditions read, located
+        on the map (the driven ones come from the actor table in the snapshot kernel)."""
+        out = self._ent
+        for k in self._view().located:
             if not present[k]:
                 continue
             p = self.pose_of(self.names[k])
             if p.road:
-                road_dir[k] = forward(self.roads.odr, p.road, p.lane)
-                road_s[k] = p.s + road_dir[k] * self._cx[k]
-                road_t[k] = p.t
-        return road_s, road_t, road_dir
+                out[F_ROAD_DIR, k] = forward(self.roads.odr, p.road, p.lane)
+                out[F_ROAD_S, k] = p.s + out[F_ROAD_DIR, k] * self._cx[k]
+                out[F_ROAD_T, k] = p.t
 
     def _map_rows(self, world: WorldState) -> None:
         """Rows of the entities in ``world`` (-1: absent), rebuilt when its ids change."""
@@ -575,27 +578,39 @@ class ScenarioEngine:
             self._entity_rows = np.array([self._rows.get(n, -1) for n in self.names], np.intp)
 
     def _snapshot(self, world: WorldState, sim: Simulation) -> Snapshot:
-        rows = self._entity_rows
-        present, centre, ref, h, speed, accel = gather_entities(
-            rows, world.xyz, world.heading, world.speed, world.accel, self._centre_offset
-        )
+        """What the conditions read now, in arrays reused from step to step (the snapshot
+        lives for one evaluation)."""
+        rows, tb, view, out = self._entity_rows, self.table, self._view(), self._ent
+        if self.bank.needs_road:
+            tb.refresh(self.roads.odr)
+        present, centre, ref = self._present, self._centre, self._ref
+        gather_entities(
+            rows, world.xyz, world.heading, world.speed, world.accel, self._centre_offset,
+            view.own, tb.road_code, tb.state, tb.direction, present, centre, ref, out,
+        )  # fmt: skip
+        if view.located:
+            self._located_road_coords(present)
         n = len(rows)
-        road_s, road_t, road_dir = self._road_coords(present)
         contacts: set[frozenset[int]] = set()
-        contact_any = np.zeros(n, dtype=bool)
+        contact_any = self._no_contact
         for col in sim.collisions:
             if col.depth <= 0.0:
                 continue  # SUMO's per-lane check alone: no sublanes, beside counts as hit
             ia, ib = self.index.get(col.a, -1), self.index.get(col.b, -1)
             for x in (ia, ib):
                 if x >= 0:
+                    if contact_any is self._no_contact:
+                        contact_any = np.zeros(n, dtype=bool)
                     contact_any[x] = True
             if ia >= 0 and ib >= 0:
                 contacts.add(frozenset((ia, ib)))
-        on_net = world.lane[np.maximum(rows, 0)] != "" if len(world) else np.zeros(n, bool)
+        on_net = self._no_contact  # read only by end-of-road conditions
+        if self.bank.needs_on_net:
+            on_net = world.lane[np.maximum(rows, 0)] != "" if len(world) else np.zeros(n, bool)
         return Snapshot(
-            self.now, present, ref, centre, h, self._length, self._width, speed, accel, on_net,
-            road_s, road_t, road_dir, contacts, contact_any,
+            self.now, present, ref, centre, out[F_HEADING], self._length, self._width,
+            out[F_SPEED], out[F_ACCEL], on_net, out[F_ROAD_S], out[F_ROAD_T], out[F_ROAD_DIR],
+            contacts, contact_any,
         )  # fmt: skip
 
 

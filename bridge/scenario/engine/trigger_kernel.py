@@ -108,12 +108,21 @@ def _condition_values(
     contact_any: np.ndarray,
     states: np.ndarray,
     transitions: np.ndarray,
-) -> np.ndarray:
-    """(C,) whether each condition holds now, before edges and delays (conditions of
-    inactive triggers: False; their duration rows are still tracked)."""
-    cos_h, sin_h = np.cos(heading), np.sin(heading)
+    trig: np.ndarray,
+    counts: np.ndarray,
+    raw: np.ndarray,
+) -> None:
+    """Into ``raw`` (C,): whether each condition holds now, before edges and delays
+    (conditions of inactive triggers: False; their duration rows are still tracked).
+    ``trig`` (2, E) and ``counts`` (2, C): work arrays (cos and sin of the headings; rows
+    holding and rows evaluated per condition)."""
+    cos_h, sin_h = trig[0], trig[1]
+    np.cos(heading, cos_h)
+    np.sin(heading, sin_h)
     n = len(cond)
-    hits, count = np.zeros(n, np.int64), np.zeros(n, np.int64)
+    hits, count = counts[0], counts[1]
+    hits[:] = 0
+    count[:] = 0
     for r in range(len(rows)):
         owner = rows[r, R_OWNER]
         on = active[cond[owner, C_TRIGGER]]
@@ -131,8 +140,8 @@ def _condition_values(
         if on:
             count[owner] += 1
             hits[owner] += res
-    raw = np.zeros(n, dtype=np.bool_)
     for c in range(n):
+        raw[c] = False
         kind = cond[c, C_KIND]
         if kind == STATIC:
             raw[c] = static[c]
@@ -143,7 +152,6 @@ def _condition_values(
             raw[c] = (states[el] if code < FIRST_TRANSITION else transitions[el]) == code
         elif count[c] > 0:
             raw[c] = hits[c] > 0 if cond[c, C_RULE] == 1 else hits[c] == count[c]
-    return raw
 
 
 @njit(cache=True)
@@ -154,12 +162,12 @@ def _edges_and_delays(
     prev: np.ndarray,
     history: np.ndarray,
     step_no: int,
-) -> np.ndarray:
-    """(C,) each condition's value after its edge and delay. ``prev`` (value at the previous
-    evaluation, -1: not evaluated since its trigger became active) and the ring buffer
-    ``history`` (C, H) of edged values are updated for step ``step_no``."""
+    out: np.ndarray,
+) -> None:
+    """Into ``out`` (C,): each condition's value after its edge and delay. ``prev`` (value at
+    the previous evaluation, -1: not evaluated since its trigger became active) and the ring
+    buffer ``history`` (C, H) of edged values are updated for step ``step_no``."""
     n, size = len(cond), history.shape[1]
-    out = np.zeros(n, dtype=np.bool_)
     k = step_no % size
     for c in range(n):
         on = active[cond[c, C_TRIGGER]]
@@ -178,7 +186,6 @@ def _edges_and_delays(
         history[c, k] = edged
         delay = cond[c, C_DELAY]
         out[c] = history[c, (step_no - delay) % size] and delay <= step_no
-    return out
 
 
 @njit(cache=True)
@@ -213,20 +220,27 @@ def evaluate_triggers(
     contact_any: np.ndarray,
     states: np.ndarray,
     transitions: np.ndarray,
-) -> np.ndarray:
-    """(T,) fired triggers at scenario time ``now`` (s), step ``step_no`` since the bank was
-    built, given which triggers are ``active``. ``group_start`` (G + 1,): first condition of
-    each AND group (last: C); ``trigger_group`` (T + 1,): first group of each trigger (last:
-    G). Entity arrays are per entity (see measures.Snapshot); ``contact`` (E, E) bool."""
-    raw = _condition_values(
+    trig: np.ndarray,
+    counts: np.ndarray,
+    flags: np.ndarray,
+    fired: np.ndarray,
+) -> None:
+    """Into ``fired`` (T,): the fired triggers at scenario time ``now`` (s), step ``step_no``
+    since the bank was built, given which triggers are ``active``. ``group_start`` (G + 1,):
+    first condition of each AND group (last: C); ``trigger_group`` (T + 1,): first group of
+    each trigger (last: G). Entity arrays are per entity (see measures.Snapshot);
+    ``contact`` (E, E) bool. Work arrays (reused, so a step allocates nothing): ``trig``
+    (2, E) float, ``counts`` (2, C) int64, ``flags`` (2, C) bool."""
+    raw, value = flags[0], flags[1]
+    _condition_values(
         now, active, cond, time_value, static, rows, row_value, points, since, present,
         centre, ref, heading, length, width, speed, accel, on_net, road_s, road_t, road_dir,
-        contact, contact_any, states, transitions,
+        contact, contact_any, states, transitions, trig, counts, raw,
     )  # fmt: skip
-    value = _edges_and_delays(raw, active, cond, prev, history, step_no)
+    _edges_and_delays(raw, active, cond, prev, history, step_no, value)
     n_trig = len(trigger_group) - 1
-    fired = np.zeros(n_trig, dtype=np.bool_)
     for t in range(n_trig):
+        fired[t] = False
         if not active[t]:
             continue
         for g in range(trigger_group[t], trigger_group[t + 1]):
@@ -236,4 +250,3 @@ def evaluate_triggers(
             if all_hold:
                 fired[t] = True
                 break
-    return fired
