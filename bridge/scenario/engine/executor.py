@@ -77,7 +77,8 @@ class _View:
     """What the storyboard's element states decide, kept until one changes (``version``: the
     length of the element log): the triggers evaluated now (T,), the entities the storyboard
     drives (E,), those whose road coordinates active conditions read (E,), of these the
-    ones located on the map (not driven; their indices) and the driven ones (E,)."""
+    ones located on the map (not driven; their indices) and the driven ones (E,), and whether
+    the storyboard drives the ego."""
 
     version: int
     active: np.ndarray
@@ -85,6 +86,7 @@ class _View:
     need: np.ndarray
     located: list[int]
     own: np.ndarray
+    ego_driven: bool
 
 
 @dataclass(frozen=True)
@@ -369,7 +371,7 @@ class ScenarioEngine:
         return StepReport(
             self.now,
             self.finished,
-            self.ego is not None and bool(self._view().driven[self._ego_row]),
+            self._view().ego_driven,
             tuple(self._started),
             tuple(self._ended),
             tuple(self._ego_requests),
@@ -388,7 +390,10 @@ class ScenarioEngine:
             if self.bank.needs_road:
                 need = self.bank.road_entities(active)
             located = np.flatnonzero(need & ~driven).tolist()
-            self._view_cache = _View(version, active, driven, need, located, need & driven)
+            ego_driven = self.ego is not None and bool(driven[self._ego_row])
+            self._view_cache = _View(
+                version, active, driven, need, located, need & driven, ego_driven
+            )
         return self._view_cache
 
     def _active(self) -> np.ndarray:
@@ -502,7 +507,9 @@ class ScenarioEngine:
                 tree.end(ai, now)
                 self._ended.append(tree.elements[ai].name)
                 del self.instances[ai]
-        open_children = None
+        open_children = tree.open_children()
+        if not ((st == RUNNING) & self._has_children & (open_children == 0)).any():
+            return  # no element can end (each kind below would find none)
         for ix in self._kind_order.values():  # bottom-up: events first, stories last
             if not len(ix):
                 continue

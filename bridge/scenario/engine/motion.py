@@ -150,6 +150,8 @@ class ActorTable:
         self.long_done = np.zeros(n, dtype=bool)
         self.lat_done = np.zeros(n, dtype=bool)
         self.kappa = np.zeros(n)  # reference-line curvature at s before the step, 1/m
+        #: The latest ``groups`` all on straight roads, their rows' kappa set to 0.
+        self.straight_groups: list[tuple[str, np.ndarray]] | None = None
         #: Goals / offsets that follow another entity, by row: refreshed every step.
         self.long_targets: dict[int, Callable[[], float]] = {}
         self.lat_offsets: dict[int, Callable[[], float]] = {}
@@ -347,9 +349,12 @@ def advance_road_actors(
     tb = actors[0].table
     tb.refresh(odr)
     groups = tb.groups(rows)
-    for road, r in groups:
-        # straight: 0 (rows may come from a curved road)
-        tb.kappa[r] = 0.0 if odr.road(road).straight else curvature(odr, road, tb.s[r])
+    if groups is not tb.straight_groups:  # on straight roads only: kappa already 0
+        for road, r in groups:
+            # straight: 0 (rows may come from a curved road)
+            tb.kappa[r] = 0.0 if odr.road(road).straight else curvature(odr, road, tb.s[r])
+        if all(odr.road(road).straight for road, _ in groups):
+            tb.straight_groups = groups
     for k, target in tb.long_targets.items():
         tb.long_par[k, MK.L_GOAL] = target()
     ended = MK.advance_long(
