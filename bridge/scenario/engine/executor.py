@@ -32,6 +32,7 @@ from hiyari.bridge.scenario.engine.elements import (
     RUNNING,
     STANDBY,
     ElementTree,
+    ends_bottom_up,
 )
 from hiyari.bridge.scenario.engine.motion import (
     Actor,
@@ -156,10 +157,15 @@ class ScenarioEngine:
         self._ev_parent = np.array([e.parent for e in real], dtype=np.intp)
         self._ev_trig = np.array([e.start_trigger for e in real], dtype=np.intp)
         self._has_children = np.array([bool(e.children) for e in self.tree.elements])
-        self._kind_order = {
-            k: np.array([e.index for e in self.tree.of_kind(k)], dtype=np.intp)
-            for k in ("event", "maneuver", "maneuverGroup", "act", "story")
-        }
+        # every element with children, bottom-up: events first, stories last
+        self._end_order = np.array(
+            [
+                e.index
+                for k in ("event", "maneuver", "maneuverGroup", "act", "story")
+                for e in self.tree.of_kind(k)
+            ],
+            dtype=np.int64,
+        )
         self._cx = np.array([e.centre[0] for e in scenario.entities])
         self._cy = np.array([e.centre[1] for e in scenario.entities])
         self._centre_offset = np.stack([self._cx, self._cy], 1).reshape(-1, 2)
@@ -507,18 +513,12 @@ class ScenarioEngine:
                 tree.end(ai, now)
                 self._ended.append(tree.elements[ai].name)
                 del self.instances[ai]
-        open_children = tree.open_children()
-        if not ((st == RUNNING) & self._has_children & (open_children == 0)).any():
-            return  # no element can end (each kind below would find none)
-        for ix in self._kind_order.values():  # bottom-up: events first, stories last
-            if not len(ix):
-                continue
-            if open_children is None:  # changes only when elements end
-                open_children = tree.open_children()
-            done = ix[(st[ix] == RUNNING) & self._has_children[ix] & (open_children[ix] == 0)]
-            for i in done.tolist():
-                tree.end(i, now)
-                open_children = None
+        ends = ends_bottom_up(
+            self._end_order, st, tree.parent, self._has_children, tree.executions,
+            tree.max_runs,
+        )  # fmt: skip
+        for i in ends.tolist():
+            tree.end(i, now)
 
     def _command(self, sim: Simulation) -> None:
         """Place every inserted scripted actor for the next step; its speed is sent only when
