@@ -13,6 +13,8 @@ distance type, road coordinates, always measured.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -22,12 +24,14 @@ from hiyari.bridge.scenario.engine.measures import (
     END_OF_ROAD,
     REL_SPEED,
     SPEED,
+    TTC,
     TTC_POINT,
     duration_measure,
     holds,
     pair_measure,
     point_measure,
     single_measure,
+    ttc_above,
 )
 
 #: Condition kinds (column 0 of the condition table).
@@ -81,6 +85,17 @@ def _row_measure(
     return np.nan
 
 
+@njit(cache=True, inline="always")
+def _footprint_ttc(r: int, rows: np.ndarray, present: np.ndarray) -> bool:
+    """Whether entity row ``r`` is a freespace euclidean TTC between two present entities in
+    entity coordinates (measured with the footprint distance)."""
+    b = rows[r, R_B]
+    return (
+        rows[r, R_KIND] == TTC and rows[r, R_FS] != 0 and rows[r, R_DTYPE] == 0
+        and rows[r, R_ROAD] == 0 and b >= 0 and present[rows[r, R_A]] and present[b]
+    )  # fmt: skip
+
+
 @njit(cache=True)
 def _condition_values(
     now: float,
@@ -128,9 +143,15 @@ def _condition_values(
         on = active[cond[owner, C_TRIGGER]]
         if not (on or rows[r, R_ALWAYS]):
             continue
+        a, b = rows[r, R_A], rows[r, R_B]
         if rows[r, R_KIND] == COLLISION:
-            a, b = rows[r, R_A], rows[r, R_B]
             res = contact[a, b] if b >= 0 else contact_any[a]
+        elif (
+            _footprint_ttc(r, rows, present)
+            and row_value[r] < math.inf
+            and ttc_above(a, b, row_value[r], centre, cos_h, sin_h, length, width, speed)
+        ):  # certainly above the value: every rule decides as for an infinite TTC
+            res = holds(math.inf, row_value[r], rows[r, R_RULE])
         else:
             m = _row_measure(
                 r, rows, now, points, since, present, centre, ref, heading, cos_h, sin_h,
