@@ -14,10 +14,11 @@ import pytest
 from hiyari.bridge.scenario.engine import motion_kernel as MK
 from hiyari.bridge.scenario.engine.command_kernel import command_rows, lane_keys
 from hiyari.bridge.scenario.engine.shapes import CUBIC, LINEAR, SINUSOIDAL
-from hiyari.kinematics import vehicle_to_world
+from hiyari.kinematics import point_ahead, vehicle_to_world
 from hiyari.net.road.lane_profile import lane_profile
 from hiyari.net.road.opendrive_lanes import LaneSection, LaneSpec, OpenDriveMap, Poly3
 from hiyari.net.road.plan_view import road_pose_at
+from hiyari.traffic.commands import heading_to_sumo_angle
 
 ROADS = Path(__file__).resolve().parents[2] / "shared/data/openscenario/alks/road_networks"
 CURVED = ROADS / "alks_road_different_curvatures.xodr"
@@ -186,10 +187,16 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     sent[::2] = np.nan
     st = np.zeros((len(MK.STATE), n))
     st[MK.X], st[MK.Y], st[MK.H], st[MK.V], st[MK.V_LAT] = x, y, h, v, v_lat
-    centres, heading, send = np.zeros((n, 2)), np.zeros(n), np.zeros(n)
-    command_rows(rows, st, cx, cy, sent.copy(), centres, heading, send)
+    centres, heading, send, sumo = np.zeros((n, 2)), np.zeros(n), np.zeros(n), np.zeros((3, n))
+    length = rng.uniform(0.5, 15.0, n)
+    command_rows(rows, st, cx, cy, length, sent.copy(), centres, heading, send, sumo)
     want = vehicle_to_world(np.stack([cx, cy], 1)[rows], np.stack([x, y], 1)[rows], h[rows])
     assert np.array_equal(centres, want) and np.array_equal(heading, h[rows])
+    # what SUMO is told: as move_vehicles computes it (front bumper, SUMO angle)
+    front = point_ahead(want, h[rows], 0.5 * length[rows])
+    assert np.array_equal(sumo[:2].T, front)
+    assert np.array_equal(sumo[2], np.mod(90.0 - np.degrees(h[rows]), 360.0))
+    assert sumo[2].tolist() == [heading_to_sumo_angle(float(x)) for x in h[rows]]
     speed = np.hypot(v, v_lat)[rows]
     assert np.array_equal(send, np.where(rows % 2 == 1, np.nan, speed), equal_nan=True)
     # placement: heading from the reference line, direction, slip and relative heading

@@ -174,11 +174,12 @@ class ScenarioEngine:
         self._lane_key = np.full((n, 3), -2, dtype=np.int64)  # road code, lane, section
         self._edge: list[str] = [""] * n
         self._lane_index: list[int] = [-1] * n
-        # the rows commanded (inserted and driven), their names, lengths and the arrays their
-        # centres, headings and speeds are computed into, for the view version and insert
-        # count they were found at
-        self._moved: tuple[np.ndarray, list[str], np.ndarray, tuple[np.ndarray, ...]] = (
-            np.zeros(0, np.intp), [], np.zeros(0), (np.zeros((0, 2)), np.zeros(0), np.zeros(0))
+        # the rows commanded (inserted and driven), their names and the arrays their centres,
+        # headings, speeds and SUMO commands (see command_rows) are computed into, for the
+        # view version and insert count they were found at
+        self._moved: tuple[np.ndarray, list[str], tuple[np.ndarray, ...]] = (
+            np.zeros(0, np.intp), [],
+            (np.zeros((0, 2)), np.zeros(0), np.zeros(0), np.zeros((3, 0))),
         )  # fmt: skip
         self._moved_key: tuple[int, int] = (-1, -1)
         self._inserts = 0
@@ -530,16 +531,18 @@ class ScenarioEngine:
             if not np.array_equal(rows, self._moved[0]):
                 names = [self.names[k] for k in rows.tolist()]
                 m = len(rows)
-                out = (np.empty((m, 2)), np.empty(m), np.empty(m))
-                self._moved = (rows, names, self._length[rows], out)
+                out = (np.empty((m, 2)), np.empty(m), np.empty(m), np.empty((3, m)))
+                self._moved = (rows, names, out)
                 left = np.ones(len(self.names), dtype=bool)
                 left[rows] = False
                 self._sent_speed[left] = np.nan  # others may set its speed meanwhile
             self._moved_key = key
-        rows, names, length, out = self._moved
+        rows, names, out = self._moved
         edges, lanes = self._sumo_lanes(rows)
-        command_rows(rows, tb.state, self._cx, self._cy, self._sent_speed, *out)
-        sim.move_vehicles(names, out[0], out[1], length, out[2], edges, lanes)
+        command_rows(rows, tb.state, self._cx, self._cy, self._length, self._sent_speed, *out)
+        if names:
+            front_x, front_y, angle = out[3].tolist()
+            sim.move_vehicle_fronts(names, edges, lanes, front_x, front_y, angle, out[2])
 
     def _sumo_lanes(self, rows: np.ndarray) -> tuple[list[str], list[int]]:
         """SUMO edge ('' = any) and lane index (-1) of each of ``rows`` (for moveToXY), looked
