@@ -226,3 +226,40 @@ def test_lane_keys_flag_road_lane_and_section_changes(curved_road: object) -> No
     assert changed([11.0, 301.0]) == [1] and key[1, 2] == 1  # into the second section
     lane[0] = -2
     assert changed([11.0, 301.0]) == [0]
+
+
+def test_advance_and_place_equals_the_passes_one_by_one() -> None:
+    """The one-call step (speeds, lateral positions, placement) leaves the same table, bit
+    for bit, as the three passes called one after the other; a lateral transition ending
+    leaves the rows unplaced (the caller updates their lanes first)."""
+    rng = np.random.default_rng(11)
+    road = OpenDriveMap.from_file(ROADS / "alks_road_left_radius_250m.xodr").road("0")
+    prof, plan = lane_profile([road]).arrays(), road.plan_view
+    n = 8
+    rows = np.arange(n)
+    st = np.zeros((len(MK.STATE), n))
+    st[MK.S] = rng.uniform(50.0, 250.0, n)
+    st[MK.T] = [road.lane_t(-1, s) for s in st[MK.S]]
+    st[MK.V] = rng.uniform(5.0, 30.0, n)
+    has_long, has_lat = rng.random(n) < 0.6, rng.random(n) < 0.6
+    long_par, lat_par = np.zeros((n, 8)), np.zeros((n, 9))
+    long_par[:, MK.L_V0], long_par[:, MK.L_GOAL] = st[MK.V], rng.uniform(0.0, 30.0, n)
+    long_par[:, MK.L_SHAPE], long_par[:, MK.L_SPAN] = LINEAR, rng.uniform(0.5, 3.0, n)
+    lat_par[:, MK.T_T0], lat_par[:, MK.T_SHAPE], lat_par[:, MK.T_LANE] = st[MK.T], SINUSOIDAL, -2
+    lat_par[:, MK.T_SPAN] = rng.uniform(2.0, 5.0, n)
+    kappa, direction = rng.uniform(-1e-3, 1e-3, n), np.ones(n)
+    for now, want_placed in ((1.0, True), (6.0, False)):
+        one = [st.copy(), long_par.copy(), lat_par.copy(), np.zeros(n, bool), np.zeros(n, bool)]
+        two = [x.copy() for x in one]
+        got = MK.advance_and_place(
+            rows, now, 0.05, kappa, direction, one[0], has_long, one[1], one[3], has_lat,
+            one[2], one[4], True, *prof, *plan.arrays(),
+        )  # fmt: skip
+        n_long = MK.advance_long(
+            rows, now, 0.05, kappa, direction, two[0], has_long, two[1], two[3]
+        )
+        missing, n_lat = MK.advance_lat(rows, now, 0.05, two[0], has_lat, two[2], two[4], *prof)
+        if want_placed:
+            MK.place_rows(rows, *plan.arrays(), direction, two[0])
+        assert got == (n_long, missing, n_lat, want_placed)
+        assert all(np.array_equal(a, b) for a, b in zip(one, two, strict=True))

@@ -192,6 +192,12 @@ class ScenarioEngine:
         self._centre, self._ref = np.zeros((n, 2)), np.zeros((n, 2))
         self._ent = np.zeros((6, n))
         self._no_contact = np.zeros(n, dtype=bool)  # never written
+        out = self._ent
+        self._snap = Snapshot(
+            0.0, self._present, self._ref, self._centre, out[F_HEADING], self._length,
+            self._width, out[F_SPEED], out[F_ACCEL], self._no_contact, out[F_ROAD_S],
+            out[F_ROAD_T], out[F_ROAD_DIR], set(), self._no_contact,
+        )  # fmt: skip
         self._near: dict[str, tuple[str, float]] = {}  # last road and s of located entities
         self._view_cache: _View | None = None
         # log length / (log length, motion version) at the start of the latest storyboard
@@ -617,11 +623,11 @@ class ScenarioEngine:
         on_net = self._no_contact  # read only by end-of-road conditions
         if self.bank.needs_on_net:
             on_net = world.lane[np.maximum(rows, 0)] != "" if len(world) else np.zeros(n, bool)
-        return Snapshot(
-            self.now, present, ref, centre, out[F_HEADING], self._length, self._width,
-            out[F_SPEED], out[F_ACCEL], on_net, out[F_ROAD_S], out[F_ROAD_T], out[F_ROAD_DIR],
-            contacts, contact_any,
+        snap = self._snap
+        snap.time, snap.on_net, snap.contacts, snap.contact_any = (
+            self.now, on_net, contacts, contact_any
         )  # fmt: skip
+        return snap
 
 
 __all__ = ["ScenarioEngine", "StepReport", "EntityKind"]
