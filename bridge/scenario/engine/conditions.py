@@ -159,12 +159,10 @@ class ConditionBank:
 
     def road_entities(self, active: np.ndarray) -> np.ndarray:
         """(E,) entities whose road coordinates the ``active`` triggers' rows read."""
-        need = np.zeros(len(self.entity_index), dtype=bool)
-        on = self.rows.road & active[self.row_trigger]
-        need[self.rows.a[on]] = True
-        b = self.rows.b[on]
-        need[b[b >= 0]] = True
-        return need
+        return K.road_entities(
+            active, self.row_trigger, self.rows.road, self.rows.a, self.rows.b,
+            len(self.entity_index),
+        )  # fmt: skip
 
     # ------------------------------------------------------------------ evaluate
     def evaluate(

@@ -172,3 +172,31 @@ def ends_bottom_up(
             if executions[i] + 1 >= max_runs[i] and parent[i] >= 0:
                 open_children[parent[i]] -= 1
     return out[:m]
+
+
+@njit(cache=True)
+def active_triggers(
+    state: np.ndarray,
+    act_ix: np.ndarray,
+    act_start: np.ndarray,
+    act_stop: np.ndarray,
+    ev_ix: np.ndarray,
+    ev_parent: np.ndarray,
+    ev_trig: np.ndarray,
+    n_triggers: int,
+) -> np.ndarray:
+    """(T,) the triggers evaluated in element ``state``: the storyboard's stop trigger (0),
+    standby acts' start triggers, running acts' stop triggers, the start triggers of standby
+    events whose maneuver runs (``*_ix``: the acts' / events' element indices; trigger -1:
+    none)."""
+    active = np.zeros(n_triggers, dtype=np.bool_)
+    active[0] = True
+    for j in range(len(act_ix)):
+        s = state[act_ix[j]]
+        t = act_start[j] if s == STANDBY else (act_stop[j] if s == RUNNING else -1)
+        if t >= 0:
+            active[t] = True
+    for j in range(len(ev_ix)):
+        if ev_trig[j] >= 0 and state[ev_ix[j]] == STANDBY and state[ev_parent[j]] == RUNNING:
+            active[ev_trig[j]] = True
+    return active

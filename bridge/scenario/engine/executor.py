@@ -32,6 +32,7 @@ from hiyari.bridge.scenario.engine.elements import (
     RUNNING,
     STANDBY,
     ElementTree,
+    active_triggers,
     ends_bottom_up,
 )
 from hiyari.bridge.scenario.engine.motion import (
@@ -395,7 +396,10 @@ class ScenarioEngine:
         (every change is logged, controller changes with their action's start)."""
         version = len(self.tree.log)
         if self._view_cache is None or self._view_cache.version != version:
-            active = self._active()
+            active = active_triggers(
+                self.tree.state, self._act_ix, self._act_start, self._act_stop, self._ev_ix,
+                self._ev_parent, self._ev_trig, len(self.tree.triggers),
+            )  # fmt: skip
             driven = np.ones(len(self.names), dtype=bool)
             if self._ego_row >= 0:
                 driven[self._ego_row] = self.storyboard_drives(self.ego)
@@ -408,20 +412,6 @@ class ScenarioEngine:
                 version, active, driven, need, located, need & driven, ego_driven
             )
         return self._view_cache
-
-    def _active(self) -> np.ndarray:
-        """(T,) triggers evaluated now: the storyboard's stop trigger, standby acts' start
-        triggers, running acts' stop triggers, waiting events' start triggers."""
-        active = np.zeros(len(self.tree.triggers) + 1, dtype=bool)  # last slot: "no trigger"
-        active[0] = True
-        st = self.tree.state
-        if len(self._act_ix):
-            active[self._act_start[st[self._act_ix] == STANDBY]] = True
-            active[self._act_stop[st[self._act_ix] == RUNNING]] = True
-        if len(self._ev_ix):
-            waiting = (st[self._ev_ix] == STANDBY) & (st[self._ev_parent] == RUNNING)
-            active[self._ev_trig[waiting]] = True
-        return active[:-1]
 
     def _acts(self, fired: np.ndarray) -> None:
         tree, st = self.tree, self.tree.state

@@ -271,3 +271,23 @@ def evaluate_triggers(
             if all_hold:
                 fired[t] = True
                 break
+
+
+@njit(cache=True)
+def road_entities(
+    active: np.ndarray,
+    row_trigger: np.ndarray,
+    road: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    n_entities: int,
+) -> np.ndarray:
+    """(E,) the entities (``a`` and ``b``, -1: none) of the entity rows in road coordinates
+    (``road``) whose trigger (``row_trigger``) is ``active``."""
+    need = np.zeros(n_entities, dtype=np.bool_)
+    for r in range(len(row_trigger)):
+        if road[r] and active[row_trigger[r]]:
+            need[a[r]] = True
+            if b[r] >= 0:
+                need[b[r]] = True
+    return need
