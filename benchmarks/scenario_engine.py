@@ -6,8 +6,11 @@ whose events start lane changes and speed changes. Per step we time, interleaved
 run: SUMO's step (simulationStep + WorldState read + contact check) plus the time libsumo itself
 spends in the engine's commands (moveToXY and setSpeed per scripted actor: the unavoidable cost
 of moving them), and the engine's own work (trigger evaluation, storyboard update, kinematics,
-and the Python side of its commands). Prints the medians over all steps of all repeats, their
-ratio (the issue's target: the engine <= 10 % of the SUMO step) and the load average.
+and the Python side of its commands). libsumo's calls are timed by wrapping its moveToXY and
+setSpeed for one run at a time (put back after each run); the wrapper's own cost outside its
+window (a no-op measured in the same process, times the calls counted) lands on the engine's
+side and is printed. Prints the medians over all steps of all repeats, their ratio (the
+issue's target: the engine <= 10 % of the SUMO step) and the load average.
 
 To say where the floor of a numpy design lies it also runs the same scenario with 5 actors (the
 engine's fixed cost per step) and times one small numpy call in the same process: the engine's
