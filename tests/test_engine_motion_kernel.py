@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from hiyari.bridge.scenario.engine import motion_kernel as MK
-from hiyari.bridge.scenario.engine.command_kernel import command_rows, lane_keys
+from hiyari.bridge.scenario.engine.command_kernel import command_rows, command_step, lane_keys
 from hiyari.bridge.scenario.engine.shapes import CUBIC, LINEAR, SINUSOIDAL
 from hiyari.kinematics import point_ahead, vehicle_to_world
 from hiyari.net.road.lane_profile import lane_profile
@@ -263,3 +263,26 @@ def test_advance_and_place_equals_the_passes_one_by_one() -> None:
             MK.place_rows(rows, *plan.arrays(), direction, two[0])
         assert got == (n_long, missing, n_lat, want_placed)
         assert all(np.array_equal(a, b) for a, b in zip(one, two, strict=True))
+
+
+def test_command_step_is_command_rows_and_lane_keys(curved_road: object) -> None:
+    prof = lane_profile([curved_road])
+    rng = np.random.default_rng(5)
+    n = 6
+    rows = np.arange(n)
+    st = np.zeros((len(MK.STATE), n))
+    st[MK.S], st[MK.H], st[MK.V] = rng.uniform(0, 1200, n), rng.uniform(-3, 3, n), 10.0
+    free, code, lane = np.zeros(n, bool), np.zeros(n, np.intp), rng.choice([-1, -2, 1], n)
+    cx, cy, length, sent = rng.uniform(0, 2, n), np.zeros(n), np.full(n, 4.5), np.full(n, 10.0)
+    sec = (prof.sec_first, prof.sec_count, prof.sec_s0)
+
+    def outs() -> list[np.ndarray]:
+        return [np.zeros((n, 2)), np.zeros(n), np.zeros(n), np.zeros((3, n))]
+
+    one, two = outs(), outs()
+    key1, key2 = np.full((n, 3), -2, np.int64), np.full((n, 3), -2, np.int64)
+    got = command_step(rows, st, cx, cy, length, sent.copy(), *one, free, code, lane, *sec, key1)
+    command_rows(rows, st, cx, cy, length, sent.copy(), *two)
+    want = lane_keys(rows, free, code, lane, st[MK.S], *sec, key2)
+    assert got.tolist() == want.tolist() == list(range(n)) and np.array_equal(key1, key2)
+    assert all(np.array_equal(a, b, equal_nan=True) for a, b in zip(one, two, strict=True))

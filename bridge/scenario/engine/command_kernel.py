@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-from hiyari.bridge.scenario.engine.motion_kernel import V_LAT, H, V, X, Y, _remainder
+from hiyari.bridge.scenario.engine.motion_kernel import V_LAT, H, S, V, X, Y, _remainder
 from hiyari.net.road.lane_profile import section_of
 
 
@@ -80,3 +80,29 @@ def lane_keys(
             changed[n] = k
             n += 1
     return changed[:n]
+
+
+@njit(cache=True)
+def command_step(
+    rows: np.ndarray,
+    st: np.ndarray,
+    cx: np.ndarray,
+    cy: np.ndarray,
+    length: np.ndarray,
+    sent_speed: np.ndarray,
+    centres: np.ndarray,
+    heading: np.ndarray,
+    send: np.ndarray,
+    sumo: np.ndarray,
+    free: np.ndarray,
+    road_code: np.ndarray,
+    lane: np.ndarray,
+    sec_first: np.ndarray,
+    sec_count: np.ndarray,
+    sec_s0: np.ndarray,
+    key: np.ndarray,
+) -> np.ndarray:
+    """:func:`command_rows` and :func:`lane_keys` (the rows' s from ``st``) in one call:
+    returns the rows whose SUMO lane is to be looked up again."""
+    command_rows(rows, st, cx, cy, length, sent_speed, centres, heading, send, sumo)
+    return lane_keys(rows, free, road_code, lane, st[S], sec_first, sec_count, sec_s0, key)

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hiyari.bridge.scenario.engine.actions import ActionStarter, Instance
-from hiyari.bridge.scenario.engine.command_kernel import command_rows, lane_keys
+from hiyari.bridge.scenario.engine.command_kernel import command_step
 from hiyari.bridge.scenario.engine.conditions import ConditionBank
 from hiyari.bridge.scenario.engine.elements import (
     NO_TRANSITION,
@@ -534,21 +534,20 @@ class ScenarioEngine:
                 self._sent_speed[left] = np.nan  # others may set its speed meanwhile
             self._moved_key = key
         rows, names, out = self._moved
-        edges, lanes = self._sumo_lanes(rows)
-        command_rows(rows, tb.state, self._cx, self._cy, self._length, self._sent_speed, *out)
+        prof = tb.lane_profile(self.roads.odr)
+        changed = command_step(
+            rows, tb.state, self._cx, self._cy, self._length, self._sent_speed, *out, tb.free,
+            tb.road_code, tb.lane, prof.sec_first, prof.sec_count, prof.sec_s0, self._lane_key,
+        )  # fmt: skip
+        edges, lanes = self._sumo_lanes(rows, changed)
         if names:
             front_x, front_y, angle = out[3].tolist()
             sim.move_vehicle_fronts(names, edges, lanes, front_x, front_y, angle, out[2])
 
-    def _sumo_lanes(self, rows: np.ndarray) -> tuple[list[str], list[int]]:
+    def _sumo_lanes(self, rows: np.ndarray, changed: np.ndarray) -> tuple[list[str], list[int]]:
         """SUMO edge ('' = any) and lane index (-1) of each of ``rows`` (for moveToXY), looked
-        up again only for rows whose road, lane or lane section changed."""
+        up again only for the ``changed`` rows (road, lane or lane section changed)."""
         tb = self.table
-        prof = tb.lane_profile(self.roads.odr)
-        changed = lane_keys(
-            rows, tb.free, tb.road_code, tb.lane, tb.s, prof.sec_first, prof.sec_count,
-            prof.sec_s0, self._lane_key,
-        )  # fmt: skip
         if not len(changed) and rows is self._lanes_of[0]:
             return self._lanes_of[1], self._lanes_of[2]
         for k in changed.tolist():
