@@ -11,7 +11,7 @@ import pytest
 
 from hiyari.bridge.scenario.engine import measures as M
 from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
-from hiyari.bridge.scenario.engine.snapshot import gather_entities
+from hiyari.bridge.scenario.engine.snapshot import F_HEADING, gather_entities
 from hiyari.bridge.scenario.model import (
     Condition,
     CoordinateSystem,
@@ -117,7 +117,16 @@ def test_gathered_reference_points_equal_vehicle_to_world() -> None:
     xyz, h = rng.uniform(-50, 50, (6, 3)), rng.uniform(-np.pi, np.pi, 6)
     offset = rng.uniform(-2, 2, (4, 2))
     rows = np.array([3, -1, 0, 5])
-    present, centre, ref, heading, _, _ = gather_entities(rows, xyz, h, h, h, offset)
+    present, centre, ref, out = (
+        np.zeros(4, bool),
+        np.zeros((4, 2)),
+        np.zeros((4, 2)),
+        np.zeros((6, 4)),
+    )
+    no = np.zeros(4, bool)
+    gather_entities(rows, xyz, h, h, h, offset, no, np.full(4, -1), np.zeros((12, 4)), np.ones(4),
+                    present, centre, ref, out)  # fmt: skip
+    heading = out[F_HEADING]
     assert present.tolist() == [True, False, True, True]
     k = rows[present]
     assert np.array_equal(centre[present], xyz[k, :2])
@@ -177,3 +186,30 @@ def test_entity_triggers_with_edges_and_delays_fire_on_their_step() -> None:
     assert [k for k, i in fired if i == 3] == [7]
     assert [k for k, i in fired if i == 4] == []  # the gap never changes
     assert [k for k, i in fired if i == 5] == list(range(9, 14))
+
+
+def test_ttc_bound_decides_only_when_the_footprint_ttc_is_above_the_value() -> None:
+    """The kernel skips the footprint distance of a freespace euclidean TTC row when the
+    centres' distance less the half-diagonals already puts the TTC above the value: wherever
+    that bound says so, the exact TTC is above the value (so every rule decides as for an
+    infinite TTC), and the bound decides a good share of random cases, not all."""
+    rng = np.random.default_rng(7)
+    decided = 0
+    n = 4000
+    for _ in range(n):
+        centre = rng.uniform(-40, 40, (2, 2)) + rng.uniform(-1e5, 1e5, 2)  # far from 0
+        h = rng.uniform(-np.pi, np.pi, 2)
+        length, width = rng.uniform(0.5, 12.0, 2), rng.uniform(0.5, 3.0, 2)
+        speed = rng.uniform(0.0, 40.0, 2)
+        value = float(rng.uniform(-1.0, 6.0))
+        cos_h, sin_h = np.cos(h), np.sin(h)
+        if not M.ttc_above(0, 1, value, centre, cos_h, sin_h, length, width, speed):
+            continue
+        decided += 1
+        e = {"centre": centre, "ref": centre, "heading": h, "length": length, "width": width,
+             "speed": speed, "road_s": np.zeros(2), "road_t": np.zeros(2), "road_dir": np.ones(2)}  # fmt: skip
+        ttc = _pair(M.TTC, True, 0, False, e)
+        assert ttc > value
+        for rule in range(6):
+            assert M.holds(ttc, value, rule) == M.holds(math.inf, value, rule)
+    assert 0.2 * n < decided < 0.95 * n

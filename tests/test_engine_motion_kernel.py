@@ -12,12 +12,13 @@ import numpy as np
 import pytest
 
 from hiyari.bridge.scenario.engine import motion_kernel as MK
-from hiyari.bridge.scenario.engine.command_kernel import command_rows, lane_keys
+from hiyari.bridge.scenario.engine.command_kernel import command_rows, command_step, lane_keys
 from hiyari.bridge.scenario.engine.shapes import CUBIC, LINEAR, SINUSOIDAL
-from hiyari.kinematics import vehicle_to_world
+from hiyari.kinematics import point_ahead, vehicle_to_world
 from hiyari.net.road.lane_profile import lane_profile
 from hiyari.net.road.opendrive_lanes import LaneSection, LaneSpec, OpenDriveMap, Poly3
 from hiyari.net.road.plan_view import road_pose_at
+from hiyari.traffic.commands import heading_to_sumo_angle
 
 ROADS = Path(__file__).resolve().parents[2] / "shared/data/openscenario/alks/road_networks"
 CURVED = ROADS / "alks_road_different_curvatures.xodr"
@@ -186,10 +187,16 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     sent[::2] = np.nan
     st = np.zeros((len(MK.STATE), n))
     st[MK.X], st[MK.Y], st[MK.H], st[MK.V], st[MK.V_LAT] = x, y, h, v, v_lat
-    centres, heading, send = np.zeros((n, 2)), np.zeros(n), np.zeros(n)
-    command_rows(rows, st, cx, cy, sent.copy(), centres, heading, send)
+    centres, heading, send, sumo = np.zeros((n, 2)), np.zeros(n), np.zeros(n), np.zeros((3, n))
+    length = rng.uniform(0.5, 15.0, n)
+    command_rows(rows, st, cx, cy, length, sent.copy(), centres, heading, send, sumo)
     want = vehicle_to_world(np.stack([cx, cy], 1)[rows], np.stack([x, y], 1)[rows], h[rows])
     assert np.array_equal(centres, want) and np.array_equal(heading, h[rows])
+    # what SUMO is told: as move_vehicles computes it (front bumper, SUMO angle)
+    front = point_ahead(want, h[rows], 0.5 * length[rows])
+    assert np.array_equal(sumo[:2].T, front)
+    assert np.array_equal(sumo[2], np.mod(90.0 - np.degrees(h[rows]), 360.0))
+    assert sumo[2].tolist() == [heading_to_sumo_angle(float(x)) for x in h[rows]]
     speed = np.hypot(v, v_lat)[rows]
     assert np.array_equal(send, np.where(rows % 2 == 1, np.nan, speed), equal_nan=True)
     # placement: heading from the reference line, direction, slip and relative heading
@@ -219,3 +226,63 @@ def test_lane_keys_flag_road_lane_and_section_changes(curved_road: object) -> No
     assert changed([11.0, 301.0]) == [1] and key[1, 2] == 1  # into the second section
     lane[0] = -2
     assert changed([11.0, 301.0]) == [0]
+
+
+def test_advance_and_place_equals_the_passes_one_by_one() -> None:
+    """The one-call step (speeds, lateral positions, placement) leaves the same table, bit
+    for bit, as the three passes called one after the other; a lateral transition ending
+    leaves the rows unplaced (the caller updates their lanes first)."""
+    rng = np.random.default_rng(11)
+    road = OpenDriveMap.from_file(ROADS / "alks_road_left_radius_250m.xodr").road("0")
+    prof, plan = lane_profile([road]).arrays(), road.plan_view
+    n = 8
+    rows = np.arange(n)
+    st = np.zeros((len(MK.STATE), n))
+    st[MK.S] = rng.uniform(50.0, 250.0, n)
+    st[MK.T] = [road.lane_t(-1, s) for s in st[MK.S]]
+    st[MK.V] = rng.uniform(5.0, 30.0, n)
+    has_long, has_lat = rng.random(n) < 0.6, rng.random(n) < 0.6
+    long_par, lat_par = np.zeros((n, 8)), np.zeros((n, 9))
+    long_par[:, MK.L_V0], long_par[:, MK.L_GOAL] = st[MK.V], rng.uniform(0.0, 30.0, n)
+    long_par[:, MK.L_SHAPE], long_par[:, MK.L_SPAN] = LINEAR, rng.uniform(0.5, 3.0, n)
+    lat_par[:, MK.T_T0], lat_par[:, MK.T_SHAPE], lat_par[:, MK.T_LANE] = st[MK.T], SINUSOIDAL, -2
+    lat_par[:, MK.T_SPAN] = rng.uniform(2.0, 5.0, n)
+    kappa, direction = rng.uniform(-1e-3, 1e-3, n), np.ones(n)
+    for now, want_placed in ((1.0, True), (6.0, False)):
+        one = [st.copy(), long_par.copy(), lat_par.copy(), np.zeros(n, bool), np.zeros(n, bool)]
+        two = [x.copy() for x in one]
+        got = MK.advance_and_place(
+            rows, now, 0.05, kappa, direction, one[0], has_long, one[1], one[3], has_lat,
+            one[2], one[4], True, *prof, *plan.arrays(),
+        )  # fmt: skip
+        n_long = MK.advance_long(
+            rows, now, 0.05, kappa, direction, two[0], has_long, two[1], two[3]
+        )
+        missing, n_lat = MK.advance_lat(rows, now, 0.05, two[0], has_lat, two[2], two[4], *prof)
+        if want_placed:
+            MK.place_rows(rows, *plan.arrays(), direction, two[0])
+        assert got == (n_long, missing, n_lat, want_placed)
+        assert all(np.array_equal(a, b) for a, b in zip(one, two, strict=True))
+
+
+def test_command_step_is_command_rows_and_lane_keys(curved_road: object) -> None:
+    prof = lane_profile([curved_road])
+    rng = np.random.default_rng(5)
+    n = 6
+    rows = np.arange(n)
+    st = np.zeros((len(MK.STATE), n))
+    st[MK.S], st[MK.H], st[MK.V] = rng.uniform(0, 1200, n), rng.uniform(-3, 3, n), 10.0
+    free, code, lane = np.zeros(n, bool), np.zeros(n, np.intp), rng.choice([-1, -2, 1], n)
+    cx, cy, length, sent = rng.uniform(0, 2, n), np.zeros(n), np.full(n, 4.5), np.full(n, 10.0)
+    sec = (prof.sec_first, prof.sec_count, prof.sec_s0)
+
+    def outs() -> list[np.ndarray]:
+        return [np.zeros((n, 2)), np.zeros(n), np.zeros(n), np.zeros((3, n))]
+
+    one, two = outs(), outs()
+    key1, key2 = np.full((n, 3), -2, np.int64), np.full((n, 3), -2, np.int64)
+    got = command_step(rows, st, cx, cy, length, sent.copy(), *one, free, code, lane, *sec, key1)
+    command_rows(rows, st, cx, cy, length, sent.copy(), *two)
+    want = lane_keys(rows, free, code, lane, st[MK.S], *sec, key2)
+    assert got.tolist() == want.tolist() == list(range(n)) and np.array_equal(key1, key2)
+    assert all(np.array_equal(a, b, equal_nan=True) for a, b in zip(one, two, strict=True))

@@ -240,22 +240,41 @@ class Commands:
         points and SUMO angles are computed in one numpy pass."""
         if not len(vehicle_ids):
             return
-        v = self._api().vehicle
-        move, set_speed = v.moveToXY, v.setSpeed
         h = np.asarray(heading, float)
         front = point_ahead(np.asarray(centres, float), h, 0.5 * np.asarray(length, float))
-        fx, fy = front[:, 0].tolist(), front[:, 1].tolist()
         angle = np.mod(90.0 - np.degrees(h), 360.0).tolist()
-        sp = np.asarray(speed, float)
+        self.move_vehicle_fronts(
+            vehicle_ids, edges, lanes, front[:, 0].tolist(), front[:, 1].tolist(), angle,
+            np.asarray(speed, float),
+        )  # fmt: skip
+
+    def move_vehicle_fronts(
+        self,
+        vehicle_ids: Sequence[str],
+        edges: Sequence[str],
+        lanes: Sequence[int],
+        front_x: Sequence[float],
+        front_y: Sequence[float],
+        angle: Sequence[float],
+        speed: np.ndarray,
+    ) -> None:
+        """``move_vehicles`` in SUMO's own terms, for a caller that computes them in its own
+        compiled pass: front-bumper points x, y (m, lists of floats), SUMO angles (degrees
+        clockwise from north, as :func:`heading_to_sumo_angle`), speeds (N,) m/s (NaN: leave
+        the speed set last), edge ('' = any) and lane index (-1) each."""
         n = len(vehicle_ids)
-        if not len(edges) == len(lanes) == len(fx) == len(angle) == len(sp) == n:
+        if not len(edges) == len(lanes) == len(front_x) == len(front_y) == len(angle) == n:
             raise ValueError("move_vehicles: arguments of different lengths")
+        if len(speed) != n:
+            raise ValueError("move_vehicles: arguments of different lengths")
+        v = self._api().vehicle
+        move, set_speed = v.moveToXY, v.setSpeed
         # keepRoute 6 as in move_vehicle; positional (vehID, edgeID, lane, x, y, angle,
         # keepRoute), driven by map (no Python loop): every move, then the speeds to set (each
         # vehicle's move still precedes its speed; vehicles do not interact until the step)
-        deque(map(move, vehicle_ids, edges, lanes, fx, fy, angle, repeat(6, n)), maxlen=0)
-        for k in np.flatnonzero(sp == sp).tolist():
-            set_speed(vehicle_ids[k], float(sp[k]))
+        deque(map(move, vehicle_ids, edges, lanes, front_x, front_y, angle, repeat(6, n)), maxlen=0)
+        for k in np.flatnonzero(speed == speed).tolist():
+            set_speed(vehicle_ids[k], float(speed[k]))
 
     def move_person(
         self, person_id: str, x: float, y: float, heading: float, edge: str = ""

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-from hiyari.bridge.scenario.engine.motion_kernel import V_LAT, H, V, X, Y
+from hiyari.bridge.scenario.engine.motion_kernel import V_LAT, H, S, V, X, Y, _remainder
 from hiyari.net.road.lane_profile import section_of
 
 
@@ -22,14 +22,19 @@ def command_rows(
     st: np.ndarray,
     cx: np.ndarray,
     cy: np.ndarray,
+    length: np.ndarray,
     sent_speed: np.ndarray,
     centres: np.ndarray,
     heading: np.ndarray,
     send: np.ndarray,
+    sumo: np.ndarray,
 ) -> None:
-    """For table ``rows`` (``st``: the ActorTable's state matrix), into the last three arrays: box centres (m, 2) = reference point +
-    (``cx``, ``cy``) in the vehicle frame, headings (m,), speeds to send (m,): the speed along
-    the motion, NaN when equal to ``sent_speed``, which is updated."""
+    """For table ``rows`` (``st``: the ActorTable's state matrix), into the last four arrays:
+    box centres (m, 2) = reference point + (``cx``, ``cy``) in the vehicle frame, headings
+    (m,), speeds to send (m,): the speed along the motion, NaN when equal to ``sent_speed``,
+    which is updated; and what SUMO is told (3, m): the front-bumper point x, y (the centre
+    plus half the ``length`` along the heading, as ``kinematics.point_ahead``) and the SUMO
+    angle (degrees clockwise from north, as ``traffic.commands.heading_to_sumo_angle``)."""
     for i in range(len(rows)):
         k = rows[i]
         h, v, v_lat = st[H, k], st[V, k], st[V_LAT, k]
@@ -37,6 +42,10 @@ def command_rows(
         centres[i, 0] = (cx[k] * c - cy[k] * s) + st[X, k]
         centres[i, 1] = (cx[k] * s + cy[k] * c) + st[Y, k]
         heading[i] = h
+        half = 0.5 * length[k]
+        sumo[0, i] = centres[i, 0] + half * c
+        sumo[1, i] = centres[i, 1] + half * s
+        sumo[2, i] = _remainder(90.0 - h * (180.0 / math.pi), 360.0)
         # hypot(v, +-0) is |v| exactly (C99 F.9.4.3): saves the call when not sliding
         speed = abs(v) if v_lat == 0.0 else math.hypot(v, v_lat)
         send[i] = np.nan if speed == sent_speed[k] else speed
@@ -71,3 +80,29 @@ def lane_keys(
             changed[n] = k
             n += 1
     return changed[:n]
+
+
+@njit(cache=True)
+def command_step(
+    rows: np.ndarray,
+    st: np.ndarray,
+    cx: np.ndarray,
+    cy: np.ndarray,
+    length: np.ndarray,
+    sent_speed: np.ndarray,
+    centres: np.ndarray,
+    heading: np.ndarray,
+    send: np.ndarray,
+    sumo: np.ndarray,
+    free: np.ndarray,
+    road_code: np.ndarray,
+    lane: np.ndarray,
+    sec_first: np.ndarray,
+    sec_count: np.ndarray,
+    sec_s0: np.ndarray,
+    key: np.ndarray,
+) -> np.ndarray:
+    """:func:`command_rows` and :func:`lane_keys` (the rows' s from ``st``) in one call:
+    returns the rows whose SUMO lane is to be looked up again."""
+    command_rows(rows, st, cx, cy, length, sent_speed, centres, heading, send, sumo)
+    return lane_keys(rows, free, road_code, lane, st[S], sec_first, sec_count, sec_s0, key)

@@ -123,12 +123,18 @@ class ConditionBank:
         self.rows = _table(rows)
         self.row_table = _row_table(self.rows)
         self.needs_road = bool(self.rows.road.any())
+        self.needs_on_net = bool((self.rows.kind == M.END_OF_ROAD).any())
         self.row_trigger = self.cond_trigger[self.rows.owner]
         self.since = np.full(len(self.rows), np.nan)
         self.points = np.full((len(self.rows), 2), np.nan)
         self.fixed: dict[int, tuple[float, float]] = {}
         self.point_rows = np.flatnonzero(np.isin(self.rows.kind, M.POINT_KINDS))
         self._no_contact = np.zeros((len(self.entity_index),) * 2, dtype=bool)
+        # the kernel's work arrays and result, reused from step to step
+        self._trig = np.zeros((2, len(self.entity_index)))
+        self._counts = np.zeros((2, n), dtype=np.int64)
+        self._flags = np.zeros((2, n), dtype=bool)
+        self._fired = np.zeros(self.n_triggers, dtype=bool)
 
     @staticmethod
     def _check_state(state: str, where: str) -> None:
@@ -153,20 +159,18 @@ class ConditionBank:
 
     def road_entities(self, active: np.ndarray) -> np.ndarray:
         """(E,) entities whose road coordinates the ``active`` triggers' rows read."""
-        need = np.zeros(len(self.entity_index), dtype=bool)
-        on = self.rows.road & active[self.row_trigger]
-        need[self.rows.a[on]] = True
-        b = self.rows.b[on]
-        need[b[b >= 0]] = True
-        return need
+        return K.road_entities(
+            active, self.row_trigger, self.rows.road, self.rows.a, self.rows.b,
+            len(self.entity_index),
+        )  # fmt: skip
 
     # ------------------------------------------------------------------ evaluate
     def evaluate(
         self, snap: Snapshot, active: np.ndarray, states: np.ndarray, transitions: np.ndarray
     ) -> np.ndarray:
-        """Fired triggers (bool per trigger) given which triggers are ``active``, element
-        ``states`` (codes) and the ``transitions`` (codes) each element went through at the
-        last update."""
+        """Fired triggers (bool per trigger; an array reused by the next call) given which
+        triggers are ``active``, element ``states`` (codes) and the ``transitions`` (codes)
+        each element went through at the last update."""
         if len(self.point_rows):
             self._resolve_points(snap, active)
         contact = self._no_contact
@@ -175,16 +179,19 @@ class ConditionBank:
             for pair in snap.contacts:
                 i, j = (*pair, *pair)[:2]  # a pair, or one entity (a set of one)
                 contact[i, j] = contact[j, i] = True
-        fired = K.evaluate_triggers(
+        if self._trig.shape[1] != len(snap.heading):
+            self._trig = np.zeros((2, len(snap.heading)))
+        K.evaluate_triggers(
             snap.time, self.step_no, active, self.cond, self.time_value, self.static,
             self.group_start, self.trigger_group, self.prev, self.history, self.row_table,
             self.rows.value, self.points, self.since, snap.present, snap.centre, snap.ref,
             snap.heading, snap.length, snap.width, snap.speed, snap.accel, snap.on_net,
             snap.road_s, snap.road_t, snap.road_dir, contact, snap.contact_any, states,
-            transitions,
+            transitions, self._trig, self._counts, self._flags,
+            self._fired,
         )  # fmt: skip
         self.step_no += 1
-        return fired
+        return self._fired
 
     def _resolve_points(self, snap: Snapshot, active: np.ndarray) -> None:
         """World x, y of the positions of the point rows evaluated now (NaN for absent

@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from hiyari.bridge.scenario.model.storyboard import Storyboard
 from hiyari.errors import HiyariError
@@ -32,7 +33,6 @@ class Element:
     model: object
     parent: int
     children: list[int] = field(default_factory=list)
-    executions: int = 0
     start_trigger: int = -1  # index into the trigger list (-1: none)
     stop_trigger: int = -1
 
@@ -72,6 +72,16 @@ class ElementTree:
         self.state = np.zeros(n, dtype=np.int8)
         self.transition = np.full(n, NO_TRANSITION, dtype=np.int8)
         self.log: list[tuple[float, str, str, str]] = []
+        #: Ends of each element so far, and of events the number after which they complete
+        #: (0 for the other kinds: they complete at their first end).
+        self.executions = np.zeros(n, dtype=np.int64)
+        self.max_runs = np.array(
+            [
+                getattr(e.model, "max_executions", 1) if e.kind == "event" else 0
+                for e in self.elements
+            ],
+            dtype=np.int64,
+        )
 
     def _add(self, kind: str, name: str, model: object, parent: int) -> int:
         i = len(self.elements)
@@ -97,11 +107,6 @@ class ElementTree:
         """Elements of one kind, in storyboard order."""
         return self._by_kind.get(kind, [])
 
-    def open_children(self) -> np.ndarray:
-        """(n,) number of children of each element that are not complete."""
-        child = np.flatnonzero((self.parent >= 0) & (self.state != COMPLETE))
-        return np.bincount(self.parent[child], minlength=len(self.elements))
-
     # ------------------------------------------------------------------ transitions
     def start(self, i: int, now: float) -> None:
         """standby -> running."""
@@ -109,9 +114,8 @@ class ElementTree:
 
     def end(self, i: int, now: float) -> None:
         """running -> complete (or back to standby when it may run again)."""
-        e = self.elements[i]
-        e.executions += 1
-        again = e.kind == "event" and e.executions < getattr(e.model, "max_executions", 1)
+        self.executions[i] += 1
+        again = self.executions[i] < self.max_runs[i]
         self._mark(i, STANDBY if again else COMPLETE, END, now)
 
     def stop(self, i: int, now: float) -> None:
@@ -137,3 +141,62 @@ class ElementTree:
     def all_children(self, i: int, state: int) -> bool:
         """Whether every child of ``i`` is in ``state``."""
         return all(self.state[c] == state for c in self.elements[i].children)
+
+
+@njit(cache=True)
+def ends_bottom_up(
+    order: np.ndarray,
+    state: np.ndarray,
+    parent: np.ndarray,
+    has_children: np.ndarray,
+    executions: np.ndarray,
+    max_runs: np.ndarray,
+) -> np.ndarray:
+    """The running elements with children whose children are all complete, in a bottom-up
+    pass over ``order`` (element indices, events first and stories last): the elements
+    :meth:`ElementTree.end` is to be called on, in that order. An element completing (its
+    last run: ``executions`` + 1 not below ``max_runs``) may complete its parent later in
+    the pass; nothing is changed here."""
+    n = len(state)
+    open_children = np.zeros(n, dtype=np.int64)
+    for i in range(n):
+        if parent[i] >= 0 and state[i] != COMPLETE:
+            open_children[parent[i]] += 1
+    out = np.empty(len(order), dtype=np.int64)
+    m = 0
+    for j in range(len(order)):
+        i = order[j]
+        if state[i] == RUNNING and has_children[i] and open_children[i] == 0:
+            out[m] = i
+            m += 1
+            if executions[i] + 1 >= max_runs[i] and parent[i] >= 0:
+                open_children[parent[i]] -= 1
+    return out[:m]
+
+
+@njit(cache=True)
+def active_triggers(
+    state: np.ndarray,
+    act_ix: np.ndarray,
+    act_start: np.ndarray,
+    act_stop: np.ndarray,
+    ev_ix: np.ndarray,
+    ev_parent: np.ndarray,
+    ev_trig: np.ndarray,
+    n_triggers: int,
+) -> np.ndarray:
+    """(T,) the triggers evaluated in element ``state``: the storyboard's stop trigger (0),
+    standby acts' start triggers, running acts' stop triggers, the start triggers of standby
+    events whose maneuver runs (``*_ix``: the acts' / events' element indices; trigger -1:
+    none)."""
+    active = np.zeros(n_triggers, dtype=np.bool_)
+    active[0] = True
+    for j in range(len(act_ix)):
+        s = state[act_ix[j]]
+        t = act_start[j] if s == STANDBY else (act_stop[j] if s == RUNNING else -1)
+        if t >= 0:
+            active[t] = True
+    for j in range(len(ev_ix)):
+        if ev_trig[j] >= 0 and state[ev_ix[j]] == STANDBY and state[ev_parent[j]] == RUNNING:
+            active[ev_trig[j]] = True
+    return active

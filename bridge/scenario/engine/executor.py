@@ -25,13 +25,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from hiyari.bridge.scenario.engine.actions import ActionStarter, Instance
-from hiyari.bridge.scenario.engine.command_kernel import command_rows, lane_keys
+from hiyari.bridge.scenario.engine.command_kernel import command_step
 from hiyari.bridge.scenario.engine.conditions import ConditionBank
 from hiyari.bridge.scenario.engine.elements import (
     NO_TRANSITION,
     RUNNING,
     STANDBY,
     ElementTree,
+    active_triggers,
+    ends_bottom_up,
 )
 from hiyari.bridge.scenario.engine.motion import (
     Actor,
@@ -40,7 +42,16 @@ from hiyari.bridge.scenario.engine.motion import (
     forward,
 )
 from hiyari.bridge.scenario.engine.positions import Pose, PoseResolver
-from hiyari.bridge.scenario.engine.snapshot import Snapshot, gather_entities, own_road_coords
+from hiyari.bridge.scenario.engine.snapshot import (
+    F_ACCEL,
+    F_HEADING,
+    F_ROAD_DIR,
+    F_ROAD_S,
+    F_ROAD_T,
+    F_SPEED,
+    Snapshot,
+    gather_entities,
+)
 from hiyari.bridge.scenario.model.actions import AssignRouteAction
 from hiyari.bridge.scenario.model.entities import EntityKind
 from hiyari.bridge.scenario.model.storyboard import Scenario
@@ -68,7 +79,8 @@ class _View:
     """What the storyboard's element states decide, kept until one changes (``version``: the
     length of the element log): the triggers evaluated now (T,), the entities the storyboard
     drives (E,), those whose road coordinates active conditions read (E,), of these the
-    ones located on the map (not driven; their indices) and the driven ones (E,)."""
+    ones located on the map (not driven; their indices) and the driven ones (E,), and whether
+    the storyboard drives the ego."""
 
     version: int
     active: np.ndarray
@@ -76,6 +88,7 @@ class _View:
     need: np.ndarray
     located: list[int]
     own: np.ndarray
+    ego_driven: bool
 
 
 @dataclass(frozen=True)
@@ -145,10 +158,15 @@ class ScenarioEngine:
         self._ev_parent = np.array([e.parent for e in real], dtype=np.intp)
         self._ev_trig = np.array([e.start_trigger for e in real], dtype=np.intp)
         self._has_children = np.array([bool(e.children) for e in self.tree.elements])
-        self._kind_order = {
-            k: np.array([e.index for e in self.tree.of_kind(k)], dtype=np.intp)
-            for k in ("event", "maneuver", "maneuverGroup", "act", "story")
-        }
+        # every element with children, bottom-up: events first, stories last
+        self._end_order = np.array(
+            [
+                e.index
+                for k in ("event", "maneuver", "maneuverGroup", "act", "story")
+                for e in self.tree.of_kind(k)
+            ],
+            dtype=np.int64,
+        )
         self._cx = np.array([e.centre[0] for e in scenario.entities])
         self._cy = np.array([e.centre[1] for e in scenario.entities])
         self._centre_offset = np.stack([self._cx, self._cy], 1).reshape(-1, 2)
@@ -157,11 +175,12 @@ class ScenarioEngine:
         self._lane_key = np.full((n, 3), -2, dtype=np.int64)  # road code, lane, section
         self._edge: list[str] = [""] * n
         self._lane_index: list[int] = [-1] * n
-        # the rows commanded (inserted and driven), their names, lengths and the arrays their
-        # centres, headings and speeds are computed into, for the view version and insert
-        # count they were found at
-        self._moved: tuple[np.ndarray, list[str], np.ndarray, tuple[np.ndarray, ...]] = (
-            np.zeros(0, np.intp), [], np.zeros(0), (np.zeros((0, 2)), np.zeros(0), np.zeros(0))
+        # the rows commanded (inserted and driven), their names and the arrays their centres,
+        # headings, speeds and SUMO commands (see command_rows) are computed into, for the
+        # view version and insert count they were found at
+        self._moved: tuple[np.ndarray, list[str], tuple[np.ndarray, ...]] = (
+            np.zeros(0, np.intp), [],
+            (np.zeros((0, 2)), np.zeros(0), np.zeros(0), np.zeros((3, 0))),
         )  # fmt: skip
         self._moved_key: tuple[int, int] = (-1, -1)
         self._inserts = 0
@@ -169,7 +188,17 @@ class ScenarioEngine:
         # table rows on roads / following paths, for the view and motion versions
         self._advance_rows: tuple[tuple[int, int], np.ndarray, list[int]] | None = None
         self._sent_speed = np.full(n, np.nan)  # speed last sent to SUMO per entity, m/s
-        self._road = (np.full(n, np.nan), np.full(n, np.nan), np.ones(n))  # see _road_coords
+        # the snapshot's arrays, filled in place every step (see snapshot.gather_entities)
+        self._present = np.zeros(n, dtype=bool)
+        self._centre, self._ref = np.zeros((n, 2)), np.zeros((n, 2))
+        self._ent = np.zeros((6, n))
+        self._no_contact = np.zeros(n, dtype=bool)  # never written
+        out = self._ent
+        self._snap = Snapshot(
+            0.0, self._present, self._ref, self._centre, out[F_HEADING], self._length,
+            self._width, out[F_SPEED], out[F_ACCEL], self._no_contact, out[F_ROAD_S],
+            out[F_ROAD_T], out[F_ROAD_DIR], set(), self._no_contact,
+        )  # fmt: skip
         self._near: dict[str, tuple[str, float]] = {}  # last road and s of located entities
         self._view_cache: _View | None = None
         # log length / (log length, motion version) at the start of the latest storyboard
@@ -356,7 +385,7 @@ class ScenarioEngine:
         return StepReport(
             self.now,
             self.finished,
-            self.ego is not None and bool(self._view().driven[self._ego_row]),
+            self._view().ego_driven,
             tuple(self._started),
             tuple(self._ended),
             tuple(self._ego_requests),
@@ -367,7 +396,10 @@ class ScenarioEngine:
         (every change is logged, controller changes with their action's start)."""
         version = len(self.tree.log)
         if self._view_cache is None or self._view_cache.version != version:
-            active = self._active()
+            active = active_triggers(
+                self.tree.state, self._act_ix, self._act_start, self._act_stop, self._ev_ix,
+                self._ev_parent, self._ev_trig, len(self.tree.triggers),
+            )  # fmt: skip
             driven = np.ones(len(self.names), dtype=bool)
             if self._ego_row >= 0:
                 driven[self._ego_row] = self.storyboard_drives(self.ego)
@@ -375,22 +407,11 @@ class ScenarioEngine:
             if self.bank.needs_road:
                 need = self.bank.road_entities(active)
             located = np.flatnonzero(need & ~driven).tolist()
-            self._view_cache = _View(version, active, driven, need, located, need & driven)
+            ego_driven = self.ego is not None and bool(driven[self._ego_row])
+            self._view_cache = _View(
+                version, active, driven, need, located, need & driven, ego_driven
+            )
         return self._view_cache
-
-    def _active(self) -> np.ndarray:
-        """(T,) triggers evaluated now: the storyboard's stop trigger, standby acts' start
-        triggers, running acts' stop triggers, waiting events' start triggers."""
-        active = np.zeros(len(self.tree.triggers) + 1, dtype=bool)  # last slot: "no trigger"
-        active[0] = True
-        st = self.tree.state
-        if len(self._act_ix):
-            active[self._act_start[st[self._act_ix] == STANDBY]] = True
-            active[self._act_stop[st[self._act_ix] == RUNNING]] = True
-        if len(self._ev_ix):
-            waiting = (st[self._ev_ix] == STANDBY) & (st[self._ev_parent] == RUNNING)
-            active[self._ev_trig[waiting]] = True
-        return active[:-1]
 
     def _acts(self, fired: np.ndarray) -> None:
         tree, st = self.tree, self.tree.state
@@ -489,16 +510,12 @@ class ScenarioEngine:
                 tree.end(ai, now)
                 self._ended.append(tree.elements[ai].name)
                 del self.instances[ai]
-        open_children = None
-        for ix in self._kind_order.values():  # bottom-up: events first, stories last
-            if not len(ix):
-                continue
-            if open_children is None:  # changes only when elements end
-                open_children = tree.open_children()
-            done = ix[(st[ix] == RUNNING) & self._has_children[ix] & (open_children[ix] == 0)]
-            for i in done.tolist():
-                tree.end(i, now)
-                open_children = None
+        ends = ends_bottom_up(
+            self._end_order, st, tree.parent, self._has_children, tree.executions,
+            tree.max_runs,
+        )  # fmt: skip
+        for i in ends.tolist():
+            tree.end(i, now)
 
     def _command(self, sim: Simulation) -> None:
         """Place every inserted scripted actor for the next step; its speed is sent only when
@@ -510,26 +527,27 @@ class ScenarioEngine:
             if not np.array_equal(rows, self._moved[0]):
                 names = [self.names[k] for k in rows.tolist()]
                 m = len(rows)
-                out = (np.empty((m, 2)), np.empty(m), np.empty(m))
-                self._moved = (rows, names, self._length[rows], out)
+                out = (np.empty((m, 2)), np.empty(m), np.empty(m), np.empty((3, m)))
+                self._moved = (rows, names, out)
                 left = np.ones(len(self.names), dtype=bool)
                 left[rows] = False
                 self._sent_speed[left] = np.nan  # others may set its speed meanwhile
             self._moved_key = key
-        rows, names, length, out = self._moved
-        edges, lanes = self._sumo_lanes(rows)
-        command_rows(rows, tb.state, self._cx, self._cy, self._sent_speed, *out)
-        sim.move_vehicles(names, out[0], out[1], length, out[2], edges, lanes)
-
-    def _sumo_lanes(self, rows: np.ndarray) -> tuple[list[str], list[int]]:
-        """SUMO edge ('' = any) and lane index (-1) of each of ``rows`` (for moveToXY), looked
-        up again only for rows whose road, lane or lane section changed."""
-        tb = self.table
+        rows, names, out = self._moved
         prof = tb.lane_profile(self.roads.odr)
-        changed = lane_keys(
-            rows, tb.free, tb.road_code, tb.lane, tb.s, prof.sec_first, prof.sec_count,
-            prof.sec_s0, self._lane_key,
+        changed = command_step(
+            rows, tb.state, self._cx, self._cy, self._length, self._sent_speed, *out, tb.free,
+            tb.road_code, tb.lane, prof.sec_first, prof.sec_count, prof.sec_s0, self._lane_key,
         )  # fmt: skip
+        edges, lanes = self._sumo_lanes(rows, changed)
+        if names:
+            front_x, front_y, angle = out[3].tolist()
+            sim.move_vehicle_fronts(names, edges, lanes, front_x, front_y, angle, out[2])
+
+    def _sumo_lanes(self, rows: np.ndarray, changed: np.ndarray) -> tuple[list[str], list[int]]:
+        """SUMO edge ('' = any) and lane index (-1) of each of ``rows`` (for moveToXY), looked
+        up again only for the ``changed`` rows (road, lane or lane section changed)."""
+        tb = self.table
         if not len(changed) and rows is self._lanes_of[0]:
             return self._lanes_of[1], self._lanes_of[2]
         for k in changed.tolist():
@@ -542,29 +560,19 @@ class ScenarioEngine:
         return self._lanes_of[1], self._lanes_of[2]
 
     # ------------------------------------------------------------------ snapshot
-    def _road_coords(self, present: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(E,) road s of the box centre, t and driving direction (+1 / -1) of the present
-        entities whose road coordinates the active conditions read (NaN, NaN, 1 for the
-        others): scripted actors' from their state, the others located on the map. The
-        arrays are reused from step to step (the snapshot lives for one evaluation)."""
-        tb, view = self.table, self._view()
-        road_s, road_t, road_dir = self._road
-        if not self.bank.needs_road:
-            return road_s, road_t, road_dir  # all NaN, NaN, 1
-        tb.refresh(self.roads.odr)
-        own_road_coords(
-            view.own, present, tb.road_code, tb.s, tb.t, tb.direction, self._cx, road_s,
-            road_t, road_dir,
-        )  # fmt: skip
-        for k in view.located:
+    def _located_road_coords(self, present: np.ndarray) -> None:
+        """Road s of the box centre, t and direction (+1 / -1) of the present entities the
+        storyboard does not drive whose road coordinates the active conditions read, located
+        on the map (the driven ones come from the actor table in the snapshot kernel)."""
+        out = self._ent
+        for k in self._view().located:
             if not present[k]:
                 continue
             p = self.pose_of(self.names[k])
             if p.road:
-                road_dir[k] = forward(self.roads.odr, p.road, p.lane)
-                road_s[k] = p.s + road_dir[k] * self._cx[k]
-                road_t[k] = p.t
-        return road_s, road_t, road_dir
+                out[F_ROAD_DIR, k] = forward(self.roads.odr, p.road, p.lane)
+                out[F_ROAD_S, k] = p.s + out[F_ROAD_DIR, k] * self._cx[k]
+                out[F_ROAD_T, k] = p.t
 
     def _map_rows(self, world: WorldState) -> None:
         """Rows of the entities in ``world`` (-1: absent), rebuilt when its ids change."""
@@ -575,28 +583,40 @@ class ScenarioEngine:
             self._entity_rows = np.array([self._rows.get(n, -1) for n in self.names], np.intp)
 
     def _snapshot(self, world: WorldState, sim: Simulation) -> Snapshot:
-        rows = self._entity_rows
-        present, centre, ref, h, speed, accel = gather_entities(
-            rows, world.xyz, world.heading, world.speed, world.accel, self._centre_offset
-        )
+        """What the conditions read now, in arrays reused from step to step (the snapshot
+        lives for one evaluation)."""
+        rows, tb, view, out = self._entity_rows, self.table, self._view(), self._ent
+        if self.bank.needs_road:
+            tb.refresh(self.roads.odr)
+        present, centre, ref = self._present, self._centre, self._ref
+        gather_entities(
+            rows, world.xyz, world.heading, world.speed, world.accel, self._centre_offset,
+            view.own, tb.road_code, tb.state, tb.direction, present, centre, ref, out,
+        )  # fmt: skip
+        if view.located:
+            self._located_road_coords(present)
         n = len(rows)
-        road_s, road_t, road_dir = self._road_coords(present)
         contacts: set[frozenset[int]] = set()
-        contact_any = np.zeros(n, dtype=bool)
+        contact_any = self._no_contact
         for col in sim.collisions:
             if col.depth <= 0.0:
                 continue  # SUMO's per-lane check alone: no sublanes, beside counts as hit
             ia, ib = self.index.get(col.a, -1), self.index.get(col.b, -1)
             for x in (ia, ib):
                 if x >= 0:
+                    if contact_any is self._no_contact:
+                        contact_any = np.zeros(n, dtype=bool)
                     contact_any[x] = True
             if ia >= 0 and ib >= 0:
                 contacts.add(frozenset((ia, ib)))
-        on_net = world.lane[np.maximum(rows, 0)] != "" if len(world) else np.zeros(n, bool)
-        return Snapshot(
-            self.now, present, ref, centre, h, self._length, self._width, speed, accel, on_net,
-            road_s, road_t, road_dir, contacts, contact_any,
+        on_net = self._no_contact  # read only by end-of-road conditions
+        if self.bank.needs_on_net:
+            on_net = world.lane[np.maximum(rows, 0)] != "" if len(world) else np.zeros(n, bool)
+        snap = self._snap
+        snap.time, snap.on_net, snap.contacts, snap.contact_any = (
+            self.now, on_net, contacts, contact_any
         )  # fmt: skip
+        return snap
 
 
 __all__ = ["ScenarioEngine", "StepReport", "EntityKind"]

@@ -307,6 +307,31 @@ def pair_measure(
     return dist
 
 
+@njit(cache=True, inline="always")
+def ttc_above(
+    a: int,
+    b: int,
+    value: float,
+    centre: np.ndarray,
+    cos_h: np.ndarray,
+    sin_h: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    speed: np.ndarray,
+) -> bool:
+    """Whether the freespace euclidean TTC of present A to present B (``pair_measure``) is
+    certainly infinite (not closing) or above ``value`` (s, below infinity), found without
+    the footprint distance: the boxes' gap is at least the centres' distance less both
+    half-diagonals (less a micrometre per metre, far above the rounding of either)."""
+    closing = _closing(a, b, 0, centre, cos_h, sin_h, speed)
+    if not closing > 1e-9:
+        return True
+    apart = math.hypot(centre[b, 0] - centre[a, 0], centre[b, 1] - centre[a, 1])
+    gap = apart - 0.5 * (math.hypot(length[a], width[a]) + math.hypot(length[b], width[b]))
+    margin = 1e-6 * (1.0 + apart)
+    return gap - margin > 0.0 and gap - margin > value * closing * (1.0 + 1e-9)
+
+
 # ---------------------------------------------------------------------------------- one entity
 @njit(cache=True, inline="always")
 def single_measure(

@@ -150,6 +150,8 @@ class ActorTable:
         self.long_done = np.zeros(n, dtype=bool)
         self.lat_done = np.zeros(n, dtype=bool)
         self.kappa = np.zeros(n)  # reference-line curvature at s before the step, 1/m
+        #: The latest ``groups`` all on straight roads, their rows' kappa set to 0.
+        self.straight_groups: list[tuple[str, np.ndarray]] | None = None
         #: Goals / offsets that follow another entity, by row: refreshed every step.
         self.long_targets: dict[int, Callable[[], float]] = {}
         self.lat_offsets: dict[int, Callable[[], float]] = {}
@@ -347,21 +349,43 @@ def advance_road_actors(
     tb = actors[0].table
     tb.refresh(odr)
     groups = tb.groups(rows)
-    for road, r in groups:
-        # straight: 0 (rows may come from a curved road)
-        tb.kappa[r] = 0.0 if odr.road(road).straight else curvature(odr, road, tb.s[r])
+    if groups is not tb.straight_groups:  # on straight roads only: kappa already 0
+        for road, r in groups:
+            # straight: 0 (rows may come from a curved road)
+            tb.kappa[r] = 0.0 if odr.road(road).straight else curvature(odr, road, tb.s[r])
+        if all(odr.road(road).straight for road, _ in groups):
+            tb.straight_groups = groups
     for k, target in tb.long_targets.items():
         tb.long_par[k, MK.L_GOAL] = target()
+    one = groups[0][0] if len(groups) == 1 and groups[0][1] is rows else None
+    plan = odr.road(one).plan_view if one is not None else None
+    if plan is not None and not tb.lat_offsets:  # the whole step in one compiled call
+        ended, missing, lat_ended, placed = MK.advance_and_place(
+            rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par,
+            tb.long_done, tb.has_lat, tb.lat_par, tb.lat_done, tb.n_lat > 0,
+            *tb.lane_profile(odr).arrays(), *plan.arrays(),
+        )  # fmt: skip
+        _end_long(actors, rows, ended)
+        if not placed:
+            _end_lateral(odr, actors, rows, missing, lat_ended)
+            place_on_road(odr, one, tb, rows)
+        return
     ended = MK.advance_long(
         rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par, tb.long_done
     )
-    if ended:
-        for k in rows[tb.long_done[rows]].tolist():
-            actors[k].long = None
+    _end_long(actors, rows, ended)
     if tb.n_lat:
         _advance_lateral(odr, actors, rows, now, dt)
     for road, r in groups:
         place_on_road(odr, road, tb, r)
+
+
+def _end_long(actors: list[Actor], rows: np.ndarray, ended: int) -> None:
+    """Remove the ``ended`` longitudinal transitions the pass marked done."""
+    if ended:
+        tb = actors[0].table
+        for k in rows[tb.long_done[rows]].tolist():
+            actors[k].long = None
 
 
 def _advance_lateral(
@@ -376,6 +400,15 @@ def _advance_lateral(
         rows, now, dt, tb.state, tb.has_lat, tb.lat_par, tb.lat_done,
         *tb.lane_profile(odr).arrays(),
     )  # fmt: skip
+    _end_lateral(odr, actors, rows, missing, ended)
+
+
+def _end_lateral(
+    odr: OpenDriveMap, actors: list[Actor], rows: np.ndarray, missing: int, ended: int
+) -> None:
+    """After the lateral pass: the error of a ``missing`` target lane (its row, -1: none);
+    the rows whose transition ended are put on their target lane."""
+    tb = actors[0].table
     if missing >= 0:
         a = actors[missing]
         odr.road(a.lat.road).lane_t(a.lat.lane, a.s)  # raises: no such lane here

@@ -159,6 +159,55 @@ def advance_lat(
 
 
 @njit(cache=True)
+def advance_and_place(
+    rows: np.ndarray,
+    now: float,
+    dt: float,
+    kappa: np.ndarray,
+    direction: np.ndarray,
+    st: np.ndarray,
+    has_long: np.ndarray,
+    long_par: np.ndarray,
+    long_done: np.ndarray,
+    has_lat: np.ndarray,
+    lat_par: np.ndarray,
+    lat_done: np.ndarray,
+    lateral: bool,
+    rec_s0: np.ndarray,
+    rec_c: np.ndarray,
+    off_first: np.ndarray,
+    off_count: np.ndarray,
+    sec_first: np.ndarray,
+    sec_count: np.ndarray,
+    sec_s0: np.ndarray,
+    w_first: np.ndarray,
+    w_count: np.ndarray,
+    max_lane: int,
+    length: float,
+    geom: np.ndarray,
+    elev_s0: np.ndarray,
+    elev_c: np.ndarray,
+) -> tuple[int, int, int, bool]:
+    """One call for a step of table ``rows`` all on one road: :func:`advance_long`, then
+    (``lateral``: some row has a lateral transition) :func:`advance_lat`, then
+    :func:`place_rows` on the road of PlanView arrays ``length`` ... ``elev_c``, unless a
+    lateral transition ended or missed its lane (the caller then puts the rows on their lanes
+    and places them). Returns (longitudinal transitions ended, first row whose target lane is
+    missing or -1, lateral transitions ended, placed)."""
+    n_long = advance_long(rows, now, dt, kappa, direction, st, has_long, long_par, long_done)
+    missing, n_lat = -1, 0
+    if lateral:
+        missing, n_lat = advance_lat(
+            rows, now, dt, st, has_lat, lat_par, lat_done, rec_s0, rec_c, off_first,
+            off_count, sec_first, sec_count, sec_s0, w_first, w_count, max_lane,
+        )  # fmt: skip
+    if missing >= 0 or n_lat > 0:
+        return n_long, missing, n_lat, False
+    place_rows(rows, length, geom, elev_s0, elev_c, direction, st)
+    return n_long, missing, n_lat, True
+
+
+@njit(cache=True)
 def _remainder(a: float, b: float) -> float:
     """numpy's float remainder (the sign of ``b``), as ``np.remainder`` computes it."""
     mod = np.fmod(a, b)

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from hiyari.bridge.scenario.engine.motion_kernel import S, T
+
 
 @dataclass
 class Snapshot:
@@ -38,6 +40,11 @@ class Snapshot:
     contact_any: np.ndarray  # (E,) bool
 
 
+#: Rows of the per-entity float matrix the snapshot kernel fills: heading (rad), speed (m/s),
+#: acceleration (m/s^2), road s of the box centre, road t (m) and driving direction (+1 / -1).
+F_HEADING, F_SPEED, F_ACCEL, F_ROAD_S, F_ROAD_T, F_ROAD_DIR = range(6)
+
+
 @njit(cache=True)
 def gather_entities(
     rows: np.ndarray,
@@ -46,52 +53,60 @@ def gather_entities(
     speed: np.ndarray,
     accel: np.ndarray,
     centre_offset: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Per entity (``rows``: its row in the WorldState arrays, -1 absent): (present, box
-    centre (E, 2), reference point (E, 2) = centre - ``centre_offset`` in the vehicle frame,
-    heading, speed, accel). Absent entities read WorldState row 0 (or zeros when empty), as
-    their measures are discarded."""
+    own: np.ndarray,
+    road_code: np.ndarray,
+    table: np.ndarray,
+    direction: np.ndarray,
+    present: np.ndarray,
+    centre: np.ndarray,
+    ref: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """Per entity (``rows``: its row in the WorldState arrays, -1 absent), into the last four
+    arrays (reused from step to step: no allocation): present (E,), box centre (E, 2),
+    reference point (E, 2) = centre - ``centre_offset`` in the vehicle frame, and the rows
+    ``F_*`` of ``out`` (6, E). Absent entities read WorldState row 0 (or zeros when empty), as
+    their measures are discarded. Road coordinates: those of the ``own`` and present rows of
+    the actor table on a road (``road_code`` >= 0; ``table``: its state matrix, s and t in
+    rows ``motion_kernel.S`` / ``T``) with the centre ``centre_offset[:, 0]`` ahead of the
+    reference point along the driving direction; NaN, NaN, 1 for the others."""
     n = len(rows)
-    present = np.zeros(n, dtype=np.bool_)
-    centre, ref = np.zeros((n, 2)), np.zeros((n, 2))
-    h, v, acc = np.zeros(n), np.zeros(n), np.zeros(n)
     for i in range(n):
         r = rows[i]
         present[i] = r >= 0
         if r < 0:
             if len(heading) == 0:
+                centre[i, 0] = centre[i, 1] = ref[i, 0] = ref[i, 1] = 0.0
+                out[F_HEADING, i] = out[F_SPEED, i] = out[F_ACCEL, i] = 0.0
+                _road_coords(i, own, present, road_code, table, direction, centre_offset, out)
                 continue
             r = 0
         centre[i, 0], centre[i, 1] = xyz[r, 0], xyz[r, 1]
-        h[i], v[i], acc[i] = heading[r], speed[r], accel[r]
-        c, s = math.cos(h[i]), math.sin(h[i])
+        h = heading[r]
+        out[F_HEADING, i], out[F_SPEED, i], out[F_ACCEL, i] = h, speed[r], accel[r]
+        c, s = math.cos(h), math.sin(h)
         px, py = -centre_offset[i, 0], -centre_offset[i, 1]  # vehicle_to_world(-offset, ...)
         ref[i, 0] = (px * c - py * s) + centre[i, 0]
         ref[i, 1] = (px * s + py * c) + centre[i, 1]
-    return present, centre, ref, h, v, acc
+        _road_coords(i, own, present, road_code, table, direction, centre_offset, out)
 
 
-@njit(cache=True)
-def own_road_coords(
+@njit(cache=True, inline="always")
+def _road_coords(
+    k: int,
     own: np.ndarray,
     present: np.ndarray,
     road_code: np.ndarray,
-    s: np.ndarray,
-    t: np.ndarray,
+    table: np.ndarray,
     direction: np.ndarray,
-    cx: np.ndarray,
-    road_s: np.ndarray,
-    road_t: np.ndarray,
-    road_dir: np.ndarray,
+    centre_offset: np.ndarray,
+    out: np.ndarray,
 ) -> None:
-    """Road s of the box centre (reference s plus ``cx``, the centre's offset ahead of the
-    reference point, along the driving direction), t and direction of the ``own`` and
-    ``present`` rows of the actor table that are on a road (``road_code`` >= 0), into the
-    last three arrays; NaN, NaN, 1 for the others."""
-    for k in range(len(own)):
-        if own[k] and present[k] and road_code[k] >= 0:
-            road_dir[k] = direction[k]
-            road_s[k] = s[k] + direction[k] * cx[k]
-            road_t[k] = t[k]
-        else:
-            road_s[k], road_t[k], road_dir[k] = np.nan, np.nan, 1.0
+    """Road s of entity ``k``'s box centre, t and direction from the actor table (see
+    :func:`gather_entities`)."""
+    if own[k] and present[k] and road_code[k] >= 0:
+        out[F_ROAD_DIR, k] = direction[k]
+        out[F_ROAD_S, k] = table[S, k] + direction[k] * centre_offset[k, 0]
+        out[F_ROAD_T, k] = table[T, k]
+    else:
+        out[F_ROAD_S, k], out[F_ROAD_T, k], out[F_ROAD_DIR, k] = np.nan, np.nan, 1.0

@@ -13,6 +13,8 @@ distance type, road coordinates, always measured.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -22,12 +24,14 @@ from hiyari.bridge.scenario.engine.measures import (
     END_OF_ROAD,
     REL_SPEED,
     SPEED,
+    TTC,
     TTC_POINT,
     duration_measure,
     holds,
     pair_measure,
     point_measure,
     single_measure,
+    ttc_above,
 )
 
 #: Condition kinds (column 0 of the condition table).
@@ -81,6 +85,17 @@ def _row_measure(
     return np.nan
 
 
+@njit(cache=True, inline="always")
+def _footprint_ttc(r: int, rows: np.ndarray, present: np.ndarray) -> bool:
+    """Whether entity row ``r`` is a freespace euclidean TTC between two present entities in
+    entity coordinates (measured with the footprint distance)."""
+    b = rows[r, R_B]
+    return (
+        rows[r, R_KIND] == TTC and rows[r, R_FS] != 0 and rows[r, R_DTYPE] == 0
+        and rows[r, R_ROAD] == 0 and b >= 0 and present[rows[r, R_A]] and present[b]
+    )  # fmt: skip
+
+
 @njit(cache=True)
 def _condition_values(
     now: float,
@@ -108,20 +123,35 @@ def _condition_values(
     contact_any: np.ndarray,
     states: np.ndarray,
     transitions: np.ndarray,
-) -> np.ndarray:
-    """(C,) whether each condition holds now, before edges and delays (conditions of
-    inactive triggers: False; their duration rows are still tracked)."""
-    cos_h, sin_h = np.cos(heading), np.sin(heading)
+    trig: np.ndarray,
+    counts: np.ndarray,
+    raw: np.ndarray,
+) -> None:
+    """Into ``raw`` (C,): whether each condition holds now, before edges and delays
+    (conditions of inactive triggers: False; their duration rows are still tracked).
+    ``trig`` (2, E) and ``counts`` (2, C): work arrays (cos and sin of the headings; rows
+    holding and rows evaluated per condition)."""
+    cos_h, sin_h = trig[0], trig[1]
+    np.cos(heading, cos_h)
+    np.sin(heading, sin_h)
     n = len(cond)
-    hits, count = np.zeros(n, np.int64), np.zeros(n, np.int64)
+    hits, count = counts[0], counts[1]
+    hits[:] = 0
+    count[:] = 0
     for r in range(len(rows)):
         owner = rows[r, R_OWNER]
         on = active[cond[owner, C_TRIGGER]]
         if not (on or rows[r, R_ALWAYS]):
             continue
+        a, b = rows[r, R_A], rows[r, R_B]
         if rows[r, R_KIND] == COLLISION:
-            a, b = rows[r, R_A], rows[r, R_B]
             res = contact[a, b] if b >= 0 else contact_any[a]
+        elif (
+            _footprint_ttc(r, rows, present)
+            and row_value[r] < math.inf
+            and ttc_above(a, b, row_value[r], centre, cos_h, sin_h, length, width, speed)
+        ):  # certainly above the value: every rule decides as for an infinite TTC
+            res = holds(math.inf, row_value[r], rows[r, R_RULE])
         else:
             m = _row_measure(
                 r, rows, now, points, since, present, centre, ref, heading, cos_h, sin_h,
@@ -131,8 +161,8 @@ def _condition_values(
         if on:
             count[owner] += 1
             hits[owner] += res
-    raw = np.zeros(n, dtype=np.bool_)
     for c in range(n):
+        raw[c] = False
         kind = cond[c, C_KIND]
         if kind == STATIC:
             raw[c] = static[c]
@@ -143,7 +173,6 @@ def _condition_values(
             raw[c] = (states[el] if code < FIRST_TRANSITION else transitions[el]) == code
         elif count[c] > 0:
             raw[c] = hits[c] > 0 if cond[c, C_RULE] == 1 else hits[c] == count[c]
-    return raw
 
 
 @njit(cache=True)
@@ -154,12 +183,12 @@ def _edges_and_delays(
     prev: np.ndarray,
     history: np.ndarray,
     step_no: int,
-) -> np.ndarray:
-    """(C,) each condition's value after its edge and delay. ``prev`` (value at the previous
-    evaluation, -1: not evaluated since its trigger became active) and the ring buffer
-    ``history`` (C, H) of edged values are updated for step ``step_no``."""
+    out: np.ndarray,
+) -> None:
+    """Into ``out`` (C,): each condition's value after its edge and delay. ``prev`` (value at
+    the previous evaluation, -1: not evaluated since its trigger became active) and the ring
+    buffer ``history`` (C, H) of edged values are updated for step ``step_no``."""
     n, size = len(cond), history.shape[1]
-    out = np.zeros(n, dtype=np.bool_)
     k = step_no % size
     for c in range(n):
         on = active[cond[c, C_TRIGGER]]
@@ -178,7 +207,6 @@ def _edges_and_delays(
         history[c, k] = edged
         delay = cond[c, C_DELAY]
         out[c] = history[c, (step_no - delay) % size] and delay <= step_no
-    return out
 
 
 @njit(cache=True)
@@ -213,20 +241,27 @@ def evaluate_triggers(
     contact_any: np.ndarray,
     states: np.ndarray,
     transitions: np.ndarray,
-) -> np.ndarray:
-    """(T,) fired triggers at scenario time ``now`` (s), step ``step_no`` since the bank was
-    built, given which triggers are ``active``. ``group_start`` (G + 1,): first condition of
-    each AND group (last: C); ``trigger_group`` (T + 1,): first group of each trigger (last:
-    G). Entity arrays are per entity (see measures.Snapshot); ``contact`` (E, E) bool."""
-    raw = _condition_values(
+    trig: np.ndarray,
+    counts: np.ndarray,
+    flags: np.ndarray,
+    fired: np.ndarray,
+) -> None:
+    """Into ``fired`` (T,): the fired triggers at scenario time ``now`` (s), step ``step_no``
+    since the bank was built, given which triggers are ``active``. ``group_start`` (G + 1,):
+    first condition of each AND group (last: C); ``trigger_group`` (T + 1,): first group of
+    each trigger (last: G). Entity arrays are per entity (see measures.Snapshot);
+    ``contact`` (E, E) bool. Work arrays (reused, so a step allocates nothing): ``trig``
+    (2, E) float, ``counts`` (2, C) int64, ``flags`` (2, C) bool."""
+    raw, value = flags[0], flags[1]
+    _condition_values(
         now, active, cond, time_value, static, rows, row_value, points, since, present,
         centre, ref, heading, length, width, speed, accel, on_net, road_s, road_t, road_dir,
-        contact, contact_any, states, transitions,
+        contact, contact_any, states, transitions, trig, counts, raw,
     )  # fmt: skip
-    value = _edges_and_delays(raw, active, cond, prev, history, step_no)
+    _edges_and_delays(raw, active, cond, prev, history, step_no, value)
     n_trig = len(trigger_group) - 1
-    fired = np.zeros(n_trig, dtype=np.bool_)
     for t in range(n_trig):
+        fired[t] = False
         if not active[t]:
             continue
         for g in range(trigger_group[t], trigger_group[t + 1]):
@@ -236,4 +271,23 @@ def evaluate_triggers(
             if all_hold:
                 fired[t] = True
                 break
-    return fired
+
+
+@njit(cache=True)
+def road_entities(
+    active: np.ndarray,
+    row_trigger: np.ndarray,
+    road: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    n_entities: int,
+) -> np.ndarray:
+    """(E,) the entities (``a`` and ``b``, -1: none) of the entity rows in road coordinates
+    (``road``) whose trigger (``row_trigger``) is ``active``."""
+    need = np.zeros(n_entities, dtype=np.bool_)
+    for r in range(len(row_trigger)):
+        if road[r] and active[row_trigger[r]]:
+            need[a[r]] = True
+            if b[r] >= 0:
+                need[b[r]] = True
+    return need
