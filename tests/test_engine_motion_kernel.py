@@ -192,7 +192,7 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     command_rows(rows, st, cx, cy, length, sent.copy(), centres, heading, send, sumo)
     want = vehicle_to_world(np.stack([cx, cy], 1)[rows], np.stack([x, y], 1)[rows], h[rows])
     assert np.array_equal(centres, want) and np.array_equal(heading, h[rows])
-    # what SUMO is told: as move_vehicles computes it (front bumper, SUMO angle)
+    # what SUMO is told: the front bumper and SUMO angle, as move_vehicle computes them
     front = point_ahead(want, h[rows], 0.5 * length[rows])
     assert np.array_equal(sumo[:2].T, front)
     assert np.array_equal(sumo[2], np.mod(90.0 - np.degrees(h[rows]), 360.0))

@@ -224,30 +224,6 @@ class Commands:
         if speed is not None:
             s.vehicle.setSpeed(vehicle_id, speed)
 
-    def move_vehicles(
-        self,
-        vehicle_ids: Sequence[str],
-        centres: np.ndarray,
-        heading: np.ndarray,
-        length: np.ndarray,
-        speed: np.ndarray,
-        edges: Sequence[str],
-        lanes: Sequence[int],
-    ) -> None:
-        """``move_vehicle`` for many vehicles: rectangle centres (N, 2) m, headings (N,) rad,
-        lengths (N,) m, reported speeds (N,) m/s, edge ('' = any) and lane index (-1) each.
-        A NaN speed leaves the speed set last for that vehicle (SUMO holds it). The front
-        points and SUMO angles are computed in one numpy pass."""
-        if not len(vehicle_ids):
-            return
-        h = np.asarray(heading, float)
-        front = point_ahead(np.asarray(centres, float), h, 0.5 * np.asarray(length, float))
-        angle = np.mod(90.0 - np.degrees(h), 360.0).tolist()
-        self.move_vehicle_fronts(
-            vehicle_ids, edges, lanes, front[:, 0].tolist(), front[:, 1].tolist(), angle,
-            np.asarray(speed, float),
-        )  # fmt: skip
-
     def move_vehicle_fronts(
         self,
         vehicle_ids: Sequence[str],
@@ -258,15 +234,14 @@ class Commands:
         angle: Sequence[float],
         speed: np.ndarray,
     ) -> None:
-        """``move_vehicles`` in SUMO's own terms, for a caller that computes them in its own
-        compiled pass: front-bumper points x, y (m, lists of floats), SUMO angles (degrees
-        clockwise from north, as :func:`heading_to_sumo_angle`), speeds (N,) m/s (NaN: leave
-        the speed set last), edge ('' = any) and lane index (-1) each."""
+        """``move_vehicle`` for many vehicles, in SUMO's own terms (the scenario engine computes
+        them in one compiled pass): front-bumper points x, y (m, lists of floats), SUMO angles
+        (degrees clockwise from north, as :func:`heading_to_sumo_angle`), speeds (N,) m/s (NaN:
+        leave the speed set last, SUMO holds it), edge ('' = any) and lane index (-1) each."""
         n = len(vehicle_ids)
-        if not len(edges) == len(lanes) == len(front_x) == len(front_y) == len(angle) == n:
-            raise ValueError("move_vehicles: arguments of different lengths")
-        if len(speed) != n:
-            raise ValueError("move_vehicles: arguments of different lengths")
+        sizes = (len(edges), len(lanes), len(front_x), len(front_y), len(angle), len(speed))
+        if any(k != n for k in sizes):
+            raise ValueError("move_vehicle_fronts: arguments of different lengths")
         v = self._api().vehicle
         move, set_speed = v.moveToXY, v.setSpeed
         # keepRoute 6 as in move_vehicle; positional (vehID, edgeID, lane, x, y, angle,
