@@ -24,13 +24,9 @@ import numpy as np
 
 from hiyari.errors import HiyariError
 from hiyari.kinematics import footprint_corners, overlap_depth
-from hiyari.risk.sct.contact_kernel import (
-    first_contacts,
-    near_pairs,
-    travel_rows,
-    within_reach,
-)
+from hiyari.risk.sct.contact_kernel import travel_rows, within_reach
 from hiyari.risk.sct.model import SCTModel, StepView
+from hiyari.risk.sct.plan_kernel import candidate_cushions, free_contacts, free_screen
 from hiyari.traffic.commands import Commands
 from hiyari.units import G
 
@@ -180,108 +176,91 @@ class SCTController:
         if len(rows) == 0 or len(view.ped_rows) == 0:
             return out
         v0, a0 = state.speed[rows], state.accel[rows]
-        v_max = np.maximum(v_max, v0)[:, None, None]
-        # the vehicle's own driver at its most demanding: full acceleration to its allowed speed
-        free = np.broadcast_to(np.asarray(a_free, float)[:, None, None], (len(rows), 1, len(times)))
-        _, s_free = travel(free, v0[:, None, None], v_max, dt)
-        xy, hd = model.vehicle_poses(view, rows, s_free)  # (V, 1, K, 2)
-        now = state.xyz[view.ped_rows, :2]
-        d = now[None, :, None, :] - xy[:, :, ::5]
-        near = np.einsum("vpkj,vpkj->vpk", d, d).min(axis=2) <= cfg.act_distance**2  # (V, P)
-        slots = np.flatnonzero(near.any(axis=0))
-        if len(slots) == 0:
+        v_max = np.maximum(v_max, v0)
+        table, slot = view.table, view.veh_slot[rows]
+        seg = table.seg
+        paths = (table.cum, table.count, table.first, seg.start, seg.unit, seg.cum_start)
+        contact = model.config.contact
+        margin, radius = contact.vehicle_margin, contact.pedestrian_radius
+        length, width = state.length[rows], state.width[rows]
+        reach = np.hypot(0.5 * length + margin, 0.5 * width + margin) + radius + 1e-6
+        # the vehicle's own driver at its most demanding: full acceleration to its allowed
+        # speed; the pedestrians near that track, and the vehicles that may touch one of them
+        # (a vehicle not engaged only before sct_safe, see near_pairs)
+        xy, vcos, vsin, near, may = free_screen(
+            v0,
+            v_max,
+            np.asarray(a_free, float),
+            dt,
+            view.s0,
+            slot,
+            *paths,
+            seg.cos,
+            seg.sin,
+            np.ascontiguousarray(state.xyz[view.ped_rows, :2]),
+            cfg.act_distance**2,
+            view.tracks,
+            reach * reach,
+            min(int(np.searchsorted(times, cfg.sct_safe)) + 1, len(times)),
+            engaged,
+        )
+        keep = np.flatnonzero(may)
+        if len(keep) == 0:
             return out
-        near = near[:, slots]
+        slots = np.flatnonzero(near.any(axis=0))
         # every pedestrian speed hypothesis as its own track: (P * H, K, 2)
         h = len(model.config.speed_factors)
         ped = view.tracks[slots].reshape(-1, len(times), 2)
-        mine = np.repeat(near, h, axis=1)  # (V, P * H): the tracks each vehicle plans for
-        length, width = state.length[rows], state.width[rows]
-        keep = np.flatnonzero(self._may_touch(xy[:, 0], length, width, ped, mine, engaged))
-        if len(keep) == 0:
-            return out
-        rows, xy, hd, mine = rows[keep], xy[keep], hd[keep], mine[keep]
-        length, width, v0, a0 = length[keep], width[keep], v0[keep], a0[keep]
-        v_max, engaged = v_max[keep], engaged[keep]
         exposed = model.exposed(view, slots).reshape(len(ped), len(times))
-        contact = model.config.contact
-        margin, radius = contact.vehicle_margin, contact.pedestrian_radius
-        vi, ti = np.nonzero(mine)
-        first, ok = first_contacts(
-            xy[:, 0], hd[:, 0], length, width, margin, radius, ped, exposed, vi, ti, times
-        )
-        # pedestrians already touching the vehicle cannot be helped by any profile
-        apart = np.zeros(mine.shape, bool)
-        apart[vi, ti] = ok
-        sct_free = np.full(mine.shape, np.inf)
-        sct_free[vi[ok], ti[ok]] = first[ok]
-        sct_free = sct_free.min(axis=1)
-        plan = apart.any(axis=1) & np.isfinite(sct_free) & ((sct_free < cfg.sct_safe) | engaged)
-        w = np.flatnonzero(plan)
-        if len(w) == 0:
-            return out
-        rows, apart, length, width = rows[w], apart[w], length[w], width[w]
-        accel = ramp_profiles(a0[w], self._targets, times, cfg.jerk_limit)  # (W, C, K)
-        v, s = travel(accel, v0[w, None, None], v_max[w], dt, cfg.stop_speed)
-        xy, hd = model.vehicle_poses(view, rows, s)  # (W, C, K, 2)
-        n_c = xy.shape[1]
-        wi, ti = np.nonzero(apart)  # candidate a = w * C + c plans for its apart tracks only
-        a = (wi[:, None] * n_c + np.arange(n_c)).ravel()
-        t = np.repeat(ti, n_c)
-        first, _ = first_contacts(
-            xy.reshape(-1, len(times), 2),
-            hd.reshape(-1, len(times)),
-            np.repeat(length, n_c),
-            np.repeat(width, n_c),
-            margin,
+        mine = np.repeat(near[keep][:, slots], h, axis=1)  # (V, P * H): each vehicle's tracks
+        half_x = 0.5 * length[keep] + margin
+        half_y = 0.5 * width[keep] + margin
+        engaged = engaged[keep]
+        plan, apart = free_contacts(
+            xy[keep],
+            vcos[keep],
+            vsin[keep],
+            half_x,
+            half_y,
             radius,
             ped,
             exposed,
-            a,
-            t,
+            mine,
+            times,
+            cfg.sct_safe,
+            engaged,
+        )
+        w = np.flatnonzero(plan)
+        if len(w) == 0:
+            return out
+        k = keep[w]
+        accel = ramp_profiles(a0[k], self._targets, times, cfg.jerk_limit)  # (W, C, K)
+        v, end_xy, end_seg, sct = candidate_cushions(
+            accel,
+            v0[k],
+            v_max[k],
+            dt,
+            cfg.stop_speed,
+            view.s0,
+            slot[k],
+            *paths,
+            seg.cos,
+            seg.sin,
+            half_x[w],
+            half_y[w],
+            radius,
+            ped,
+            exposed,
+            apart[w],
             times,
         )
-        cushion = np.full((len(w) * n_c, len(ped)), np.inf)
-        cushion[a, t] = first
-        sct = cushion.min(axis=1).reshape(len(w), n_c)  # (W, C)
-        blocks = self._stops_on_crossing(xy[:, :, -1], hd[:, :, -1], v[:, :, -1], length, width)
+        blocks = self._stops_on_crossing(
+            end_xy, seg.heading[end_seg], v[:, :, -1], length[k], width[k]
+        )
         # keep crossings clear: never plan to stop on one (unless every plan does)
         sct = np.where(blocks & ~blocks.all(axis=1, keepdims=True), -1.0, sct)
-        out[keep[w]] = v[np.arange(len(w)), self._pick(sct), 1]
+        out[k] = v[np.arange(len(w)), self._pick(sct), 1]
         return out
-
-    def _may_touch(
-        self,
-        xy: np.ndarray,
-        length: np.ndarray,
-        width: np.ndarray,
-        ped: np.ndarray,
-        mine: np.ndarray,
-        engaged: np.ndarray,
-    ) -> np.ndarray:
-        """(V,) bool: vehicles (centres ``xy`` (V, K, 2) under their own driver, sizes (V,) m)
-        that may touch one of their pedestrian tracks (``ped`` (T, K, 2), ``mine`` (V, T))
-        (contact_kernel.near_pairs); the others need no plan. A vehicle not ``engaged`` (V,) needs
-        one only for a contact before sct_safe: it is tested up to the first sample at or
-        after sct_safe (a contact first found later is interpolated back to the previous
-        sample at most). An engaged one is handed back only when no contact is predicted
-        within the horizon: it is tested at every sample."""
-        times = self.model.times
-        upto = min(int(np.searchsorted(times, self.config.sct_safe)) + 1, len(times))
-        contact = self.model.config.contact
-        vi, ti = np.nonzero(mine)  # only a vehicle's own tracks count
-        near = near_pairs(
-            xy,
-            length,
-            width,
-            contact.vehicle_margin,
-            contact.pedestrian_radius,
-            ped,
-            vi,
-            ti,
-            np.where(engaged[vi], len(times), upto),
-        )
-        return np.bincount(vi[near], minlength=len(xy)) > 0
 
     def _pick(self, sct: np.ndarray) -> np.ndarray:
         """(W,) the candidate each vehicle drives, from SCTs (W, C) of its candidates.

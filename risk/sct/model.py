@@ -25,13 +25,13 @@ from hiyari.risk.metrics.contact import (
     ContactGeometry,
     Path,
     SCTConfig,
-    contact_gap,
     crossing_conflict,
     pedestrian_tracks,
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
-from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs, path_at, project_rows
+from hiyari.risk.sct.contact_kernel import _first_contacts, path_at, project_rows
+from hiyari.risk.sct.pair_kernel import pair_screen
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
@@ -42,8 +42,8 @@ _PEDESTRIAN = np.int8(ActorClass.PEDESTRIAN)  # compared as a numpy scalar: no e
 class Segments:
     """A path's segments with the values Path.project and Path.at derive from them: start
     (S, 2) m, vector (S, 2) m, squared length (S,) m^2 (>= 1e-12), arc length at the start
-    (S,) m, unit direction (S, 2) and heading (S,) rad; ``cum`` (S + 1,) the path's arc
-    lengths."""
+    (S,) m, unit direction (S, 2) and heading (S,) rad with its cosine and sine (numpy's, as
+    first_contacts takes them); ``cum`` (S + 1,) the path's arc lengths."""
 
     start: np.ndarray
     vector: np.ndarray
@@ -52,6 +52,8 @@ class Segments:
     unit: np.ndarray
     heading: np.ndarray
     cum: np.ndarray
+    cos: np.ndarray
+    sin: np.ndarray
 
     @staticmethod
     def of(path: Path) -> Segments:
@@ -61,7 +63,17 @@ class Segments:
         length2 = np.maximum(np.einsum("ij,ij->i", vector, vector), 1e-12)
         unit = vector / np.maximum(path.cum[1:] - path.cum[:-1], 1e-12)[:, None]
         heading = np.arctan2(unit[:, 1], unit[:, 0])
-        return Segments(start, vector, length2, path.cum[:-1], unit, heading, path.cum)
+        return Segments(
+            start,
+            vector,
+            length2,
+            path.cum[:-1],
+            unit,
+            heading,
+            path.cum,
+            np.cos(heading),
+            np.sin(heading),
+        )
 
 
 @dataclass(frozen=True)
@@ -89,7 +101,8 @@ class PathTable:
 
         if not parts:
             empty = np.zeros((0, 2))
-            seg = Segments(empty, empty, np.zeros(0), np.zeros(0), empty, np.zeros(0), np.zeros(0))
+            none = np.zeros(0)
+            seg = Segments(empty, empty, none, none, empty, none, none, none, none)
         else:
             seg = Segments(
                 cat("start"),
@@ -99,6 +112,8 @@ class PathTable:
                 cat("unit"),
                 cat("heading"),
                 np.zeros(0),
+                cat("cos"),
+                cat("sin"),
             )
         return PathTable(seg, np.repeat(np.arange(len(parts)), count), first, count, cum)
 
@@ -334,78 +349,79 @@ class SCTModel:
         if n == 0:
             return np.zeros(0), np.zeros(0), np.zeros(0)
         ttc_contact = ttc_contact or ContactGeometry()
-        state = view.state
-        # poses once per vehicle of the view, tracks once per pedestrian of the pairs
-        vxy, vh = self.vehicle_poses(view, view.veh_rows)
-        vslot = view.veh_slot[vi]
-        vxy, vh = vxy[vslot], vh[vslot]
-        length, width = state.length[vi], state.width[vi]
-        t = self.times
+        state, table, t = view.state, view.table, self.times
+        seg = table.seg
         prows, pinv = _distinct(pj, len(state))
-        cv = heading_vector(state.heading[prows]) * state.speed[prows, None]
-        ped_cv = (state.xyz[prows, None, :2] + cv[:, None, :] * t[None, :, None])[pinv]
-        gap = contact_gap(vxy[:, 0], vh[:, 0], length, width, ped_cv[:, 0], ttc_contact)
+        vslot = view.veh_slot[vi]
+        # shapes per vehicle of the view: half sizes and the near_pairs reach, for both shapes
+        length, width = state.length[view.veh_rows], state.width[view.veh_rows]
+        ttc_x, ttc_y, ttc_reach2 = _grown(length, width, ttc_contact)
+        contact = self.config.contact
+        sct_x, sct_y, sct_reach2 = _grown(length, width, contact)
+        slot = view.ped_slot[pj]
+        xy, vcos, vsin, ped_cv, gap, near, near_sct = pair_screen(
+            state.speed[view.veh_rows],
+            view.s0,
+            table.cum,
+            table.count,
+            table.first,
+            seg.start,
+            seg.unit,
+            seg.cum_start,
+            seg.cos,
+            seg.sin,
+            t,
+            np.ascontiguousarray(state.xyz[prows, :2]),
+            heading_vector(state.heading[prows]),
+            state.speed[prows],
+            vslot,
+            pinv,
+            ttc_x,
+            ttc_y,
+            ttc_contact.pedestrian_radius,
+            ttc_reach2,
+            view.tracks if with_sct else _NO_TRACKS,
+            slot,
+            sct_reach2,
+        )
         road = self.carriageway
         if road is not None and not road.is_empty:
             now = state.xyz[prows, :2]
             on_road = shapely.contains_xy(road, now[:, 0], now[:, 1])[pinv]
             gap = np.where(on_road, gap, np.inf)
         ttc = np.full(n, np.inf)
-        every = np.arange(n)
-        near = near_pairs(
-            vxy,
-            length,
-            width,
-            ttc_contact.vehicle_margin,
-            ttc_contact.pedestrian_radius,
-            ped_cv,
-            every,
-            every,
-        )
         c = np.flatnonzero(near)
         if len(c):
-            ttc[c], _ = first_contacts(
-                vxy,
-                vh,
-                length,
-                width,
-                ttc_contact.vehicle_margin,
+            tracks = ped_cv[pinv[c]]
+            ttc[c], _ = _first_contacts(
+                xy,
+                vcos,
+                vsin,
+                ttc_x,
+                ttc_y,
                 ttc_contact.pedestrian_radius,
-                ped_cv[c],
-                ~self._cv_protected(view, pj[c], ped_cv[c]),
-                c,
+                tracks,
+                ~self._cv_protected(view, pj[c], tracks),
+                vslot[c],
                 np.arange(len(c)),
                 t,
             )
         sct = np.full(n, np.inf)
         if not with_sct:
             return ttc, sct, gap
-        slot = view.ped_slot[pj]
-        contact = self.config.contact
-        tracks = view.tracks[slot]
-        h = tracks.shape[1]
-        near = near_pairs(
-            vxy,
-            length,
-            width,
-            contact.vehicle_margin,
-            contact.pedestrian_radius,
-            tracks.reshape(n * h, len(t), 2),
-            np.repeat(every, h),
-            np.arange(n * h),
-        )
-        c = np.flatnonzero(near.reshape(n, h).any(axis=1))
+        c = np.flatnonzero(near_sct)
         if len(c):
-            first, _ = first_contacts(
-                vxy,
-                vh,
-                length,
-                width,
-                contact.vehicle_margin,
+            h = view.tracks.shape[1]
+            first, _ = _first_contacts(
+                xy,
+                vcos,
+                vsin,
+                sct_x,
+                sct_y,
                 contact.pedestrian_radius,
-                tracks[c].reshape(len(c) * h, len(t), 2),
+                view.tracks[slot[c]].reshape(len(c) * h, len(t), 2),
                 self.exposed(view, slot[c]).reshape(len(c) * h, len(t)),
-                np.repeat(c, h),
+                np.repeat(vslot[c], h),
                 np.arange(len(c) * h),
                 t,
             )
@@ -443,6 +459,21 @@ class SCTModel:
             )
             has[sel], vin[sel], pin[sel] = h, v, p
         return has, vin, pin
+
+
+_NO_TRACKS = np.zeros((0, 1, 1, 2))  # pair_screen's tracks when SCT is not computed
+
+
+def _grown(
+    length: np.ndarray, width: np.ndarray, contact: ContactGeometry
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Half length and width (m) of vehicle rectangles grown by the contact margin, and the
+    squared reach of near_pairs (circumscribed circle, disc and slack), as contact_gap and
+    near_pairs compute them."""
+    half_x = 0.5 * length + contact.vehicle_margin
+    half_y = 0.5 * width + contact.vehicle_margin
+    reach = np.hypot(half_x, half_y) + contact.pedestrian_radius + 1e-6
+    return half_x, half_y, reach * reach
 
 
 def _distinct(rows: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
