@@ -11,6 +11,7 @@ from hiyari.risk.metrics.contact import (
     Path,
     SCTConfig,
     contact_gap,
+    crossing_conflict,
     first_contact_time,
     pedestrian_velocity,
 )
@@ -23,6 +24,7 @@ from hiyari.risk.sct.contact_kernel import (
 )
 from hiyari.risk.sct.controller import ramp_profiles, travel
 from hiyari.risk.sct.model import PathTable, Segments
+from hiyari.risk.sct.pair_kernel import crossing_zones
 
 
 def _reference(vxy, vh, length, width, contact, tracks, exposed, a, t, times):
@@ -303,3 +305,75 @@ def test_within_reach_equals_numpy():
     gap = np.linalg.norm(vxy[:, None] - pxy[None], axis=2) - reach[:, None] - 0.3
     ref = (gap <= (speed[:, None] + ped_speed[None]) * 4.0 + 0.5 * 3.0 * 4.0 * 4.0).any(axis=1)
     assert 5 < ref.sum() < 35 and np.array_equal(out, ref)
+
+
+def test_crossing_zones_equal_crossing_conflict():
+    """The compiled conflict-zone occupancy equals contact.crossing_conflict per vehicle:
+    paths crossing the crossings' lines at all angles (parallel ones too), pedestrians on,
+    beside and beyond the crossings, vehicles before, in and past the zones."""
+    rng = np.random.default_rng(11)
+    paths = []
+    for n in (2, 6, 30):
+        angle = rng.uniform(-np.pi, np.pi) + np.cumsum(rng.normal(0, 0.15, n))
+        steps = rng.uniform(1.0, 5.0, (n, 1)) * np.stack([np.cos(angle), np.sin(angle)], -1)
+        paths.append(Path.of(np.cumsum(steps, axis=0) - 20.0))
+    paths.append(Path.of(np.array([[-30.0, 0.0], [30.0, 0.0]])))  # parallel to some crossings
+    table = PathTable.of([Segments.of(p) for p in paths])
+    n = 400
+    vslot = rng.integers(0, len(paths), n)
+    s_vehicle = rng.uniform(-5, 80, n)
+    length, width = rng.uniform(3.5, 5.5, n), rng.uniform(1.6, 2.1, n)
+    theta = rng.uniform(-np.pi, np.pi, n)
+    theta[:40] = 0.0  # along the straight path: det 0
+    direction = np.stack([np.cos(theta), np.sin(theta)], -1)
+    # crossings through a point of the vehicle's path (most), pedestrians along them
+    on_path = np.array([paths[v].at(rng.uniform(0, paths[v].cum[-1]))[0] for v in vslot])
+    centre = on_path + rng.normal(0, 1.5, (n, 2))
+    ped = centre + direction * rng.uniform(-8, 8, (n, 1)) + rng.normal(0, 0.3, (n, 2))
+    ped[-40:] = rng.uniform(-25, 25, (40, 2))  # anywhere
+    half = rng.uniform(2, 8, n)
+    seg = table.seg
+    got = crossing_zones(
+        vslot,
+        s_vehicle,
+        length,
+        width,
+        table.count,
+        table.first,
+        seg.start,
+        seg.vector,
+        seg.cum_start,
+        ped,
+        direction,
+        centre,
+        half,
+        0.3,
+    )
+    for i in range(n):
+        want = crossing_conflict(
+            paths[vslot[i]],
+            s_vehicle[i],
+            length[i],
+            width[i],
+            ped[i : i + 1],
+            direction[i : i + 1],
+            centre[i : i + 1],
+            half[i : i + 1],
+            0.3,
+        )
+        assert [bool(g[i]) for g in got] == [bool(w[0]) for w in want], i
+    assert 50 < got[0].sum() < n and got[1].any() and got[2].any() and (~got[1] & got[0]).any()
+
+
+def test_segment_headings_cos_sin_are_numpys():
+    """The per-segment cos / sin the kernels read are numpy's cos / sin of the headings that
+    path sampling returns (so contact_gap's rotation is unchanged)."""
+    rng = np.random.default_rng(5)
+    angle = np.cumsum(rng.normal(0, 0.5, 200))
+    steps = rng.uniform(0.5, 4.0, (200, 1)) * np.stack([np.cos(angle), np.sin(angle)], -1)
+    table = PathTable.of([Segments.of(Path.of(np.cumsum(steps, axis=0)))])
+    s = rng.uniform(-10, 600, (1, 997))
+    _, hd = table.at(np.array([0]), s)
+    k = np.array([int(np.argmax(table.seg.heading == h)) for h in hd.ravel()])
+    assert np.cos(hd).ravel().tobytes() == table.seg.cos[k].tobytes()
+    assert np.sin(hd).ravel().tobytes() == table.seg.sin[k].tobytes()

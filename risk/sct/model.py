@@ -25,13 +25,12 @@ from hiyari.risk.metrics.contact import (
     ContactGeometry,
     Path,
     SCTConfig,
-    crossing_conflict,
     pedestrian_tracks,
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
 from hiyari.risk.sct.contact_kernel import _first_contacts, path_at, project_rows
-from hiyari.risk.sct.pair_kernel import pair_screen
+from hiyari.risk.sct.pair_kernel import crossing_zones, pair_screen
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
@@ -438,26 +437,30 @@ class SCTModel:
         has, vin, pin = np.zeros(n, bool), np.zeros(n, bool), np.zeros(n, bool)
         if self.geometry is None or n == 0:
             return has, vin, pin
-        state = view.state
+        state, seg = view.state, view.table.seg
         cr = self.geometry.crossings
         k = view.crossing[view.ped_slot[pj]]
         on = np.flatnonzero(k >= 0)
-        for r in np.unique(vi[on]).tolist():
-            sel = on[vi[on] == r]
-            slot = view.veh_slot[r]
-            kk = k[sel]
-            h, v, p = crossing_conflict(
-                view.paths[slot],
-                float(view.s0[slot]),
-                float(state.length[r]),
-                float(state.width[r]),
-                state.xyz[pj[sel], :2],
-                cr.direction[kk],
-                cr.centre[kk],
-                cr.half_length[kk],
-                ped_radius,
-            )
-            has[sel], vin[sel], pin[sel] = h, v, p
+        if len(on) == 0:
+            return has, vin, pin
+        r, kk = vi[on], k[on]
+        slot = view.veh_slot[r]
+        has[on], vin[on], pin[on] = crossing_zones(
+            slot,
+            view.s0[slot],
+            state.length[r],
+            state.width[r],
+            view.table.count,
+            view.table.first,
+            seg.start,
+            seg.vector,
+            seg.cum_start,
+            np.ascontiguousarray(state.xyz[pj[on], :2]),
+            cr.direction[kk],
+            cr.centre[kk],
+            cr.half_length[kk],
+            float(ped_radius),
+        )
         return has, vin, pin
 
 

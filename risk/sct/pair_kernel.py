@@ -112,3 +112,54 @@ def _near(points: np.ndarray, centre: np.ndarray, reach2: float) -> bool:
             break
         low = min(low, d2)
     return low <= reach2
+
+
+@njit(cache=True, error_model="numpy")
+def crossing_zones(
+    vslot: np.ndarray,
+    s_vehicle: np.ndarray,
+    veh_length: np.ndarray,
+    veh_width: np.ndarray,
+    count: np.ndarray,
+    first: np.ndarray,
+    start: np.ndarray,
+    vector: np.ndarray,
+    cum_start: np.ndarray,
+    ped_xy: np.ndarray,
+    direction: np.ndarray,
+    centre: np.ndarray,
+    half_length: np.ndarray,
+    ped_radius: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """hiyari.risk.metrics.contact.crossing_conflict per pair, its operations per scalar:
+    pairs (n,) of a vehicle (path-table row ``vslot``, arc length ``s_vehicle`` m, size m)
+    and a pedestrian at ``ped_xy`` (n, 2) on a crossing (``direction`` (n, 2), ``centre``
+    (n, 2), ``half_length`` (n,) m). Returns (has_zone, vehicle_in, pedestrian_in) (n,)."""
+    n = len(vslot)
+    has = np.zeros(n, np.bool_)
+    veh_in = np.zeros(n, np.bool_)
+    ped_in = np.zeros(n, np.bool_)
+    for i in range(n):
+        v = vslot[i]
+        u0, u1 = direction[i, 0], direction[i, 1]
+        for m in range(first[v], first[v] + count[v]):
+            d0, d1 = vector[m, 0], vector[m, 1]
+            ap0 = start[m, 0] - ped_xy[i, 0]
+            ap1 = start[m, 1] - ped_xy[i, 1]
+            det = -u0 * d1 + u1 * d0
+            lam = (-ap0 * d1 + ap1 * d0) / det
+            mu = (u0 * ap1 - u1 * ap0) / det
+            x0 = ped_xy[i, 0] + lam * u0
+            x1 = ped_xy[i, 1] + lam * u1
+            along = (x0 - centre[i, 0]) * u0 + (x1 - centre[i, 1]) * u1
+            if abs(det) > 1e-9 and mu >= 0 and mu <= 1 and abs(along) <= half_length[i]:
+                seg_len = math.sqrt(d0 * d0 + d1 * d1)
+                s_x = cum_start[m] + mu * seg_len
+                sin = max(abs(det) / max(seg_len, 1e-12), 0.3)  # near-parallel: capped
+                cot = math.sqrt(max(1.0 - sin * sin, 0.0)) / sin
+                reach = 0.5 * veh_length[i] + ped_radius / sin + 0.5 * veh_width[i] * cot
+                has[i] = True
+                veh_in[i] = abs(s_vehicle[i] - s_x) <= reach
+                ped_in[i] = abs(lam) <= (0.5 * veh_width[i] + ped_radius) / sin
+                break
+    return has, veh_in, ped_in
