@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from hiyari.kinematics import footprint_corners, overlap_depth
 from hiyari.risk.metrics.contact import (
     ContactGeometry,
     Path,
@@ -25,6 +26,7 @@ from hiyari.risk.sct.contact_kernel import (
 from hiyari.risk.sct.controller import ramp_profiles, travel
 from hiyari.risk.sct.model import PathTable, Segments
 from hiyari.risk.sct.pair_kernel import crossing_zones
+from hiyari.risk.sct.plan_kernel import stops_on_crossing
 
 
 def _reference(vxy, vh, length, width, contact, tracks, exposed, a, t, times):
@@ -377,3 +379,40 @@ def test_segment_headings_cos_sin_are_numpys():
     k = np.array([int(np.argmax(table.seg.heading == h)) for h in hd.ravel()])
     assert np.cos(hd).ravel().tobytes() == table.seg.cos[k].tobytes()
     assert np.sin(hd).ravel().tobytes() == table.seg.sin[k].tobytes()
+
+
+def test_stops_on_crossing_equals_footprint_overlap():
+    """The compiled stop-on-crossing test equals kinematics.footprint_corners and
+    overlap_depth > 0 on every stopped candidate (rectangles touching, overlapping and apart
+    from rotated crossings), and leaves moving candidates out."""
+    rng = np.random.default_rng(17)
+    n_a = 6
+    centre = rng.uniform(-20, 20, (n_a, 2))
+    direction = rng.uniform(-np.pi, np.pi, n_a)
+    half_length, half_width = rng.uniform(3, 8, n_a), rng.uniform(1.5, 3, n_a)
+    corners = footprint_corners(centre, direction, 2 * half_length, 2 * half_width)
+    w, c = 60, 12
+    length, width = rng.uniform(3.5, 5.5, w), rng.uniform(1.6, 2.1, w)
+    near = rng.integers(0, n_a, (w, c))
+    xy = centre[near] + rng.normal(0, 5, (w, c, 2))
+    heading = rng.uniform(-np.pi, np.pi, (w, c))
+    v_end = np.where(rng.random((w, c)) < 0.7, 0.0, 1.0)
+    got = stops_on_crossing(
+        xy,
+        np.cos(heading),
+        np.sin(heading),
+        v_end,
+        length,
+        width,
+        0.5 * np.hypot(length, width),
+        np.hypot(half_length, half_width),
+        centre,
+        corners,
+    )
+    rect = footprint_corners(xy, heading, length[:, None], width[:, None])  # (w, c, 4, 2)
+    depth = overlap_depth(
+        np.repeat(rect.reshape(-1, 4, 2), n_a, 0), np.tile(corners, (w * c, 1, 1))
+    ).reshape(w, c, n_a)
+    want = (v_end <= 0.0) & (depth > 0).any(axis=2)
+    assert np.array_equal(got, want)
+    assert 20 < got.sum() < (v_end <= 0.0).sum()  # overlapping and clear stops both occur

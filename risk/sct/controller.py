@@ -23,10 +23,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from hiyari.errors import HiyariError
-from hiyari.kinematics import footprint_corners, overlap_depth
 from hiyari.risk.sct.contact_kernel import travel_rows, within_reach
 from hiyari.risk.sct.model import SCTModel, StepView
-from hiyari.risk.sct.plan_kernel import candidate_cushions, free_contacts, free_screen
+from hiyari.risk.sct.plan_kernel import (
+    candidate_cushions,
+    free_contacts,
+    free_screen,
+    stops_on_crossing,
+)
 from hiyari.traffic.commands import Commands
 from hiyari.units import G
 
@@ -255,7 +259,7 @@ class SCTController:
             times,
         )
         blocks = self._stops_on_crossing(
-            end_xy, seg.heading[end_seg], v[:, :, -1], length[k], width[k]
+            end_xy, seg.cos[end_seg], seg.sin[end_seg], v[:, :, -1], length[k], width[k]
         )
         # keep crossings clear: never plan to stop on one (unless every plan does)
         sct = np.where(blocks & ~blocks.all(axis=1, keepdims=True), -1.0, sct)
@@ -283,36 +287,32 @@ class SCTController:
     def _stops_on_crossing(
         self,
         xy: np.ndarray,
-        heading: np.ndarray,
+        cos: np.ndarray,
+        sin: np.ndarray,
         v_end: np.ndarray,
         length: np.ndarray,
         width: np.ndarray,
     ) -> np.ndarray:
-        """(W, C) bool: candidates (end poses ``xy`` (W, C, 2), ``heading`` (W, C), speed
-        ``v_end`` (W, C)) that end stopped with the vehicle (``length``, ``width`` (W,) m) over
-        a crossing."""
+        """(W, C) bool: candidates (end centres ``xy`` (W, C, 2), heading cosine / sine (W, C),
+        speed ``v_end`` (W, C)) that end stopped with the vehicle (``length``, ``width`` (W,)
+        m) over a crossing (plan_kernel.stops_on_crossing)."""
         areas = self.model.geometry.crossings if self.model.geometry is not None else None
-        stopped = v_end <= 0.0
-        blocks = np.zeros(stopped.size, bool)
-        if areas is None or len(areas) == 0 or not stopped.any():
-            return blocks.reshape(stopped.shape)
-        c = np.flatnonzero(stopped)  # stopped candidates, flat over (W, C)
-        veh = c // stopped.shape[1]
-        xy = xy.reshape(-1, 2)[c]
+        if areas is None or len(areas) == 0 or not (v_end <= 0.0).any():
+            return np.zeros(v_end.shape, bool)
         # only crossings within reach of the rectangle can overlap it (bounding circles, with
         # a margin far above rounding: disjoint convex shapes have a separating edge axis)
-        reach = 0.5 * np.hypot(length, width)[veh, None] + np.hypot(
-            areas.half_length, areas.half_width
+        return stops_on_crossing(
+            xy,
+            cos,
+            sin,
+            v_end,
+            length,
+            width,
+            0.5 * np.hypot(length, width),
+            np.hypot(areas.half_length, areas.half_width),
+            areas.centre,
+            areas.corners,
         )
-        d = np.linalg.norm(xy[:, None, :] - areas.centre[None], axis=2)
-        k, a = np.nonzero(d <= reach + 1e-3)
-        if len(k):
-            rect = footprint_corners(
-                xy[k], heading.reshape(-1)[c[k]], length[veh[k]], width[veh[k]]
-            )
-            depth = overlap_depth(rect, areas.corners[a])
-            blocks[c[k[depth > 0]]] = True
-        return blocks.reshape(stopped.shape)
 
     def step(self, sim: Commands, view: StepView, present: set[str] | None = None) -> None:
         """Plan and command every in-scope vehicle of ``view``; vehicles controlled before but

@@ -15,6 +15,8 @@ Frames and units: network coordinates in metres, speeds m/s, accelerations m/s^2
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -223,3 +225,69 @@ def candidate_cushions(
         seg[:, -1].copy().reshape(n_w, n_c),
         sct.reshape(n_w, n_c),
     )
+
+
+@njit(cache=True)
+def stops_on_crossing(
+    end_xy: np.ndarray,
+    end_cos: np.ndarray,
+    end_sin: np.ndarray,
+    v_end: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    veh_reach: np.ndarray,
+    area_reach: np.ndarray,
+    centre: np.ndarray,
+    corners: np.ndarray,
+) -> np.ndarray:
+    """(W, C) bool: candidates ending stopped (``v_end`` (W, C) <= 0) with the rectangle of
+    vehicle w (``length`` / ``width`` (W,) m, centre ``end_xy`` (W, C, 2), heading cos / sin
+    (W, C)) overlapping a crossing (``corners`` (A, 4, 2), counter-clockwise). Crossings
+    farther than ``veh_reach`` (W,) + ``area_reach`` (A,) + 1 mm from the centre are not
+    tested (bounding circles). hiyari.kinematics.footprint_corners and overlap_depth > 0,
+    their operations per scalar."""
+    n_w, n_c = v_end.shape
+    blocks = np.zeros((n_w, n_c), np.bool_)
+    rect = np.empty((4, 2))
+    for w in range(n_w):
+        hl, hw = 0.5 * length[w], 0.5 * width[w]
+        for c in range(n_c):
+            if not v_end[w, c] <= 0.0:
+                continue
+            x, y = end_xy[w, c, 0], end_xy[w, c, 1]
+            co, si = end_cos[w, c], end_sin[w, c]
+            # footprint_corners: rotate_xy of (hl, 0) and (0, hw)
+            fx, fy = hl * co - 0.0 * si, hl * si + 0.0 * co
+            lx, ly = 0.0 * co - hw * si, 0.0 * si + hw * co
+            rect[0, 0], rect[0, 1] = x + fx + lx, y + fy + ly
+            rect[1, 0], rect[1, 1] = x - fx + lx, y - fy + ly
+            rect[2, 0], rect[2, 1] = x - fx - lx, y - fy - ly
+            rect[3, 0], rect[3, 1] = x + fx - lx, y + fy - ly
+            for a in range(len(centre)):
+                dx, dy = x - centre[a, 0], y - centre[a, 1]
+                if math.sqrt(dx * dx + dy * dy) <= veh_reach[w] + area_reach[a] + 1e-3:
+                    if _overlap_depth(rect, corners[a]) > 0:
+                        blocks[w, c] = True
+                        break
+    return blocks
+
+
+@njit(cache=True)
+def _overlap_depth(qa: np.ndarray, qb: np.ndarray) -> float:
+    """hiyari.kinematics.overlap_depth of one pair of quadrilaterals (4, 2)."""
+    depth = np.inf
+    for axis in range(4):
+        q = qa if axis < 2 else qb
+        e = axis % 2
+        ex = q[e + 1, 0] - q[e, 0]
+        ey = q[e + 1, 1] - q[e, 1]
+        norm = max(math.sqrt(ex * ex + ey * ey), 1e-12)
+        ax, ay = ex / norm, ey / norm
+        lo_a, hi_a, lo_b, hi_b = np.inf, -np.inf, np.inf, -np.inf
+        for k in range(4):
+            pa = qa[k, 0] * ax + qa[k, 1] * ay
+            pb = qb[k, 0] * ax + qb[k, 1] * ay
+            lo_a, hi_a = min(lo_a, pa), max(hi_a, pa)
+            lo_b, hi_b = min(lo_b, pb), max(hi_b, pb)
+        depth = min(depth, min(hi_a, hi_b) - max(lo_a, lo_b))
+    return depth
