@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from hiyari.bridge.campaign.sct_scan import zone_scan
 from hiyari.kinematics import footprint_corners, overlap_depth
 from hiyari.risk.metrics.contact import (
     ContactGeometry,
@@ -416,3 +417,53 @@ def test_stops_on_crossing_equals_footprint_overlap():
     want = (v_end <= 0.0) & (depth > 0).any(axis=2)
     assert np.array_equal(got, want)
     assert 20 < got.sum() < (v_end <= 0.0).sum()  # overlapping and clear stops both occur
+
+
+def test_zone_scan_equals_the_numpy_scan():
+    """The study's compiled per-step scan gives the numpy scan's zones, logged pairs, planning
+    flag and least bound."""
+    rng = np.random.default_rng(23)
+    centres = np.array([[150.0, 150.0], [400.0, 150.0]])
+    for _ in range(50):
+        n = int(rng.integers(0, 40))
+        xy = centres[rng.integers(0, 2, n)] + rng.normal(0, 40, (n, 2))
+        is_ped = rng.random(n) < 0.6
+        length, width = rng.uniform(0.2, 5, n), rng.uniform(0.2, 2, n)
+        speed = rng.uniform(0, 15, n)
+        got = zone_scan(
+            xy,
+            is_ped,
+            centres,
+            80.0**2,
+            20.0**2,
+            length,
+            width,
+            0.2,
+            0.3,
+            speed,
+            2.5,
+            3.0,
+            3.0,
+            4.0,
+        )
+        d2 = ((xy[:, None, :] - centres[None]) ** 2).sum(-1).min(axis=1)
+        vin = np.flatnonzero(~is_ped & (d2 <= 80.0**2))
+        pin = np.flatnonzero(is_ped & (d2 <= 20.0**2))
+        assert got[0].tobytes() == d2.tobytes()
+        assert np.array_equal(got[1], vin) and np.array_equal(got[2], pin)
+        if len(vin) == 0 or len(pin) == 0:
+            assert len(got[3]) == len(got[4]) == 0 and not got[5] and got[6] == np.inf
+            continue
+        reach = 0.5 * np.hypot(length[vin], width[vin]) + 0.2
+        tau_now, tau_acc = pair_time_bounds(
+            np.ascontiguousarray(xy[vin]),
+            np.ascontiguousarray(xy[pin]),
+            reach,
+            0.3,
+            speed[vin],
+            2.5,
+            3.0,
+        )
+        vi, pj = np.nonzero(tau_now <= 3.0)
+        assert np.array_equal(got[3], vin[vi]) and np.array_equal(got[4], pin[pj])
+        assert got[5] == bool((tau_acc <= 4.0).any()) and got[6] == float(tau_acc.min())
