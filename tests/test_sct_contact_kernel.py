@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import shapely
 
 from hiyari.bridge.campaign.sct_scan import zone_scan
 from hiyari.kinematics import footprint_corners, overlap_depth
@@ -18,6 +19,7 @@ from hiyari.risk.metrics.contact import (
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import KerbSegments
+from hiyari.risk.sct.area_kernel import AreaTest, locate_xy
 from hiyari.risk.sct.contact_kernel import (
     first_contacts,
     near_pairs,
@@ -467,3 +469,39 @@ def test_zone_scan_equals_the_numpy_scan():
         vi, pj = np.nonzero(tau_now <= 3.0)
         assert np.array_equal(got[3], vin[vi]) and np.array_equal(got[4], pin[pj])
         assert got[5] == bool((tau_acc <= 4.0).any()) and got[6] == float(tau_acc.min())
+
+
+def test_area_test_equals_shapely_contains_xy():
+    """AreaTest answers as shapely.contains_xy everywhere: inside, outside, on edges and
+    vertices (boundary: not contained), for a polygon with a hole, a multipolygon, a rotated
+    star and an axis-aligned cross like the study's carriageway; GEOS is asked only about
+    points on (or within rounding of) the boundary."""
+    rng = np.random.default_rng(29)
+    star_angle = np.linspace(0, 2 * np.pi, 15, endpoint=False)
+    star_r = np.where(np.arange(15) % 2 == 0, 30.0, 12.0)
+    star = shapely.Polygon(np.stack([star_r * np.cos(star_angle), star_r * np.sin(star_angle)], -1))
+    cross = shapely.union(shapely.box(-40, -3.5, 40, 3.5), shapely.box(-3.5, -40, 3.5, 40))
+    holed = shapely.Polygon(
+        [(-30, -30), (30, -30), (30, 30), (-30, 30)], [[(-10, -10), (10, -10), (0, 15)]]
+    )
+    multi = shapely.MultiPolygon([shapely.box(-30, -30, -5, -5), shapely.box(5, 5, 30, 30)])
+    for area in (star, cross, holed, multi):
+        shapely.prepare(area)
+        test = AreaTest(area)
+        pts = rng.uniform(-45, 45, (4000, 2))
+        ring = shapely.get_coordinates(shapely.get_rings(shapely.get_parts(area)))
+        a, b = ring[:-1], ring[1:]
+        f = rng.uniform(0, 1, (len(a), 1))
+        on_edge = a + f * (b - a)  # on (or within rounding of) an edge
+        pts = np.concatenate([pts, ring, on_edge, on_edge + 1e-13, np.round(pts[:500])])
+        got = test.contains_xy(pts[:, 0], pts[:, 1])
+        want = shapely.contains_xy(area, pts[:, 0], pts[:, 1])
+        assert np.array_equal(got, want)
+        assert 500 < got.sum() < len(pts) - 500
+        asked = locate_xy(pts[:, 0].copy(), pts[:, 1].copy(), *test._rings) < 0
+        assert asked[:4000].sum() <= 2 and asked[4000 : 4000 + len(ring)].all()
+    # shapes of the inputs are kept
+    grid = rng.uniform(-45, 45, (3, 4, 5, 2))
+    got = AreaTest(cross).contains_xy(grid[..., 0], grid[..., 1])
+    assert got.shape == (3, 4, 5)
+    assert np.array_equal(got, shapely.contains_xy(cross, grid[..., 0], grid[..., 1]))

@@ -29,6 +29,7 @@ from hiyari.risk.metrics.contact import (
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
+from hiyari.risk.sct.area_kernel import AreaTest
 from hiyari.risk.sct.contact_kernel import _first_contacts, path_at, project_rows
 from hiyari.risk.sct.pair_kernel import crossing_zones, pair_screen
 from hiyari.traffic.actor_class import ActorClass
@@ -159,6 +160,8 @@ class SCTModel:
         self._segments: dict[int, Segments] = {}  # id(route path) -> its segments
         self._table: tuple[tuple[int, ...], PathTable] | None = None  # the last step's
         self._crossing_index = geometry.crossings.index() if geometry is not None else {}
+        road = self.carriageway
+        self._road = AreaTest(road) if road is not None and not road.is_empty else None
 
     def set_route(self, vehicle: str, edges: tuple[str, ...]) -> None:
         """Register the route (edge ids) ``vehicle`` follows; its path is built from the net."""
@@ -289,17 +292,15 @@ class SCTModel:
         """(n, H, K) bool: track points (n, H, K, 2) inside the carriageway. A track starts at
         the pedestrian (t = 0) and stays there under a zero speed hypothesis or a zero
         predicted velocity (``velocity`` (n, 2)): those points are tested once."""
-        road = self.carriageway
+        road = self._road
         start = tracks[:, 0, 0]
         out = np.empty(tracks.shape[:3], bool)
-        out[:] = shapely.contains_xy(road, start[:, 0], start[:, 1])[:, None, None]
+        out[:] = road.contains_xy(start[:, 0], start[:, 1])[:, None, None]
         rows = np.flatnonzero(velocity.any(axis=1))
         hyp = np.flatnonzero(np.asarray(self.config.speed_factors) != 0)
         if len(rows) and len(hyp):
             pts = tracks[rows[:, None], hyp[None, :], 1:]
-            out[rows[:, None], hyp[None, :], 1:] = shapely.contains_xy(
-                road, pts[..., 0], pts[..., 1]
-            )
+            out[rows[:, None], hyp[None, :], 1:] = road.contains_xy(pts[..., 0], pts[..., 1])
         return out
 
     def _cv_protected(self, view: StepView, prows: np.ndarray, ped_cv: np.ndarray) -> np.ndarray:
@@ -321,7 +322,7 @@ class SCTModel:
             out[reuse] = ~self.exposed(view, slots[reuse])[:, factors.index(1.0)]
         if not reuse.all():
             pts = ped_cv[~reuse]
-            out[~reuse] = ~shapely.contains_xy(road, pts[..., 0], pts[..., 1])
+            out[~reuse] = ~self._road.contains_xy(pts[..., 0], pts[..., 1])
         return out
 
     def pair_metrics(
@@ -383,10 +384,9 @@ class SCTModel:
             slot,
             sct_reach2,
         )
-        road = self.carriageway
-        if road is not None and not road.is_empty:
+        if self._road is not None:
             now = state.xyz[prows, :2]
-            on_road = shapely.contains_xy(road, now[:, 0], now[:, 1])[pinv]
+            on_road = self._road.contains_xy(now[:, 0], now[:, 1])[pinv]
             gap = np.where(on_road, gap, np.inf)
         ttc = np.full(n, np.inf)
         c = np.flatnonzero(near)
