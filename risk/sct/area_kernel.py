@@ -39,12 +39,15 @@ def locate_xy(
             for e in range(ring_start[r], ring_start[r + 1] - 1):
                 x1, y1 = ring_xy[e, 0], ring_xy[e, 1]
                 x2, y2 = ring_xy[e + 1, 0], ring_xy[e + 1, 1]
+                if (y1 > py and y2 > py) or (y1 < py and y2 < py):
+                    continue  # wholly above or below the point's row
                 straddles = (y1 > py) != (y2 > py)  # half-open: one end above, one not
-                in_box = min(x1, x2) <= px <= max(x1, x2) and min(y1, y2) <= py <= max(y1, y2)
-                if not in_box:
-                    if straddles and px < min(x1, x2):
-                        crossings += 1  # the edge is wholly right of the point: the ray hits it
+                if px < min(x1, x2):
+                    crossings += straddles  # wholly right of the point: the ray hits it
                     continue
+                if px > max(x1, x2):
+                    continue
+                # the point lies in the edge's bounding box: on it, or on one side for sure?
                 left = (x1 - px) * (y2 - py)
                 right = (y1 - py) * (x2 - px)
                 det = left - right
