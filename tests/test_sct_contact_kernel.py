@@ -29,7 +29,7 @@ from hiyari.risk.sct.contact_kernel import (
 from hiyari.risk.sct.controller import ramp_profiles, travel
 from hiyari.risk.sct.model import PathTable, Segments
 from hiyari.risk.sct.pair_kernel import crossing_zones
-from hiyari.risk.sct.plan_kernel import stops_on_crossing
+from hiyari.risk.sct.plan_kernel import _ramps, stops_on_crossing
 
 
 def _reference(vxy, vh, length, width, contact, tracks, exposed, a, t, times):
@@ -505,3 +505,14 @@ def test_area_test_equals_shapely_contains_xy():
     got = AreaTest(cross).contains_xy(grid[..., 0], grid[..., 1])
     assert got.shape == (3, 4, 5)
     assert np.array_equal(got, shapely.contains_xy(cross, grid[..., 0], grid[..., 1]))
+
+
+def test_compiled_ramps_equal_ramp_profiles():
+    """The planner's compiled ramps are controller.ramp_profiles bit for bit (libm's pow in
+    both)."""
+    rng = np.random.default_rng(31)
+    a0 = np.concatenate([rng.uniform(-5, 3, 200), [0.0, -3.92, 1.47]])
+    targets = np.array([-0.4, -0.25, -0.1, 0.0, 0.05, 0.15]) * 9.80665
+    times = np.arange(51) * 0.2
+    got = _ramps(a0, targets, times, 3.0)
+    assert got.tobytes() == ramp_profiles(a0, targets, times, 3.0).tobytes()

@@ -25,12 +25,7 @@ import numpy as np
 from hiyari.errors import HiyariError
 from hiyari.risk.sct.contact_kernel import travel_rows, within_reach
 from hiyari.risk.sct.model import SCTModel, StepView
-from hiyari.risk.sct.plan_kernel import (
-    candidate_cushions,
-    free_contacts,
-    free_screen,
-    stops_on_crossing,
-)
+from hiyari.risk.sct.plan_kernel import decide_speeds
 from hiyari.traffic.commands import Commands
 from hiyari.units import G
 
@@ -173,145 +168,60 @@ class SCTController:
         vehicle's plan depends only on its own pedestrians, as if planned alone.
         """
         cfg, model = self.config, self.model
-        state = view.state
-        times = model.times
-        dt = float(times[1] - times[0])
-        out = np.full(len(rows), np.nan)
+        state, times = view.state, model.times
         if len(rows) == 0 or len(view.ped_rows) == 0:
-            return out
-        v0, a0 = state.speed[rows], state.accel[rows]
-        v_max = np.maximum(v_max, v0)
-        table, slot = view.table, view.veh_slot[rows]
-        seg = table.seg
-        paths = (table.cum, table.count, table.first, seg.start, seg.unit, seg.cum_start)
+            return np.full(len(rows), np.nan)
+        v0 = state.speed[rows]
+        table, seg = view.table, view.table.seg
         contact = model.config.contact
         margin, radius = contact.vehicle_margin, contact.pedestrian_radius
         length, width = state.length[rows], state.width[rows]
-        reach = np.hypot(0.5 * length + margin, 0.5 * width + margin) + radius + 1e-6
-        # the vehicle's own driver at its most demanding: full acceleration to its allowed
-        # speed; the pedestrians near that track, and the vehicles that may touch one of them
-        # (a vehicle not engaged only before sct_safe, see near_pairs)
-        xy, vcos, vsin, near, may = free_screen(
+        half_x, half_y = 0.5 * length + margin, 0.5 * width + margin
+        # near_pairs' reach: circumscribed circle, disc and slack
+        reach = np.hypot(half_x, half_y) + radius + 1e-6
+        areas = model.geometry.crossings if model.geometry is not None else None
+        if areas is None or len(areas) == 0:
+            areas_reach, centre, corners = np.zeros(0), np.zeros((0, 2)), np.zeros((0, 4, 2))
+        else:
+            areas_reach = np.hypot(areas.half_length, areas.half_width)
+            centre, corners = areas.centre, areas.corners
+        return decide_speeds(
             v0,
-            v_max,
+            state.accel[rows],
+            np.maximum(v_max, v0),
             np.asarray(a_free, float),
-            dt,
-            view.s0,
-            slot,
-            *paths,
-            seg.cos,
-            seg.sin,
-            np.ascontiguousarray(state.xyz[view.ped_rows, :2]),
-            cfg.act_distance**2,
-            view.tracks,
-            reach * reach,
-            min(int(np.searchsorted(times, cfg.sct_safe)) + 1, len(times)),
             engaged,
-        )
-        keep = np.flatnonzero(may)
-        if len(keep) == 0:
-            return out
-        slots = np.flatnonzero(near.any(axis=0))
-        # every pedestrian speed hypothesis as its own track: (P * H, K, 2)
-        h = len(model.config.speed_factors)
-        ped = view.tracks[slots].reshape(-1, len(times), 2)
-        exposed = model.exposed(view, slots).reshape(len(ped), len(times))
-        mine = np.repeat(near[keep][:, slots], h, axis=1)  # (V, P * H): each vehicle's tracks
-        half_x = 0.5 * length[keep] + margin
-        half_y = 0.5 * width[keep] + margin
-        engaged = engaged[keep]
-        plan, apart = free_contacts(
-            xy[keep],
-            vcos[keep],
-            vsin[keep],
+            view.veh_slot[rows],
+            length,
+            width,
+            reach * reach,
             half_x,
             half_y,
             radius,
-            ped,
-            exposed,
-            mine,
-            times,
-            cfg.sct_safe,
-            engaged,
-        )
-        w = np.flatnonzero(plan)
-        if len(w) == 0:
-            return out
-        k = keep[w]
-        accel = ramp_profiles(a0[k], self._targets, times, cfg.jerk_limit)  # (W, C, K)
-        v, end_xy, end_seg, sct = candidate_cushions(
-            accel,
-            v0[k],
-            v_max[k],
-            dt,
-            cfg.stop_speed,
             view.s0,
-            slot[k],
-            *paths,
+            table.cum,
+            table.count,
+            table.first,
+            seg.start,
+            seg.unit,
+            seg.cum_start,
             seg.cos,
             seg.sin,
-            half_x[w],
-            half_y[w],
-            radius,
-            ped,
-            exposed,
-            apart[w],
+            np.ascontiguousarray(state.xyz[view.ped_rows, :2]),
+            view.tracks,
+            view.exposed,
             times,
-        )
-        blocks = self._stops_on_crossing(
-            end_xy, seg.cos[end_seg], seg.sin[end_seg], v[:, :, -1], length[k], width[k]
-        )
-        # keep crossings clear: never plan to stop on one (unless every plan does)
-        sct = np.where(blocks & ~blocks.all(axis=1, keepdims=True), -1.0, sct)
-        out[k] = v[np.arange(len(w)), self._pick(sct), 1]
-        return out
-
-    def _pick(self, sct: np.ndarray) -> np.ndarray:
-        """(W,) the candidate each vehicle drives, from SCTs (W, C) of its candidates.
-
-        Once the cushion is threatened: no contact within the horizon if possible (a plan that
-        merely postpones contact beyond sct_safe creeps towards a waiting pedestrian step by
-        step), the mildest such; else the mildest with a cushion of at least sct_safe; else
-        the largest cushion, braking hardest among equals."""
-        ordered = sct[:, self._order]
-        clear = np.isinf(ordered)
-        ok = ordered >= self.config.sct_safe
-        best = sct == sct.max(axis=1, keepdims=True)
-        hardest = np.argmin(np.where(best, self._targets, np.inf), axis=1)
-        return np.where(
-            clear.any(axis=1),
-            self._order[np.argmax(clear, axis=1)],
-            np.where(ok.any(axis=1), self._order[np.argmax(ok, axis=1)], hardest),
-        )
-
-    def _stops_on_crossing(
-        self,
-        xy: np.ndarray,
-        cos: np.ndarray,
-        sin: np.ndarray,
-        v_end: np.ndarray,
-        length: np.ndarray,
-        width: np.ndarray,
-    ) -> np.ndarray:
-        """(W, C) bool: candidates (end centres ``xy`` (W, C, 2), heading cosine / sine (W, C),
-        speed ``v_end`` (W, C)) that end stopped with the vehicle (``length``, ``width`` (W,)
-        m) over a crossing (plan_kernel.stops_on_crossing)."""
-        areas = self.model.geometry.crossings if self.model.geometry is not None else None
-        if areas is None or len(areas) == 0 or not (v_end <= 0.0).any():
-            return np.zeros(v_end.shape, bool)
-        # only crossings within reach of the rectangle can overlap it (bounding circles, with
-        # a margin far above rounding: disjoint convex shapes have a separating edge axis)
-        return stops_on_crossing(
-            xy,
-            cos,
-            sin,
-            v_end,
-            length,
-            width,
+            cfg.act_distance**2,
+            min(int(np.searchsorted(times, cfg.sct_safe)) + 1, len(times)),
+            cfg.sct_safe,
+            self._targets,
+            self._order,
+            cfg.jerk_limit,
+            cfg.stop_speed,
             0.5 * np.hypot(length, width),
-            np.hypot(areas.half_length, areas.half_width),
-            areas.centre,
-            areas.corners,
+            areas_reach,
+            centre,
+            corners,
         )
 
     def step(self, sim: Commands, view: StepView, present: set[str] | None = None) -> None:

@@ -15,7 +15,7 @@ same operands), so batching changes no result.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
@@ -236,9 +236,10 @@ class SCTModel:
             tracks = pedestrian_tracks(
                 state.xyz[ped, :2], vel, self.config.speed_factors, self.times
             )
+            exposed = self._exposed(tracks, vel)
         else:
             vel, dart = np.full((len(ped), 2), np.nan), np.zeros(len(ped), bool)
-            tracks = None
+            tracks = exposed = None
         veh = np.flatnonzero(~is_ped)
         paths = [self.path_of(state, r) for r in veh.tolist()]
         table = self._path_table(paths)
@@ -248,7 +249,19 @@ class SCTModel:
         veh_slot = np.full(len(state), -1)
         veh_slot[veh] = np.arange(len(veh))
         return StepView(
-            state, veh, paths, s0, veh_slot, ped, vel, dart, crossing, ped_slot, table, tracks
+            state,
+            veh,
+            paths,
+            s0,
+            veh_slot,
+            ped,
+            vel,
+            dart,
+            crossing,
+            ped_slot,
+            table,
+            tracks,
+            exposed,
         )
 
     def vehicle_poses(
@@ -273,20 +286,15 @@ class SCTModel:
 
     def exposed(self, view: StepView, slots: np.ndarray) -> np.ndarray:
         """(n, H, K) bool: the predicted track points of pedestrian slots ``slots`` (n,) that
-        lie on the carriageway (all True without one). Computed once per pedestrian and step."""
-        road = self.carriageway
-        if road is None or road.is_empty:
-            return np.ones((len(slots), *view.tracks.shape[1:3]), bool)
-        if view.exposed_cache is None:
-            view.exposed_cache = np.zeros(view.tracks.shape[:3], bool)
-            view.exposed_done = np.zeros(len(view.tracks), bool)
-        need = np.zeros(len(view.tracks), bool)
-        need[slots] = True
-        todo = np.flatnonzero(need & ~view.exposed_done)
-        if len(todo):
-            view.exposed_cache[todo] = self._on_road(view.tracks[todo], view.ped_velocity[todo])
-            view.exposed_done[todo] = True
-        return view.exposed_cache[slots]
+        lie on the carriageway (all True without one)."""
+        return view.exposed[slots]
+
+    def _exposed(self, tracks: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+        """(P, H, K) bool: the track points (P, H, K, 2) on the carriageway (all True without
+        one), once per step for every pedestrian of the view."""
+        if self._road is None:
+            return np.ones(tracks.shape[:3], bool)
+        return self._on_road(tracks, velocity)
 
     def _on_road(self, tracks: np.ndarray, velocity: np.ndarray) -> np.ndarray:
         """(n, H, K) bool: track points (n, H, K, 2) inside the carriageway. A track starts at
@@ -493,8 +501,9 @@ def _distinct(rows: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
 class StepView:
     """Per-step shared values: vehicle rows with their paths, path table and arc lengths (m),
     pedestrian rows with predicted velocities (m/s), dart-out flags, crossing index (-1: not
-    on a crossing) and predicted tracks (P, H, K, 2) m (None when not predicted); ``*_slot``
-    map a state row to its index in these lists."""
+    on a crossing), predicted tracks (P, H, K, 2) m and whether each track point is on the
+    carriageway (P, H, K) (both None when not predicted); ``*_slot`` map a state row to its
+    index in these lists."""
 
     state: WorldState
     veh_rows: np.ndarray
@@ -508,5 +517,4 @@ class StepView:
     ped_slot: np.ndarray
     table: PathTable
     tracks: np.ndarray | None
-    exposed_cache: np.ndarray | None = field(default=None, repr=False)
-    exposed_done: np.ndarray | None = field(default=None, repr=False)
+    exposed: np.ndarray | None

@@ -291,3 +291,149 @@ def _overlap_depth(qa: np.ndarray, qb: np.ndarray) -> float:
             lo_b, hi_b = min(lo_b, pb), max(hi_b, pb)
         depth = min(depth, min(hi_a, hi_b) - max(lo_a, lo_b))
     return depth
+
+
+@njit(cache=True)
+def _ramps(a0: np.ndarray, targets: np.ndarray, times: np.ndarray, jerk: float) -> np.ndarray:
+    """controller.ramp_profiles per scalar: (W, C, K) m/s^2."""
+    out = np.empty((len(a0), len(targets), len(times)))
+    for w in range(len(a0)):
+        for c in range(len(targets)):
+            delta = targets[c] - a0[w]
+            ramp = max(3.0 * abs(delta) / jerk, 1e-6)
+            for k in range(len(times)):
+                tau = min(times[k] / ramp, 1.0)
+                out[w, c, k] = targets[c] - delta * (1.0 - tau) ** 3.0
+    return out
+
+
+@njit(cache=True)
+def _pick(sct: np.ndarray, targets: np.ndarray, order: np.ndarray, sct_safe: float) -> np.ndarray:
+    """SCTController._pick per vehicle: the first candidate in ``order`` (mildest first) with
+    no contact, else the first with SCT >= ``sct_safe``, else the hardest braking among the
+    largest SCT."""
+    n_w, n_c = sct.shape
+    out = np.empty(n_w, np.int64)
+    for w in range(n_w):
+        pick = -1
+        for c in order:
+            if np.isinf(sct[w, c]):
+                pick = c
+                break
+        if pick < 0:
+            for c in order:
+                if sct[w, c] >= sct_safe:
+                    pick = c
+                    break
+        if pick < 0:
+            best = sct[w].max()
+            low = np.inf
+            for c in range(n_c):
+                if sct[w, c] == best and targets[c] < low:
+                    low, pick = targets[c], c
+            pick = max(pick, 0)  # all-NaN SCT: argmin of all-inf targets is 0
+        out[w] = pick
+    return out
+
+
+@njit(cache=True)
+def decide_speeds(
+    v0: np.ndarray,
+    a0: np.ndarray,
+    v_max: np.ndarray,
+    a_free: np.ndarray,
+    engaged: np.ndarray,
+    slot: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    reach2: np.ndarray,
+    half_x: np.ndarray,
+    half_y: np.ndarray,
+    radius: float,
+    s0: np.ndarray,
+    cum: np.ndarray,
+    count: np.ndarray,
+    first: np.ndarray,
+    start: np.ndarray,
+    unit: np.ndarray,
+    cum_start: np.ndarray,
+    seg_cos: np.ndarray,
+    seg_sin: np.ndarray,
+    ped_now: np.ndarray,
+    tracks: np.ndarray,
+    exposed: np.ndarray,
+    times: np.ndarray,
+    act2: float,
+    upto: int,
+    sct_safe: float,
+    targets: np.ndarray,
+    order: np.ndarray,
+    jerk: float,
+    stop_speed: float,
+    veh_reach: np.ndarray,
+    area_reach: np.ndarray,
+    area_centre: np.ndarray,
+    area_corners: np.ndarray,
+) -> np.ndarray:
+    """SCTController.decide's planning for V vehicles in one pass: (V,) speeds (m/s) for the
+    next step, NaN where the vehicle is left to its own driver. The steps and operands of
+    free_screen, free_contacts, ramp_profiles, candidate_cushions, stops_on_crossing and _pick,
+    in that order (see SCTController.decide); pedestrians' tracks (P, H, K, 2) with their
+    carriageway flags (P, H, K)."""
+    dt = times[1] - times[0]
+    out = np.full(len(v0), np.nan)
+    xy, vcos, vsin, near, may = free_screen(
+        v0, v_max, a_free, dt, s0, slot, cum, count, first, start, unit, cum_start,
+        seg_cos, seg_sin, ped_now, act2, tracks, reach2, upto, engaged,
+    )  # fmt: skip
+    keep = np.flatnonzero(may)
+    if len(keep) == 0:
+        return out
+    n_p, n_h, k_count = tracks.shape[0], tracks.shape[1], tracks.shape[2]
+    slots = np.array([p for p in range(n_p) if near[:, p].any()], np.int64)
+    ped = np.empty((len(slots) * n_h, k_count, 2))
+    ped_exposed = np.empty((len(slots) * n_h, k_count), np.bool_)
+    for i in range(len(slots)):
+        ped[i * n_h : (i + 1) * n_h] = tracks[slots[i]]
+        ped_exposed[i * n_h : (i + 1) * n_h] = exposed[slots[i]]
+    mine = np.empty((len(keep), len(slots) * n_h), np.bool_)
+    for a in range(len(keep)):
+        for i in range(len(slots)):
+            mine[a, i * n_h : (i + 1) * n_h] = near[keep[a], slots[i]]
+    hx, hy = half_x[keep], half_y[keep]
+    plan, apart = free_contacts(
+        xy[keep], vcos[keep], vsin[keep], hx, hy, radius, ped, ped_exposed, mine, times,
+        sct_safe, engaged[keep],
+    )  # fmt: skip
+    w = np.flatnonzero(plan)
+    if len(w) == 0:
+        return out
+    k = keep[w]
+    accel = _ramps(a0[k], targets, times, jerk)
+    v, end_xy, end_seg, sct = candidate_cushions(
+        accel, v0[k], v_max[k], dt, stop_speed, s0, slot[k], cum, count, first, start, unit,
+        cum_start, seg_cos, seg_sin, hx[w], hy[w], radius, ped, ped_exposed, apart[w], times,
+    )  # fmt: skip
+    n_c = len(targets)
+    v_end = v[:, :, k_count - 1].copy()
+    if len(area_centre) and (v_end <= 0.0).any():
+        end_cos = np.empty((len(w), n_c))
+        end_sin = np.empty((len(w), n_c))
+        for a in range(len(w)):
+            for c in range(n_c):
+                end_cos[a, c] = seg_cos[end_seg[a, c]]
+                end_sin[a, c] = seg_sin[end_seg[a, c]]
+        blocks = stops_on_crossing(
+            end_xy, end_cos, end_sin, v_end, length[k], width[k], veh_reach[k], area_reach,
+            area_centre, area_corners,
+        )  # fmt: skip
+        # keep crossings clear: never plan to stop on one (unless every plan does)
+        for a in range(len(w)):
+            if not blocks[a].all():
+                for c in range(n_c):
+                    if blocks[a, c]:
+                        sct[a, c] = -1.0
+    pick = _pick(sct, targets, order, sct_safe)
+    for a in range(len(w)):
+        out[k[a]] = v[a, pick[a], 1]
+    return out
