@@ -494,15 +494,15 @@ def test_area_test_equals_shapely_contains_xy():
         f = rng.uniform(0, 1, (len(a), 1))
         on_edge = a + f * (b - a)  # on (or within rounding of) an edge
         pts = np.concatenate([pts, ring, on_edge, on_edge + 1e-13, np.round(pts[:500])])
-        got = test.contains_xy(pts[:, 0], pts[:, 1])
+        got = test.contains(pts)
         want = shapely.contains_xy(area, pts[:, 0], pts[:, 1])
         assert np.array_equal(got, want)
         assert 500 < got.sum() < len(pts) - 500
-        asked = locate_xy(pts[:, 0].copy(), pts[:, 1].copy(), *test._rings) < 0
+        asked = locate_xy(pts, *test._rings) < 0
         assert asked[:4000].sum() <= 2 and asked[4000 : 4000 + len(ring)].all()
     # shapes of the inputs are kept
     grid = rng.uniform(-45, 45, (3, 4, 5, 2))
-    got = AreaTest(cross).contains_xy(grid[..., 0], grid[..., 1])
+    got = AreaTest(cross).contains(grid)
     assert got.shape == (3, 4, 5)
     assert np.array_equal(got, shapely.contains_xy(cross, grid[..., 0], grid[..., 1]))
 

@@ -24,15 +24,13 @@ _CCW_ERROR = (3.0 + 16.0 * 2.0**-53) * 2.0**-53
 
 
 @njit(cache=True)
-def locate_xy(
-    x: np.ndarray, y: np.ndarray, ring_xy: np.ndarray, ring_start: np.ndarray
-) -> np.ndarray:
-    """(n,) int8 per point (``x``, ``y`` (n,) m): 1 inside the area bounded by the closed
+def locate_xy(points: np.ndarray, ring_xy: np.ndarray, ring_start: np.ndarray) -> np.ndarray:
+    """(n,) int8 per point (``points`` (n, 2) m): 1 inside the area bounded by the closed
     rings (``ring_xy`` (E, 2), ring r's vertices ``ring_start[r]`` .. ``ring_start[r+1] -
     1``, first = last), 0 outside, -1 undecided (on the boundary or within rounding of it)."""
-    out = np.empty(len(x), np.int8)
-    for i in range(len(x)):
-        px, py = x[i], y[i]
+    out = np.empty(len(points), np.int8)
+    for i in range(len(points)):
+        px, py = points[i, 0], points[i, 1]
         crossings = 0
         undecided = False
         for r in range(len(ring_start) - 1):
@@ -75,16 +73,14 @@ class AreaTest:
             start = np.cumsum([0] + [len(c) for c in coords])
             self._rings = (np.ascontiguousarray(np.concatenate(coords)), start.astype(np.int64))
 
-    def contains_xy(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """Bool array (shape of ``x``): the points strictly inside the area."""
+    def contains(self, points: np.ndarray) -> np.ndarray:
+        """(...) bool: the ``points`` (..., 2) m strictly inside the area."""
         if self._rings is None:
-            return shapely.contains_xy(self.area, x, y)
-        shape = np.shape(x)
-        fx = np.ascontiguousarray(x, float).reshape(-1)
-        fy = np.ascontiguousarray(y, float).reshape(-1)
-        where = locate_xy(fx, fy, *self._rings)
+            return shapely.contains_xy(self.area, points[..., 0], points[..., 1])
+        flat = np.ascontiguousarray(points, float).reshape(-1, 2)
+        where = locate_xy(flat, *self._rings)
         out = where == 1
         ask = np.flatnonzero(where < 0)
         if len(ask):
-            out[ask] = shapely.contains_xy(self.area, fx[ask], fy[ask])
-        return out.reshape(shape)
+            out[ask] = shapely.contains_xy(self.area, flat[ask, 0], flat[ask, 1])
+        return out.reshape(points.shape[:-1])

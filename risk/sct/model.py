@@ -236,7 +236,7 @@ class SCTModel:
             tracks = pedestrian_tracks(
                 state.xyz[ped, :2], vel, self.config.speed_factors, self.times
             )
-            exposed = self._exposed(tracks, vel)
+            exposed = self._exposed(tracks)
         else:
             vel, dart = np.full((len(ped), 2), np.nan), np.zeros(len(ped), bool)
             tracks = exposed = None
@@ -289,27 +289,12 @@ class SCTModel:
         lie on the carriageway (all True without one)."""
         return view.exposed[slots]
 
-    def _exposed(self, tracks: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+    def _exposed(self, tracks: np.ndarray) -> np.ndarray:
         """(P, H, K) bool: the track points (P, H, K, 2) on the carriageway (all True without
         one), once per step for every pedestrian of the view."""
         if self._road is None:
             return np.ones(tracks.shape[:3], bool)
-        return self._on_road(tracks, velocity)
-
-    def _on_road(self, tracks: np.ndarray, velocity: np.ndarray) -> np.ndarray:
-        """(n, H, K) bool: track points (n, H, K, 2) inside the carriageway. A track starts at
-        the pedestrian (t = 0) and stays there under a zero speed hypothesis or a zero
-        predicted velocity (``velocity`` (n, 2)): those points are tested once."""
-        road = self._road
-        start = tracks[:, 0, 0]
-        out = np.empty(tracks.shape[:3], bool)
-        out[:] = road.contains_xy(start[:, 0], start[:, 1])[:, None, None]
-        rows = np.flatnonzero(velocity.any(axis=1))
-        hyp = np.flatnonzero(np.asarray(self.config.speed_factors) != 0)
-        if len(rows) and len(hyp):
-            pts = tracks[rows[:, None], hyp[None, :], 1:]
-            out[rows[:, None], hyp[None, :], 1:] = road.contains_xy(pts[..., 0], pts[..., 1])
-        return out
+        return self._road.contains(tracks)
 
     def _cv_protected(self, view: StepView, prows: np.ndarray, ped_cv: np.ndarray) -> np.ndarray:
         """(n, K) bool: constant-velocity track points ``ped_cv`` (n, K, 2) of pedestrian rows
@@ -330,7 +315,7 @@ class SCTModel:
             out[reuse] = ~self.exposed(view, slots[reuse])[:, factors.index(1.0)]
         if not reuse.all():
             pts = ped_cv[~reuse]
-            out[~reuse] = ~self._road.contains_xy(pts[..., 0], pts[..., 1])
+            out[~reuse] = ~self._road.contains(pts)
         return out
 
     def pair_metrics(
@@ -394,7 +379,7 @@ class SCTModel:
         )
         if self._road is not None:
             now = state.xyz[prows, :2]
-            on_road = self._road.contains_xy(now[:, 0], now[:, 1])[pinv]
+            on_road = self._road.contains(now)[pinv]
             gap = np.where(on_road, gap, np.inf)
         ttc = np.full(n, np.inf)
         c = np.flatnonzero(near)
