@@ -493,7 +493,8 @@ def test_area_test_equals_shapely_contains_xy():
         a, b = ring[:-1], ring[1:]
         f = rng.uniform(0, 1, (len(a), 1))
         on_edge = a + f * (b - a)  # on (or within rounding of) an edge
-        pts = np.concatenate([pts, ring, on_edge, on_edge + 1e-13, np.round(pts[:500])])
+        level = np.stack([rng.uniform(-45, 45, len(ring)), ring[:, 1]], -1)  # vertex rows
+        pts = np.concatenate([pts, ring, on_edge, on_edge + 1e-13, np.round(pts[:500]), level])
         got = test.contains(pts)
         want = shapely.contains_xy(area, pts[:, 0], pts[:, 1])
         assert np.array_equal(got, want)

@@ -24,39 +24,86 @@ _CCW_ERROR = (3.0 + 16.0 * 2.0**-53) * 2.0**-53
 
 
 @njit(cache=True)
-def locate_xy(points: np.ndarray, ring_xy: np.ndarray, ring_start: np.ndarray) -> np.ndarray:
+def _side(px: float, py: float, x1: float, y1: float, x2: float, y2: float) -> int:
+    """For a point in the bounding box of edge (x1, y1) -> (x2, y2): 1 left of it, -1 right,
+    0 undecided (on it, or too near for the floating-point orientation to be sure)."""
+    left = (x1 - px) * (y2 - py)
+    right = (y1 - py) * (x2 - px)
+    det = left - right
+    if abs(det) <= _CCW_ERROR * (abs(left) + abs(right)):
+        return 0
+    return 1 if det > 0.0 else -1
+
+
+@njit(cache=True)
+def _locate_rings(px: float, py: float, ring_xy: np.ndarray, ring_start: np.ndarray) -> int:
+    """locate_xy of one point over every edge of the rings."""
+    crossings = 0
+    for r in range(len(ring_start) - 1):
+        for e in range(ring_start[r], ring_start[r + 1] - 1):
+            x1, y1 = ring_xy[e, 0], ring_xy[e, 1]
+            x2, y2 = ring_xy[e + 1, 0], ring_xy[e + 1, 1]
+            if (y1 > py and y2 > py) or (y1 < py and y2 < py):
+                continue  # wholly above or below the point's row
+            straddles = (y1 > py) != (y2 > py)  # half-open: one end above, one not
+            if px < min(x1, x2):
+                crossings += straddles  # wholly right of the point: the ray hits it
+                continue
+            if px > max(x1, x2):
+                continue
+            side = _side(px, py, x1, y1, x2, y2)
+            if side == 0:
+                return -1
+            if straddles and (side > 0) == (y2 > y1):
+                crossings += 1  # left of an upward edge or right of a downward one
+    return crossings & 1
+
+
+@njit(cache=True)
+def locate_xy(
+    points: np.ndarray,
+    ring_xy: np.ndarray,
+    ring_start: np.ndarray,
+    slab_y: np.ndarray,
+    slab_start: np.ndarray,
+    slab_edges: np.ndarray,
+) -> np.ndarray:
     """(n,) int8 per point (``points`` (n, 2) m): 1 inside the area bounded by the closed
     rings (``ring_xy`` (E, 2), ring r's vertices ``ring_start[r]`` .. ``ring_start[r+1] -
-    1``, first = last), 0 outside, -1 undecided (on the boundary or within rounding of it)."""
+    1``, first = last), 0 outside, -1 undecided (on the boundary or within rounding of it).
+
+    A point strictly between two consecutive vertex ordinates ``slab_y`` meets only the
+    edges spanning that slab (``slab_edges[slab_start[s]:slab_start[s + 1]]``, indices into
+    ``ring_xy`` of each edge's first vertex); a point at a vertex ordinate is counted over
+    every edge."""
     out = np.empty(len(points), np.int8)
+    top = len(slab_y) - 1
     for i in range(len(points)):
         px, py = points[i, 0], points[i, 1]
+        if not slab_y[0] <= py <= slab_y[top]:
+            out[i] = 0  # above or below every edge
+            continue
+        s = np.searchsorted(slab_y, py)
+        if slab_y[s] == py:
+            out[i] = _locate_rings(px, py, ring_xy, ring_start)
+            continue
         crossings = 0
-        undecided = False
-        for r in range(len(ring_start) - 1):
-            for e in range(ring_start[r], ring_start[r + 1] - 1):
-                x1, y1 = ring_xy[e, 0], ring_xy[e, 1]
-                x2, y2 = ring_xy[e + 1, 0], ring_xy[e + 1, 1]
-                if (y1 > py and y2 > py) or (y1 < py and y2 < py):
-                    continue  # wholly above or below the point's row
-                straddles = (y1 > py) != (y2 > py)  # half-open: one end above, one not
-                if px < min(x1, x2):
-                    crossings += straddles  # wholly right of the point: the ray hits it
-                    continue
-                if px > max(x1, x2):
-                    continue
-                # the point lies in the edge's bounding box: on it, or on one side for sure?
-                left = (x1 - px) * (y2 - py)
-                right = (y1 - py) * (x2 - px)
-                det = left - right
-                if abs(det) <= _CCW_ERROR * (abs(left) + abs(right)):
-                    undecided = True
-                    break
-                if straddles and (det > 0.0) == (y2 > y1):
-                    crossings += 1  # left of an upward edge or right of a downward one
-            if undecided:
+        for j in range(slab_start[s - 1], slab_start[s]):
+            e = slab_edges[j]
+            x1, y1 = ring_xy[e, 0], ring_xy[e, 1]
+            x2, y2 = ring_xy[e + 1, 0], ring_xy[e + 1, 1]
+            if px < min(x1, x2):
+                crossings += 1  # spans the row, wholly right of the point
+                continue
+            if px > max(x1, x2):
+                continue
+            side = _side(px, py, x1, y1, x2, y2)
+            if side == 0:
+                crossings = -1
                 break
-        out[i] = -1 if undecided else crossings & 1
+            if (side > 0) == (y2 > y1):
+                crossings += 1
+        out[i] = -1 if crossings < 0 else crossings & 1
     return out
 
 
@@ -66,12 +113,13 @@ class AreaTest:
 
     def __init__(self, area: shapely.Geometry) -> None:
         self.area = area
-        self._rings: tuple[np.ndarray, np.ndarray] | None = None
+        self._rings: tuple[np.ndarray, ...] | None = None
         if shapely.get_type_id(area) in (3, 6) and not area.is_empty and shapely.is_valid(area):
             rings = shapely.get_rings(shapely.get_parts(area))
             coords = [shapely.get_coordinates(r) for r in rings]
             start = np.cumsum([0] + [len(c) for c in coords])
-            self._rings = (np.ascontiguousarray(np.concatenate(coords)), start.astype(np.int64))
+            xy = np.ascontiguousarray(np.concatenate(coords))
+            self._rings = (xy, start.astype(np.int64), *_slabs(xy, start))
 
     def contains(self, points: np.ndarray) -> np.ndarray:
         """(...) bool: the ``points`` (..., 2) m strictly inside the area."""
@@ -84,3 +132,17 @@ class AreaTest:
         if len(ask):
             out[ask] = shapely.contains_xy(self.area, flat[ask, 0], flat[ask, 1])
         return out.reshape(points.shape[:-1])
+
+
+def _slabs(xy: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rings' vertex ordinates (sorted, distinct) and, per slab between two of them, the
+    edges (index of their first vertex) spanning it, in CSR form."""
+    first = np.concatenate(
+        [np.arange(a, b - 1) for a, b in zip(start[:-1], start[1:], strict=True)]
+    )
+    y1, y2 = xy[first, 1], xy[first + 1, 1]
+    low, high = np.minimum(y1, y2), np.maximum(y1, y2)
+    slab_y = np.unique(xy[:, 1])
+    spans = (low[None, :] <= slab_y[:-1, None]) & (high[None, :] >= slab_y[1:, None])  # (S, E)
+    slab_start = np.concatenate([[0], np.cumsum(spans.sum(axis=1))]).astype(np.int64)
+    return slab_y, slab_start, first[np.nonzero(spans)[1]].astype(np.int64)
