@@ -164,7 +164,7 @@ class SCTController:
         would bring SCT below sct_safe, and hands back only once that predicts no contact at
         all within the horizon: in between, handing back would let the own driver speed up
         towards the pedestrian and the two drivers would alternate. All vehicles and
-        pedestrians are planned together (one set of array operations per step); each
+        pedestrians are planned together (one compiled pass, plan_kernel.decide_speeds); each
         vehicle's plan depends only on its own pedestrians, as if planned alone.
         """
         cfg, model = self.config, self.model

@@ -4,11 +4,12 @@ Glue between WorldState rows and the metrics in hiyari.risk.metrics.contact: it 
 vehicle's route path (registered by the caller, who knows the routes) and turns the current
 state into predicted vehicle poses and pedestrian velocities.
 
-Every step's work is batched over all vehicles and pedestrians in the view (a fixed number of
-numpy calls per step, whatever the number of pairs): the vehicles' paths are sampled from one
-table of their segments (per-segment values computed once per route), and the pedestrians'
-predicted tracks and whether each track point is on the carriageway are computed once per
-step and shared by the metrics and the controller. The values are exactly those of sampling
+Every step's work is batched over all vehicles and pedestrians in the view (a few compiled
+passes per step, whatever the number of pairs: pair_kernel, plan_kernel, area_kernel): the
+vehicles' paths are sampled from one table of their segments (per-segment values, headings'
+cosine and sine included, computed once per route), and the pedestrians' predicted tracks and
+whether each track point is on the carriageway are computed once per step and shared by the
+metrics and the controller. The values are exactly those of sampling
 each vehicle's hiyari.risk.metrics.contact.Path on its own (the same float operations on the
 same operands), so batching changes no result.
 """
