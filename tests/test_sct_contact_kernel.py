@@ -1,4 +1,5 @@
-"""The compiled SCT kernels (first contact, path sampling, dart-out kerbs) equal numpy bit for bit."""
+"""The compiled SCT kernels (first contact, path sampling, dart-out kerbs, conflict zones, crossing
+stops, study scan, carriageway test, ramps) equal numpy / shapely bit for bit."""
 
 from __future__ import annotations
 
