@@ -1,20 +1,26 @@
-"""The compiled SCT kernels (first contact, path sampling, dart-out kerbs) equal numpy bit for bit."""
+"""The compiled SCT kernels (first contact, path sampling, dart-out kerbs, conflict zones, crossing
+stops, study scan, carriageway test, ramps) equal numpy / shapely bit for bit."""
 
 from __future__ import annotations
 
 import math
 
 import numpy as np
+import shapely
 
+from hiyari.bridge.campaign.sct_scan import zone_scan
+from hiyari.kinematics import footprint_corners, overlap_depth
 from hiyari.risk.metrics.contact import (
     ContactGeometry,
     Path,
     SCTConfig,
     contact_gap,
+    crossing_conflict,
     first_contact_time,
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import KerbSegments
+from hiyari.risk.sct.area_kernel import AreaTest, locate_xy
 from hiyari.risk.sct.contact_kernel import (
     first_contacts,
     near_pairs,
@@ -23,6 +29,8 @@ from hiyari.risk.sct.contact_kernel import (
 )
 from hiyari.risk.sct.controller import ramp_profiles, travel
 from hiyari.risk.sct.model import PathTable, Segments
+from hiyari.risk.sct.pair_kernel import crossing_zones
+from hiyari.risk.sct.plan_kernel import _ramps, stops_on_crossing
 
 
 def _reference(vxy, vh, length, width, contact, tracks, exposed, a, t, times):
@@ -303,3 +311,210 @@ def test_within_reach_equals_numpy():
     gap = np.linalg.norm(vxy[:, None] - pxy[None], axis=2) - reach[:, None] - 0.3
     ref = (gap <= (speed[:, None] + ped_speed[None]) * 4.0 + 0.5 * 3.0 * 4.0 * 4.0).any(axis=1)
     assert 5 < ref.sum() < 35 and np.array_equal(out, ref)
+
+
+def test_crossing_zones_equal_crossing_conflict():
+    """The compiled conflict-zone occupancy equals contact.crossing_conflict per vehicle:
+    paths crossing the crossings' lines at all angles (parallel ones too), pedestrians on,
+    beside and beyond the crossings, vehicles before, in and past the zones."""
+    rng = np.random.default_rng(11)
+    paths = []
+    for n in (2, 6, 30):
+        angle = rng.uniform(-np.pi, np.pi) + np.cumsum(rng.normal(0, 0.15, n))
+        steps = rng.uniform(1.0, 5.0, (n, 1)) * np.stack([np.cos(angle), np.sin(angle)], -1)
+        paths.append(Path.of(np.cumsum(steps, axis=0) - 20.0))
+    paths.append(Path.of(np.array([[-30.0, 0.0], [30.0, 0.0]])))  # parallel to some crossings
+    table = PathTable.of([Segments.of(p) for p in paths])
+    n = 400
+    vslot = rng.integers(0, len(paths), n)
+    s_vehicle = rng.uniform(-5, 80, n)
+    length, width = rng.uniform(3.5, 5.5, n), rng.uniform(1.6, 2.1, n)
+    theta = rng.uniform(-np.pi, np.pi, n)
+    theta[:40] = 0.0  # along the straight path: det 0
+    direction = np.stack([np.cos(theta), np.sin(theta)], -1)
+    # crossings through a point of the vehicle's path (most), pedestrians along them
+    on_path = np.array([paths[v].at(rng.uniform(0, paths[v].cum[-1]))[0] for v in vslot])
+    centre = on_path + rng.normal(0, 1.5, (n, 2))
+    ped = centre + direction * rng.uniform(-8, 8, (n, 1)) + rng.normal(0, 0.3, (n, 2))
+    ped[-40:] = rng.uniform(-25, 25, (40, 2))  # anywhere
+    half = rng.uniform(2, 8, n)
+    seg = table.seg
+    got = crossing_zones(
+        vslot,
+        s_vehicle,
+        length,
+        width,
+        table.count,
+        table.first,
+        seg.start,
+        seg.vector,
+        seg.cum_start,
+        ped,
+        direction,
+        centre,
+        half,
+        0.3,
+    )
+    for i in range(n):
+        want = crossing_conflict(
+            paths[vslot[i]],
+            s_vehicle[i],
+            length[i],
+            width[i],
+            ped[i : i + 1],
+            direction[i : i + 1],
+            centre[i : i + 1],
+            half[i : i + 1],
+            0.3,
+        )
+        assert [bool(g[i]) for g in got] == [bool(w[0]) for w in want], i
+    assert 50 < got[0].sum() < n and got[1].any() and got[2].any() and (~got[1] & got[0]).any()
+
+
+def test_segment_headings_cos_sin_are_numpys():
+    """The per-segment cos / sin the kernels read are numpy's cos / sin of the headings that
+    path sampling returns (so contact_gap's rotation is unchanged)."""
+    rng = np.random.default_rng(5)
+    angle = np.cumsum(rng.normal(0, 0.5, 200))
+    steps = rng.uniform(0.5, 4.0, (200, 1)) * np.stack([np.cos(angle), np.sin(angle)], -1)
+    table = PathTable.of([Segments.of(Path.of(np.cumsum(steps, axis=0)))])
+    s = rng.uniform(-10, 600, (1, 997))
+    _, hd = table.at(np.array([0]), s)
+    k = np.array([int(np.argmax(table.seg.heading == h)) for h in hd.ravel()])
+    assert np.cos(hd).ravel().tobytes() == table.seg.cos[k].tobytes()
+    assert np.sin(hd).ravel().tobytes() == table.seg.sin[k].tobytes()
+
+
+def test_stops_on_crossing_equals_footprint_overlap():
+    """The compiled stop-on-crossing test equals kinematics.footprint_corners and
+    overlap_depth > 0 on every stopped candidate (rectangles touching, overlapping and apart
+    from rotated crossings), and leaves moving candidates out."""
+    rng = np.random.default_rng(17)
+    n_a = 6
+    centre = rng.uniform(-20, 20, (n_a, 2))
+    direction = rng.uniform(-np.pi, np.pi, n_a)
+    half_length, half_width = rng.uniform(3, 8, n_a), rng.uniform(1.5, 3, n_a)
+    corners = footprint_corners(centre, direction, 2 * half_length, 2 * half_width)
+    w, c = 60, 12
+    length, width = rng.uniform(3.5, 5.5, w), rng.uniform(1.6, 2.1, w)
+    near = rng.integers(0, n_a, (w, c))
+    xy = centre[near] + rng.normal(0, 5, (w, c, 2))
+    heading = rng.uniform(-np.pi, np.pi, (w, c))
+    v_end = np.where(rng.random((w, c)) < 0.7, 0.0, 1.0)
+    got = stops_on_crossing(
+        xy,
+        np.cos(heading),
+        np.sin(heading),
+        v_end,
+        length,
+        width,
+        0.5 * np.hypot(length, width),
+        np.hypot(half_length, half_width),
+        centre,
+        corners,
+    )
+    rect = footprint_corners(xy, heading, length[:, None], width[:, None])  # (w, c, 4, 2)
+    depth = overlap_depth(
+        np.repeat(rect.reshape(-1, 4, 2), n_a, 0), np.tile(corners, (w * c, 1, 1))
+    ).reshape(w, c, n_a)
+    want = (v_end <= 0.0) & (depth > 0).any(axis=2)
+    assert np.array_equal(got, want)
+    assert 20 < got.sum() < (v_end <= 0.0).sum()  # overlapping and clear stops both occur
+
+
+def test_zone_scan_equals_the_numpy_scan():
+    """The study's compiled per-step scan gives the numpy scan's zones, logged pairs, planning
+    flag and least bound."""
+    rng = np.random.default_rng(23)
+    centres = np.array([[150.0, 150.0], [400.0, 150.0]])
+    for _ in range(50):
+        n = int(rng.integers(0, 40))
+        xy = centres[rng.integers(0, 2, n)] + rng.normal(0, 40, (n, 2))
+        is_ped = rng.random(n) < 0.6
+        length, width = rng.uniform(0.2, 5, n), rng.uniform(0.2, 2, n)
+        speed = rng.uniform(0, 15, n)
+        got = zone_scan(
+            xy,
+            is_ped,
+            centres,
+            80.0**2,
+            20.0**2,
+            length,
+            width,
+            0.2,
+            0.3,
+            speed,
+            2.5,
+            3.0,
+            3.0,
+            4.0,
+        )
+        d2 = ((xy[:, None, :] - centres[None]) ** 2).sum(-1).min(axis=1)
+        vin = np.flatnonzero(~is_ped & (d2 <= 80.0**2))
+        pin = np.flatnonzero(is_ped & (d2 <= 20.0**2))
+        assert got[0].tobytes() == d2.tobytes()
+        assert np.array_equal(got[1], vin) and np.array_equal(got[2], pin)
+        if len(vin) == 0 or len(pin) == 0:
+            assert len(got[3]) == len(got[4]) == 0 and not got[5] and got[6] == np.inf
+            continue
+        reach = 0.5 * np.hypot(length[vin], width[vin]) + 0.2
+        tau_now, tau_acc = pair_time_bounds(
+            np.ascontiguousarray(xy[vin]),
+            np.ascontiguousarray(xy[pin]),
+            reach,
+            0.3,
+            speed[vin],
+            2.5,
+            3.0,
+        )
+        vi, pj = np.nonzero(tau_now <= 3.0)
+        assert np.array_equal(got[3], vin[vi]) and np.array_equal(got[4], pin[pj])
+        assert got[5] == bool((tau_acc <= 4.0).any()) and got[6] == float(tau_acc.min())
+
+
+def test_area_test_equals_shapely_contains_xy():
+    """AreaTest answers as shapely.contains_xy everywhere: inside, outside, on edges and
+    vertices (boundary: not contained), for a polygon with a hole, a multipolygon, a rotated
+    star and an axis-aligned cross like the study's carriageway; GEOS is asked only about
+    points on (or within rounding of) the boundary."""
+    rng = np.random.default_rng(29)
+    star_angle = np.linspace(0, 2 * np.pi, 15, endpoint=False)
+    star_r = np.where(np.arange(15) % 2 == 0, 30.0, 12.0)
+    star = shapely.Polygon(np.stack([star_r * np.cos(star_angle), star_r * np.sin(star_angle)], -1))
+    cross = shapely.union(shapely.box(-40, -3.5, 40, 3.5), shapely.box(-3.5, -40, 3.5, 40))
+    holed = shapely.Polygon(
+        [(-30, -30), (30, -30), (30, 30), (-30, 30)], [[(-10, -10), (10, -10), (0, 15)]]
+    )
+    multi = shapely.MultiPolygon([shapely.box(-30, -30, -5, -5), shapely.box(5, 5, 30, 30)])
+    for area in (star, cross, holed, multi):
+        shapely.prepare(area)
+        test = AreaTest(area)
+        pts = rng.uniform(-45, 45, (4000, 2))
+        ring = shapely.get_coordinates(shapely.get_rings(shapely.get_parts(area)))
+        a, b = ring[:-1], ring[1:]
+        f = rng.uniform(0, 1, (len(a), 1))
+        on_edge = a + f * (b - a)  # on (or within rounding of) an edge
+        level = np.stack([rng.uniform(-45, 45, len(ring)), ring[:, 1]], -1)  # vertex rows
+        pts = np.concatenate([pts, ring, on_edge, on_edge + 1e-13, np.round(pts[:500]), level])
+        got = test.contains(pts)
+        want = shapely.contains_xy(area, pts[:, 0], pts[:, 1])
+        assert np.array_equal(got, want)
+        assert 500 < got.sum() < len(pts) - 500
+        asked = locate_xy(pts, *test._rings) < 0
+        assert asked[:4000].sum() <= 2 and asked[4000 : 4000 + len(ring)].all()
+    # shapes of the inputs are kept
+    grid = rng.uniform(-45, 45, (3, 4, 5, 2))
+    got = AreaTest(cross).contains(grid)
+    assert got.shape == (3, 4, 5)
+    assert np.array_equal(got, shapely.contains_xy(cross, grid[..., 0], grid[..., 1]))
+
+
+def test_compiled_ramps_equal_ramp_profiles():
+    """The planner's compiled ramps are controller.ramp_profiles bit for bit (libm's pow in
+    both)."""
+    rng = np.random.default_rng(31)
+    a0 = np.concatenate([rng.uniform(-5, 3, 200), [0.0, -3.92, 1.47]])
+    targets = np.array([-0.4, -0.25, -0.1, 0.0, 0.05, 0.15]) * 9.80665
+    times = np.arange(51) * 0.2
+    got = _ramps(a0, targets, times, 3.0)
+    assert got.tobytes() == ramp_profiles(a0, targets, times, 3.0).tobytes()

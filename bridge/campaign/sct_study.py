@@ -31,6 +31,7 @@ from lxml import etree
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.campaign.pool import PoolOptions, report_progress, run_all
+from hiyari.bridge.campaign.sct_scan import zone_scan
 from hiyari.errors import HiyariError
 from hiyari.net.sumo.build import IntersectionParams, build_intersection
 from hiyari.risk.metrics.contact import PostEncroachmentTracker, SCTConfig
@@ -40,7 +41,6 @@ from hiyari.risk.metrics.incidents import (
     IncidentDetector,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
-from hiyari.risk.sct.contact_kernel import pair_time_bounds
 from hiyari.risk.sct.controller import SCTController, SCTControllerConfig
 from hiyari.risk.sct.model import SCTModel
 from hiyari.sumo_tools import run_sumo_tool
@@ -335,28 +335,35 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
                 if progress is not None and now - reported >= 600.0:
                     progress(now - reported)
                     reported = now
-                xy = st.xyz[:, :2]
-                d2 = ((xy[:, None, :] - centres[None]) ** 2).sum(-1).min(axis=1)
                 is_ped = st.cls == _PEDESTRIAN
-                vin = np.flatnonzero(~is_ped & (d2 <= rv2))
-                pin = np.flatnonzero(is_ped & (d2 <= rp2))
+                d2, vin, pin, vi, pj, reachable, tau_acc = zone_scan(
+                    st.xyz[:, :2],
+                    is_ped,
+                    centres,
+                    rv2,
+                    rp2,
+                    st.length,
+                    st.width,
+                    cfg.sct.vehicle_margin,
+                    cfg.sct.pedestrian_radius,
+                    st.speed,
+                    cfg.max_pedestrian_speed,
+                    cfg.controller.max_accel,
+                    cfg.metric_horizon,
+                    cfg.controller.sct_safe,
+                )
                 t_pairs = math.inf
                 if len(vin) and len(pin):
-                    tau_now, tau_acc = _pair_time_bounds(st, vin, pin, cfg)
-                    log = tau_now <= cfg.metric_horizon
-                    plan = controller is not None and bool(
-                        (tau_acc <= cfg.controller.sct_safe).any() or controller.controlled
-                    )
-                    if log.any() or plan:
+                    plan = controller is not None and bool(reachable or controller.controlled)
+                    if len(vi) or plan:
                         evaluated += 1
-                        vi, pj = np.nonzero(log)
                         _evaluate(
                             sim,
                             st,
                             vin,
                             pin,
-                            vin[vi],
-                            pin[pj],
+                            vi,
+                            pj,
                             model,
                             detector,
                             pet,
@@ -366,7 +373,7 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
                             int(round(now / dt)) % sct_every == 0,
                         )
                         continue
-                    t_pairs = float(tau_acc.min()) - horizon
+                    t_pairs = tau_acc - horizon
                 # nobody to evaluate: skip to when a vehicle and a pedestrian could be close
                 if controller is not None and controller.controlled:
                     controller.release_all(sim, set(st.ids[~is_ped].tolist()))
@@ -430,23 +437,6 @@ def _time_to_zone(
     if pending:  # insertion-delayed actors depart as soon as there is room
         t = min(t, sched.lead)
     return max(t, 0.0)
-
-
-def _pair_time_bounds(
-    st: WorldState, vin: np.ndarray, pin: np.ndarray, cfg: StudyConfig
-) -> tuple[np.ndarray, np.ndarray]:
-    """(V, P) lower bounds (s) on when vehicle rows ``vin`` and pedestrian rows ``pin`` could
-    touch: at their current speeds, and with the vehicle accelerating at its bound."""
-    reach = 0.5 * np.hypot(st.length[vin], st.width[vin]) + cfg.sct.vehicle_margin
-    return pair_time_bounds(
-        np.ascontiguousarray(st.xyz[vin, :2]),
-        np.ascontiguousarray(st.xyz[pin, :2]),
-        reach,
-        cfg.sct.pedestrian_radius,
-        st.speed[vin],
-        cfg.max_pedestrian_speed,
-        cfg.controller.max_accel,
-    )
 
 
 def _evaluate(

@@ -199,24 +199,44 @@ class Path:
 
 # ---------------------------------------------------------------------------- pedestrians
 @njit(cache=True)
-def _dart_out_kerbs(
+def _predict(
     xy: np.ndarray,
     u: np.ndarray,
+    speed: np.ndarray,
+    rows: np.ndarray,
     facing: np.ndarray,
     a: np.ndarray,
-    ab: np.ndarray,
-    length2: np.ndarray,
-    is_end: np.ndarray,
-    usable: np.ndarray,
+    b: np.ndarray,
+    inward: np.ndarray,
+    crossing: np.ndarray,
+    open_crossings: np.ndarray,
     cos_max: float,
     reach: float,
-) -> np.ndarray:
-    """(P,) per pedestrian the nearest usable kerb segment it faces within ``reach`` m (-1:
-    none); ``facing`` (P, K) whether its heading faces each segment's inward normal."""
-    n, m = facing.shape
-    best = np.full(n, -1)
+    dart_speed: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Velocities (P, 2) and dart-out flags (P,) of pedestrians at ``xy`` (P, 2) heading along
+    ``u`` (P, 2) at ``speed`` (P,): each of ``rows`` (R,) (on a footway) steps in along the
+    inward normal of the nearest usable kerb segment it faces within ``reach`` m (``facing``
+    (R, K): its heading within the angle of each segment's normal); ``open_crossings`` (C,)
+    (empty: all open) says which crossings' ends are usable."""
+    n, m = len(xy), len(a)
+    vel = np.empty((n, 2))
     for p in range(n):
+        vel[p, 0] = speed[p] * u[p, 0]
+        vel[p, 1] = speed[p] * u[p, 1]
+    dart = np.zeros(n, np.bool_)
+    ab = np.empty((m, 2))
+    length2 = np.empty(m)
+    usable = np.empty(m, np.bool_)
+    for k in range(m):
+        ab[k, 0] = b[k, 0] - a[k, 0]
+        ab[k, 1] = b[k, 1] - a[k, 1]
+        length2[k] = max(ab[k, 0] * ab[k, 0] + ab[k, 1] * ab[k, 1], 1e-12)
+        usable[k] = crossing[k] < 0 or len(open_crossings) == 0 or open_crossings[crossing[k]]
+    for i in range(len(rows)):
+        p = rows[i]
         low = np.inf
+        best = -1
         for k in range(m):
             # nearest point of segment k: the numpy steps of the reference, per scalar
             apx = xy[p, 0] - a[k, 0]
@@ -226,14 +246,19 @@ def _dart_out_kerbs(
             tx = f * ab[k, 0] - apx
             ty = f * ab[k, 1] - apy
             dist = math.sqrt(tx * tx + ty * ty)
-            ok = facing[p, k]
-            if not ok and is_end[k] and dist > 0.1:
+            ok = facing[i, k]
+            if not ok and crossing[k] >= 0 and dist > 0.1:
                 # crossing ends: also walking towards the crossing's end (round the corner)
                 ok = u[p, 0] * tx + u[p, 1] * ty >= cos_max * max(dist, 1e-9)
             if ok and usable[k] and dist <= reach and dist < low:
                 low = dist
-                best[p] = k
-    return best
+                best = k
+        if best >= 0:
+            step = max(speed[p], dart_speed)
+            vel[p, 0] = step * inward[best, 0]
+            vel[p, 1] = step * inward[best, 1]
+            dart[p] = True
+    return vel, dart
 
 
 def pedestrian_velocity(
@@ -253,40 +278,31 @@ def pedestrian_velocity(
     ``dart_out_max_angle_deg`` of the inward direction or, for crossing ends, of the direction
     to the crossing end (a pedestrian walking round the corner to the crossing). ``open_crossings`` (C,) bool: crossings pedestrians may enter now
     (signals); ends of closed crossings do not count. None: all open. Among several kerbs the
-    nearest counts (the first of equals).
+    nearest counts (the first of equals). Compiled (one pass); the facing test stays numpy's
+    matrix product.
     """
     u = heading_vector(heading)
-    vel = speed[:, None] * u
-    dart = np.zeros(len(xy), bool)
     if kerbs is None or len(kerbs) == 0 or not on_kerb.any():
-        return vel, dart
-    usable = np.ones(len(kerbs), bool)
-    if open_crossings is not None:
-        cr = kerbs.crossing
-        usable = (cr < 0) | np.asarray(open_crossings, bool)[np.maximum(cr, 0)]
+        return speed[:, None] * u, np.zeros(len(xy), bool)
     rows = np.flatnonzero(on_kerb)
     cos_max = math.cos(math.radians(config.dart_out_max_angle_deg))
-    ab = kerbs.b - kerbs.a
-    length2 = np.maximum(np.einsum("kj,kj->k", ab, ab), 1e-12)
     facing = u[rows] @ kerbs.inward.T >= cos_max
-    best = _dart_out_kerbs(
-        np.ascontiguousarray(xy[rows], float),
-        np.ascontiguousarray(u[rows]),
+    opened = np.zeros(0, bool) if open_crossings is None else np.asarray(open_crossings, bool)
+    return _predict(
+        np.ascontiguousarray(xy, float),
+        u,
+        np.asarray(speed, float),
+        rows,
         facing,
-        np.ascontiguousarray(kerbs.a, float),
-        ab,
-        length2,
-        kerbs.crossing >= 0,
-        usable,
+        kerbs.a,
+        kerbs.b,
+        kerbs.inward,
+        kerbs.crossing,
+        opened,
         cos_max,
         float(config.dart_out_distance),
+        float(config.dart_out_speed),
     )
-    hit = best >= 0
-    r = rows[hit]
-    step_speed = np.maximum(speed[r], config.dart_out_speed)
-    vel[r] = step_speed[:, None] * kerbs.inward[best[hit]]
-    dart[r] = True
-    return vel, dart
 
 
 def pedestrian_tracks(

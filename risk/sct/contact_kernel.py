@@ -109,6 +109,18 @@ def first_contacts(
 
 
 @njit(cache=True)
+def segment_at(cum: np.ndarray, count: int, first: int, s: float) -> int:
+    """Table row of the segment of a path (arc lengths ``cum`` padded with +inf, ``count``
+    segments from row ``first``) that arc length ``s`` m falls on; the end segments continue
+    straight beyond either end."""
+    below = 0  # the path's arc lengths at or before s: searchsorted(side="right")
+    for c in cum:
+        if s >= c:
+            below += 1
+    return min(max(below - 1, 0), count - 1) + first
+
+
+@njit(cache=True)
 def _path_at(
     cum: np.ndarray,
     count: np.ndarray,
@@ -125,14 +137,9 @@ def _path_at(
     hd = np.empty((n, m))
     for i in range(n):
         v = vehicles[i]
-        row = cum[v]
         for j in range(m):
             sj = s[i, j]
-            below = 0  # the path's arc lengths at or before sj: searchsorted(side="right")
-            for c in row:
-                if sj >= c:
-                    below += 1
-            k = min(max(below - 1, 0), count[v] - 1) + first[v]
+            k = segment_at(cum[v], count[v], first[v], sj)
             d = sj - cum_start[k]
             xy[i, j, 0] = start[k, 0] + unit[k, 0] * d
             xy[i, j, 1] = start[k, 1] + unit[k, 1] * d

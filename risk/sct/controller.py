@@ -23,14 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from hiyari.errors import HiyariError
-from hiyari.kinematics import footprint_corners, overlap_depth
-from hiyari.risk.sct.contact_kernel import (
-    first_contacts,
-    near_pairs,
-    travel_rows,
-    within_reach,
-)
+from hiyari.risk.sct.contact_kernel import travel_rows, within_reach
 from hiyari.risk.sct.model import SCTModel, StepView
+from hiyari.risk.sct.plan_kernel import decide_speeds
 from hiyari.traffic.commands import Commands
 from hiyari.units import G
 
@@ -169,171 +164,65 @@ class SCTController:
         would bring SCT below sct_safe, and hands back only once that predicts no contact at
         all within the horizon: in between, handing back would let the own driver speed up
         towards the pedestrian and the two drivers would alternate. All vehicles and
-        pedestrians are planned together (one set of array operations per step); each
+        pedestrians are planned together (one compiled pass, plan_kernel.decide_speeds); each
         vehicle's plan depends only on its own pedestrians, as if planned alone.
         """
         cfg, model = self.config, self.model
-        state = view.state
-        times = model.times
-        dt = float(times[1] - times[0])
-        out = np.full(len(rows), np.nan)
+        state, times = view.state, model.times
         if len(rows) == 0 or len(view.ped_rows) == 0:
-            return out
-        v0, a0 = state.speed[rows], state.accel[rows]
-        v_max = np.maximum(v_max, v0)[:, None, None]
-        # the vehicle's own driver at its most demanding: full acceleration to its allowed speed
-        free = np.broadcast_to(np.asarray(a_free, float)[:, None, None], (len(rows), 1, len(times)))
-        _, s_free = travel(free, v0[:, None, None], v_max, dt)
-        xy, hd = model.vehicle_poses(view, rows, s_free)  # (V, 1, K, 2)
-        now = state.xyz[view.ped_rows, :2]
-        d = now[None, :, None, :] - xy[:, :, ::5]
-        near = np.einsum("vpkj,vpkj->vpk", d, d).min(axis=2) <= cfg.act_distance**2  # (V, P)
-        slots = np.flatnonzero(near.any(axis=0))
-        if len(slots) == 0:
-            return out
-        near = near[:, slots]
-        # every pedestrian speed hypothesis as its own track: (P * H, K, 2)
-        h = len(model.config.speed_factors)
-        ped = view.tracks[slots].reshape(-1, len(times), 2)
-        mine = np.repeat(near, h, axis=1)  # (V, P * H): the tracks each vehicle plans for
-        length, width = state.length[rows], state.width[rows]
-        keep = np.flatnonzero(self._may_touch(xy[:, 0], length, width, ped, mine, engaged))
-        if len(keep) == 0:
-            return out
-        rows, xy, hd, mine = rows[keep], xy[keep], hd[keep], mine[keep]
-        length, width, v0, a0 = length[keep], width[keep], v0[keep], a0[keep]
-        v_max, engaged = v_max[keep], engaged[keep]
-        exposed = model.exposed(view, slots).reshape(len(ped), len(times))
+            return np.full(len(rows), np.nan)
+        v0 = state.speed[rows]
+        table, seg = view.table, view.table.seg
         contact = model.config.contact
         margin, radius = contact.vehicle_margin, contact.pedestrian_radius
-        vi, ti = np.nonzero(mine)
-        first, ok = first_contacts(
-            xy[:, 0], hd[:, 0], length, width, margin, radius, ped, exposed, vi, ti, times
-        )
-        # pedestrians already touching the vehicle cannot be helped by any profile
-        apart = np.zeros(mine.shape, bool)
-        apart[vi, ti] = ok
-        sct_free = np.full(mine.shape, np.inf)
-        sct_free[vi[ok], ti[ok]] = first[ok]
-        sct_free = sct_free.min(axis=1)
-        plan = apart.any(axis=1) & np.isfinite(sct_free) & ((sct_free < cfg.sct_safe) | engaged)
-        w = np.flatnonzero(plan)
-        if len(w) == 0:
-            return out
-        rows, apart, length, width = rows[w], apart[w], length[w], width[w]
-        accel = ramp_profiles(a0[w], self._targets, times, cfg.jerk_limit)  # (W, C, K)
-        v, s = travel(accel, v0[w, None, None], v_max[w], dt, cfg.stop_speed)
-        xy, hd = model.vehicle_poses(view, rows, s)  # (W, C, K, 2)
-        n_c = xy.shape[1]
-        wi, ti = np.nonzero(apart)  # candidate a = w * C + c plans for its apart tracks only
-        a = (wi[:, None] * n_c + np.arange(n_c)).ravel()
-        t = np.repeat(ti, n_c)
-        first, _ = first_contacts(
-            xy.reshape(-1, len(times), 2),
-            hd.reshape(-1, len(times)),
-            np.repeat(length, n_c),
-            np.repeat(width, n_c),
-            margin,
-            radius,
-            ped,
-            exposed,
-            a,
-            t,
-            times,
-        )
-        cushion = np.full((len(w) * n_c, len(ped)), np.inf)
-        cushion[a, t] = first
-        sct = cushion.min(axis=1).reshape(len(w), n_c)  # (W, C)
-        blocks = self._stops_on_crossing(xy[:, :, -1], hd[:, :, -1], v[:, :, -1], length, width)
-        # keep crossings clear: never plan to stop on one (unless every plan does)
-        sct = np.where(blocks & ~blocks.all(axis=1, keepdims=True), -1.0, sct)
-        out[keep[w]] = v[np.arange(len(w)), self._pick(sct), 1]
-        return out
-
-    def _may_touch(
-        self,
-        xy: np.ndarray,
-        length: np.ndarray,
-        width: np.ndarray,
-        ped: np.ndarray,
-        mine: np.ndarray,
-        engaged: np.ndarray,
-    ) -> np.ndarray:
-        """(V,) bool: vehicles (centres ``xy`` (V, K, 2) under their own driver, sizes (V,) m)
-        that may touch one of their pedestrian tracks (``ped`` (T, K, 2), ``mine`` (V, T))
-        (contact_kernel.near_pairs); the others need no plan. A vehicle not ``engaged`` (V,) needs
-        one only for a contact before sct_safe: it is tested up to the first sample at or
-        after sct_safe (a contact first found later is interpolated back to the previous
-        sample at most). An engaged one is handed back only when no contact is predicted
-        within the horizon: it is tested at every sample."""
-        times = self.model.times
-        upto = min(int(np.searchsorted(times, self.config.sct_safe)) + 1, len(times))
-        contact = self.model.config.contact
-        vi, ti = np.nonzero(mine)  # only a vehicle's own tracks count
-        near = near_pairs(
-            xy,
+        length, width = state.length[rows], state.width[rows]
+        half_x, half_y = 0.5 * length + margin, 0.5 * width + margin
+        # near_pairs' reach: circumscribed circle, disc and slack
+        reach = np.hypot(half_x, half_y) + radius + 1e-6
+        areas = model.geometry.crossings if model.geometry is not None else None
+        if areas is None or len(areas) == 0:
+            areas_reach, centre, corners = np.zeros(0), np.zeros((0, 2)), np.zeros((0, 4, 2))
+        else:
+            areas_reach = np.hypot(areas.half_length, areas.half_width)
+            centre, corners = areas.centre, areas.corners
+        return decide_speeds(
+            v0,
+            state.accel[rows],
+            np.maximum(v_max, v0),
+            np.asarray(a_free, float),
+            engaged,
+            view.veh_slot[rows],
             length,
             width,
-            contact.vehicle_margin,
-            contact.pedestrian_radius,
-            ped,
-            vi,
-            ti,
-            np.where(engaged[vi], len(times), upto),
+            reach * reach,
+            half_x,
+            half_y,
+            radius,
+            view.s0,
+            table.cum,
+            table.count,
+            table.first,
+            seg.start,
+            seg.unit,
+            seg.cum_start,
+            seg.cos,
+            seg.sin,
+            np.ascontiguousarray(state.xyz[view.ped_rows, :2]),
+            view.tracks,
+            view.exposed,
+            times,
+            cfg.act_distance**2,
+            min(int(np.searchsorted(times, cfg.sct_safe)) + 1, len(times)),
+            cfg.sct_safe,
+            self._targets,
+            self._order,
+            cfg.jerk_limit,
+            cfg.stop_speed,
+            0.5 * np.hypot(length, width),
+            areas_reach,
+            centre,
+            corners,
         )
-        return np.bincount(vi[near], minlength=len(xy)) > 0
-
-    def _pick(self, sct: np.ndarray) -> np.ndarray:
-        """(W,) the candidate each vehicle drives, from SCTs (W, C) of its candidates.
-
-        Once the cushion is threatened: no contact within the horizon if possible (a plan that
-        merely postpones contact beyond sct_safe creeps towards a waiting pedestrian step by
-        step), the mildest such; else the mildest with a cushion of at least sct_safe; else
-        the largest cushion, braking hardest among equals."""
-        ordered = sct[:, self._order]
-        clear = np.isinf(ordered)
-        ok = ordered >= self.config.sct_safe
-        best = sct == sct.max(axis=1, keepdims=True)
-        hardest = np.argmin(np.where(best, self._targets, np.inf), axis=1)
-        return np.where(
-            clear.any(axis=1),
-            self._order[np.argmax(clear, axis=1)],
-            np.where(ok.any(axis=1), self._order[np.argmax(ok, axis=1)], hardest),
-        )
-
-    def _stops_on_crossing(
-        self,
-        xy: np.ndarray,
-        heading: np.ndarray,
-        v_end: np.ndarray,
-        length: np.ndarray,
-        width: np.ndarray,
-    ) -> np.ndarray:
-        """(W, C) bool: candidates (end poses ``xy`` (W, C, 2), ``heading`` (W, C), speed
-        ``v_end`` (W, C)) that end stopped with the vehicle (``length``, ``width`` (W,) m) over
-        a crossing."""
-        areas = self.model.geometry.crossings if self.model.geometry is not None else None
-        stopped = v_end <= 0.0
-        blocks = np.zeros(stopped.size, bool)
-        if areas is None or len(areas) == 0 or not stopped.any():
-            return blocks.reshape(stopped.shape)
-        c = np.flatnonzero(stopped)  # stopped candidates, flat over (W, C)
-        veh = c // stopped.shape[1]
-        xy = xy.reshape(-1, 2)[c]
-        # only crossings within reach of the rectangle can overlap it (bounding circles, with
-        # a margin far above rounding: disjoint convex shapes have a separating edge axis)
-        reach = 0.5 * np.hypot(length, width)[veh, None] + np.hypot(
-            areas.half_length, areas.half_width
-        )
-        d = np.linalg.norm(xy[:, None, :] - areas.centre[None], axis=2)
-        k, a = np.nonzero(d <= reach + 1e-3)
-        if len(k):
-            rect = footprint_corners(
-                xy[k], heading.reshape(-1)[c[k]], length[veh[k]], width[veh[k]]
-            )
-            depth = overlap_depth(rect, areas.corners[a])
-            blocks[c[k[depth > 0]]] = True
-        return blocks.reshape(stopped.shape)
 
     def step(self, sim: Commands, view: StepView, present: set[str] | None = None) -> None:
         """Plan and command every in-scope vehicle of ``view``; vehicles controlled before but

@@ -4,18 +4,19 @@ Glue between WorldState rows and the metrics in hiyari.risk.metrics.contact: it 
 vehicle's route path (registered by the caller, who knows the routes) and turns the current
 state into predicted vehicle poses and pedestrian velocities.
 
-Every step's work is batched over all vehicles and pedestrians in the view (a fixed number of
-numpy calls per step, whatever the number of pairs): the vehicles' paths are sampled from one
-table of their segments (per-segment values computed once per route), and the pedestrians'
-predicted tracks and whether each track point is on the carriageway are computed once per
-step and shared by the metrics and the controller. The values are exactly those of sampling
+Every step's work is batched over all vehicles and pedestrians in the view (a few compiled
+passes per step, whatever the number of pairs: pair_kernel, plan_kernel, area_kernel): the
+vehicles' paths are sampled from one table of their segments (per-segment values, headings'
+cosine and sine included, computed once per route), and the pedestrians' predicted tracks and
+whether each track point is on the carriageway are computed once per step and shared by the
+metrics and the controller. The values are exactly those of sampling
 each vehicle's hiyari.risk.metrics.contact.Path on its own (the same float operations on the
 same operands), so batching changes no result.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
@@ -25,13 +26,13 @@ from hiyari.risk.metrics.contact import (
     ContactGeometry,
     Path,
     SCTConfig,
-    contact_gap,
-    crossing_conflict,
     pedestrian_tracks,
     pedestrian_velocity,
 )
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
-from hiyari.risk.sct.contact_kernel import first_contacts, near_pairs, path_at, project_rows
+from hiyari.risk.sct.area_kernel import AreaTest
+from hiyari.risk.sct.contact_kernel import _first_contacts, path_at, project_rows
+from hiyari.risk.sct.pair_kernel import crossing_zones, pair_screen
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
@@ -42,8 +43,8 @@ _PEDESTRIAN = np.int8(ActorClass.PEDESTRIAN)  # compared as a numpy scalar: no e
 class Segments:
     """A path's segments with the values Path.project and Path.at derive from them: start
     (S, 2) m, vector (S, 2) m, squared length (S,) m^2 (>= 1e-12), arc length at the start
-    (S,) m, unit direction (S, 2) and heading (S,) rad; ``cum`` (S + 1,) the path's arc
-    lengths."""
+    (S,) m, unit direction (S, 2) and heading (S,) rad with its cosine and sine (numpy's, as
+    first_contacts takes them); ``cum`` (S + 1,) the path's arc lengths."""
 
     start: np.ndarray
     vector: np.ndarray
@@ -52,6 +53,8 @@ class Segments:
     unit: np.ndarray
     heading: np.ndarray
     cum: np.ndarray
+    cos: np.ndarray
+    sin: np.ndarray
 
     @staticmethod
     def of(path: Path) -> Segments:
@@ -61,7 +64,17 @@ class Segments:
         length2 = np.maximum(np.einsum("ij,ij->i", vector, vector), 1e-12)
         unit = vector / np.maximum(path.cum[1:] - path.cum[:-1], 1e-12)[:, None]
         heading = np.arctan2(unit[:, 1], unit[:, 0])
-        return Segments(start, vector, length2, path.cum[:-1], unit, heading, path.cum)
+        return Segments(
+            start,
+            vector,
+            length2,
+            path.cum[:-1],
+            unit,
+            heading,
+            path.cum,
+            np.cos(heading),
+            np.sin(heading),
+        )
 
 
 @dataclass(frozen=True)
@@ -89,7 +102,8 @@ class PathTable:
 
         if not parts:
             empty = np.zeros((0, 2))
-            seg = Segments(empty, empty, np.zeros(0), np.zeros(0), empty, np.zeros(0), np.zeros(0))
+            none = np.zeros(0)
+            seg = Segments(empty, empty, none, none, empty, none, none, none, none)
         else:
             seg = Segments(
                 cat("start"),
@@ -99,6 +113,8 @@ class PathTable:
                 cat("unit"),
                 cat("heading"),
                 np.zeros(0),
+                cat("cos"),
+                cat("sin"),
             )
         return PathTable(seg, np.repeat(np.arange(len(parts)), count), first, count, cum)
 
@@ -145,6 +161,8 @@ class SCTModel:
         self._segments: dict[int, Segments] = {}  # id(route path) -> its segments
         self._table: tuple[tuple[int, ...], PathTable] | None = None  # the last step's
         self._crossing_index = geometry.crossings.index() if geometry is not None else {}
+        road = self.carriageway
+        self._road = AreaTest(road) if road is not None and not road.is_empty else None
 
     def set_route(self, vehicle: str, edges: tuple[str, ...]) -> None:
         """Register the route (edge ids) ``vehicle`` follows; its path is built from the net."""
@@ -219,9 +237,10 @@ class SCTModel:
             tracks = pedestrian_tracks(
                 state.xyz[ped, :2], vel, self.config.speed_factors, self.times
             )
+            exposed = self._exposed(tracks)
         else:
             vel, dart = np.full((len(ped), 2), np.nan), np.zeros(len(ped), bool)
-            tracks = None
+            tracks = exposed = None
         veh = np.flatnonzero(~is_ped)
         paths = [self.path_of(state, r) for r in veh.tolist()]
         table = self._path_table(paths)
@@ -231,7 +250,19 @@ class SCTModel:
         veh_slot = np.full(len(state), -1)
         veh_slot[veh] = np.arange(len(veh))
         return StepView(
-            state, veh, paths, s0, veh_slot, ped, vel, dart, crossing, ped_slot, table, tracks
+            state,
+            veh,
+            paths,
+            s0,
+            veh_slot,
+            ped,
+            vel,
+            dart,
+            crossing,
+            ped_slot,
+            table,
+            tracks,
+            exposed,
         )
 
     def vehicle_poses(
@@ -256,37 +287,15 @@ class SCTModel:
 
     def exposed(self, view: StepView, slots: np.ndarray) -> np.ndarray:
         """(n, H, K) bool: the predicted track points of pedestrian slots ``slots`` (n,) that
-        lie on the carriageway (all True without one). Computed once per pedestrian and step."""
-        road = self.carriageway
-        if road is None or road.is_empty:
-            return np.ones((len(slots), *view.tracks.shape[1:3]), bool)
-        if view.exposed_cache is None:
-            view.exposed_cache = np.zeros(view.tracks.shape[:3], bool)
-            view.exposed_done = np.zeros(len(view.tracks), bool)
-        need = np.zeros(len(view.tracks), bool)
-        need[slots] = True
-        todo = np.flatnonzero(need & ~view.exposed_done)
-        if len(todo):
-            view.exposed_cache[todo] = self._on_road(view.tracks[todo], view.ped_velocity[todo])
-            view.exposed_done[todo] = True
-        return view.exposed_cache[slots]
+        lie on the carriageway (all True without one)."""
+        return view.exposed[slots]
 
-    def _on_road(self, tracks: np.ndarray, velocity: np.ndarray) -> np.ndarray:
-        """(n, H, K) bool: track points (n, H, K, 2) inside the carriageway. A track starts at
-        the pedestrian (t = 0) and stays there under a zero speed hypothesis or a zero
-        predicted velocity (``velocity`` (n, 2)): those points are tested once."""
-        road = self.carriageway
-        start = tracks[:, 0, 0]
-        out = np.empty(tracks.shape[:3], bool)
-        out[:] = shapely.contains_xy(road, start[:, 0], start[:, 1])[:, None, None]
-        rows = np.flatnonzero(velocity.any(axis=1))
-        hyp = np.flatnonzero(np.asarray(self.config.speed_factors) != 0)
-        if len(rows) and len(hyp):
-            pts = tracks[rows[:, None], hyp[None, :], 1:]
-            out[rows[:, None], hyp[None, :], 1:] = shapely.contains_xy(
-                road, pts[..., 0], pts[..., 1]
-            )
-        return out
+    def _exposed(self, tracks: np.ndarray) -> np.ndarray:
+        """(P, H, K) bool: the track points (P, H, K, 2) on the carriageway (all True without
+        one), once per step for every pedestrian of the view."""
+        if self._road is None:
+            return np.ones(tracks.shape[:3], bool)
+        return self._road.contains(tracks)
 
     def _cv_protected(self, view: StepView, prows: np.ndarray, ped_cv: np.ndarray) -> np.ndarray:
         """(n, K) bool: constant-velocity track points ``ped_cv`` (n, K, 2) of pedestrian rows
@@ -307,7 +316,7 @@ class SCTModel:
             out[reuse] = ~self.exposed(view, slots[reuse])[:, factors.index(1.0)]
         if not reuse.all():
             pts = ped_cv[~reuse]
-            out[~reuse] = ~shapely.contains_xy(road, pts[..., 0], pts[..., 1])
+            out[~reuse] = ~self._road.contains(pts)
         return out
 
     def pair_metrics(
@@ -334,78 +343,78 @@ class SCTModel:
         if n == 0:
             return np.zeros(0), np.zeros(0), np.zeros(0)
         ttc_contact = ttc_contact or ContactGeometry()
-        state = view.state
-        # poses once per vehicle of the view, tracks once per pedestrian of the pairs
-        vxy, vh = self.vehicle_poses(view, view.veh_rows)
-        vslot = view.veh_slot[vi]
-        vxy, vh = vxy[vslot], vh[vslot]
-        length, width = state.length[vi], state.width[vi]
-        t = self.times
+        state, table, t = view.state, view.table, self.times
+        seg = table.seg
         prows, pinv = _distinct(pj, len(state))
-        cv = heading_vector(state.heading[prows]) * state.speed[prows, None]
-        ped_cv = (state.xyz[prows, None, :2] + cv[:, None, :] * t[None, :, None])[pinv]
-        gap = contact_gap(vxy[:, 0], vh[:, 0], length, width, ped_cv[:, 0], ttc_contact)
-        road = self.carriageway
-        if road is not None and not road.is_empty:
+        vslot = view.veh_slot[vi]
+        # shapes per vehicle of the view: half sizes and the near_pairs reach, for both shapes
+        length, width = state.length[view.veh_rows], state.width[view.veh_rows]
+        ttc_x, ttc_y, ttc_reach2 = _grown(length, width, ttc_contact)
+        contact = self.config.contact
+        sct_x, sct_y, sct_reach2 = _grown(length, width, contact)
+        slot = view.ped_slot[pj]
+        xy, vcos, vsin, ped_cv, gap, near, near_sct = pair_screen(
+            state.speed[view.veh_rows],
+            view.s0,
+            table.cum,
+            table.count,
+            table.first,
+            seg.start,
+            seg.unit,
+            seg.cum_start,
+            seg.cos,
+            seg.sin,
+            t,
+            np.ascontiguousarray(state.xyz[prows, :2]),
+            heading_vector(state.heading[prows]),
+            state.speed[prows],
+            vslot,
+            pinv,
+            ttc_x,
+            ttc_y,
+            ttc_contact.pedestrian_radius,
+            ttc_reach2,
+            view.tracks if with_sct else _NO_TRACKS,
+            slot,
+            sct_reach2,
+        )
+        if self._road is not None:
             now = state.xyz[prows, :2]
-            on_road = shapely.contains_xy(road, now[:, 0], now[:, 1])[pinv]
+            on_road = self._road.contains(now)[pinv]
             gap = np.where(on_road, gap, np.inf)
         ttc = np.full(n, np.inf)
-        every = np.arange(n)
-        near = near_pairs(
-            vxy,
-            length,
-            width,
-            ttc_contact.vehicle_margin,
-            ttc_contact.pedestrian_radius,
-            ped_cv,
-            every,
-            every,
-        )
         c = np.flatnonzero(near)
         if len(c):
-            ttc[c], _ = first_contacts(
-                vxy,
-                vh,
-                length,
-                width,
-                ttc_contact.vehicle_margin,
+            tracks = ped_cv[pinv[c]]
+            ttc[c], _ = _first_contacts(
+                xy,
+                vcos,
+                vsin,
+                ttc_x,
+                ttc_y,
                 ttc_contact.pedestrian_radius,
-                ped_cv[c],
-                ~self._cv_protected(view, pj[c], ped_cv[c]),
-                c,
+                tracks,
+                ~self._cv_protected(view, pj[c], tracks),
+                vslot[c],
                 np.arange(len(c)),
                 t,
             )
         sct = np.full(n, np.inf)
         if not with_sct:
             return ttc, sct, gap
-        slot = view.ped_slot[pj]
-        contact = self.config.contact
-        tracks = view.tracks[slot]
-        h = tracks.shape[1]
-        near = near_pairs(
-            vxy,
-            length,
-            width,
-            contact.vehicle_margin,
-            contact.pedestrian_radius,
-            tracks.reshape(n * h, len(t), 2),
-            np.repeat(every, h),
-            np.arange(n * h),
-        )
-        c = np.flatnonzero(near.reshape(n, h).any(axis=1))
+        c = np.flatnonzero(near_sct)
         if len(c):
-            first, _ = first_contacts(
-                vxy,
-                vh,
-                length,
-                width,
-                contact.vehicle_margin,
+            h = view.tracks.shape[1]
+            first, _ = _first_contacts(
+                xy,
+                vcos,
+                vsin,
+                sct_x,
+                sct_y,
                 contact.pedestrian_radius,
-                tracks[c].reshape(len(c) * h, len(t), 2),
+                view.tracks[slot[c]].reshape(len(c) * h, len(t), 2),
                 self.exposed(view, slot[c]).reshape(len(c) * h, len(t)),
-                np.repeat(c, h),
+                np.repeat(vslot[c], h),
                 np.arange(len(c) * h),
                 t,
             )
@@ -422,27 +431,46 @@ class SCTModel:
         has, vin, pin = np.zeros(n, bool), np.zeros(n, bool), np.zeros(n, bool)
         if self.geometry is None or n == 0:
             return has, vin, pin
-        state = view.state
+        state, seg = view.state, view.table.seg
         cr = self.geometry.crossings
         k = view.crossing[view.ped_slot[pj]]
         on = np.flatnonzero(k >= 0)
-        for r in np.unique(vi[on]).tolist():
-            sel = on[vi[on] == r]
-            slot = view.veh_slot[r]
-            kk = k[sel]
-            h, v, p = crossing_conflict(
-                view.paths[slot],
-                float(view.s0[slot]),
-                float(state.length[r]),
-                float(state.width[r]),
-                state.xyz[pj[sel], :2],
-                cr.direction[kk],
-                cr.centre[kk],
-                cr.half_length[kk],
-                ped_radius,
-            )
-            has[sel], vin[sel], pin[sel] = h, v, p
+        if len(on) == 0:
+            return has, vin, pin
+        r, kk = vi[on], k[on]
+        slot = view.veh_slot[r]
+        has[on], vin[on], pin[on] = crossing_zones(
+            slot,
+            view.s0[slot],
+            state.length[r],
+            state.width[r],
+            view.table.count,
+            view.table.first,
+            seg.start,
+            seg.vector,
+            seg.cum_start,
+            np.ascontiguousarray(state.xyz[pj[on], :2]),
+            cr.direction[kk],
+            cr.centre[kk],
+            cr.half_length[kk],
+            float(ped_radius),
+        )
         return has, vin, pin
+
+
+_NO_TRACKS = np.zeros((0, 1, 1, 2))  # pair_screen's tracks when SCT is not computed
+
+
+def _grown(
+    length: np.ndarray, width: np.ndarray, contact: ContactGeometry
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Half length and width (m) of vehicle rectangles grown by the contact margin, and the
+    squared reach of near_pairs (circumscribed circle, disc and slack), as contact_gap and
+    near_pairs compute them."""
+    half_x = 0.5 * length + contact.vehicle_margin
+    half_y = 0.5 * width + contact.vehicle_margin
+    reach = np.hypot(half_x, half_y) + contact.pedestrian_radius + 1e-6
+    return half_x, half_y, reach * reach
 
 
 def _distinct(rows: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -459,8 +487,9 @@ def _distinct(rows: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
 class StepView:
     """Per-step shared values: vehicle rows with their paths, path table and arc lengths (m),
     pedestrian rows with predicted velocities (m/s), dart-out flags, crossing index (-1: not
-    on a crossing) and predicted tracks (P, H, K, 2) m (None when not predicted); ``*_slot``
-    map a state row to its index in these lists."""
+    on a crossing), predicted tracks (P, H, K, 2) m and whether each track point is on the
+    carriageway (P, H, K) (both None when not predicted); ``*_slot`` map a state row to its
+    index in these lists."""
 
     state: WorldState
     veh_rows: np.ndarray
@@ -474,5 +503,4 @@ class StepView:
     ped_slot: np.ndarray
     table: PathTable
     tracks: np.ndarray | None
-    exposed_cache: np.ndarray | None = field(default=None, repr=False)
-    exposed_done: np.ndarray | None = field(default=None, repr=False)
+    exposed: np.ndarray | None
