@@ -91,7 +91,7 @@ class _View:
     ego_driven: bool
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class StepReport:
     """What one update did. ``time``: scenario time of the evaluated state (s)."""
 
@@ -360,18 +360,19 @@ class ScenarioEngine:
         self._started, self._ended, self._ego_requests = [], [], []
         if self.finished:
             return self._report()
-        active = self._view().active
-        snap = self._snapshot(world, sim)
-        fired = self.bank.evaluate(snap, active, self.tree.state, self.tree.transition)
+        view = self._view()
+        snap, gather = self._snapshot(world, sim, view)
+        fired = self.bank.evaluate(snap, view.active, self.tree.state, self.tree.transition, gather)
         self.tree.transition[:] = NO_TRANSITION
-        if fired[0]:
+        any_fired = self.bank.n_fired > 0
+        if any_fired and fired[0]:
             self.finished = True
             for story in self.tree.of_kind("story"):
                 self.tree.stop(story.index, self.now)
             return self._report()
         # with nothing fired and no element changed since an update that changed nothing,
         # the update would change nothing again
-        if fired.any() or len(self.tree.log) != self._idle[0]:
+        if any_fired or len(self.tree.log) != self._idle[0]:
             version = len(self.tree.log)
             self._acts(fired)
             self._events(fired)
@@ -582,18 +583,25 @@ class ScenarioEngine:
             self._rows = {str(i): k for k, i in enumerate(ids)}
             self._entity_rows = np.array([self._rows.get(n, -1) for n in self.names], np.intp)
 
-    def _snapshot(self, world: WorldState, sim: Simulation) -> Snapshot:
+    def _snapshot(
+        self, world: WorldState, sim: Simulation, view: _View
+    ) -> tuple[Snapshot, tuple | None]:
         """What the conditions read now, in arrays reused from step to step (the snapshot
-        lives for one evaluation)."""
-        rows, tb, view, out = self._entity_rows, self.table, self._view(), self._ent
+        lives for one evaluation), and the arguments of ``gather_entities`` that fills its
+        entity arrays in the trigger evaluation's compiled call (None: filled here, as
+        entities are located on the map after it)."""
+        rows, tb, out = self._entity_rows, self.table, self._ent
         if self.bank.needs_road:
             tb.refresh(self.roads.odr)
-        present, centre, ref = self._present, self._centre, self._ref
-        gather_entities(
+        present = self._present
+        gather = (
             rows, world.xyz, world.heading, world.speed, world.accel, self._centre_offset,
-            view.own, tb.road_code, tb.state, tb.direction, present, centre, ref, out,
+            view.own, tb.road_code, tb.state, tb.direction, present, self._centre, self._ref,
+            out,
         )  # fmt: skip
         if view.located:
+            gather_entities(*gather)
+            gather = None
             self._located_road_coords(present)
         n = len(rows)
         contacts: set[frozenset[int]] = set()
@@ -616,7 +624,7 @@ class ScenarioEngine:
         snap.time, snap.on_net, snap.contacts, snap.contact_any = (
             self.now, on_net, contacts, contact_any
         )  # fmt: skip
-        return snap
+        return snap, gather
 
 
 __all__ = ["ScenarioEngine", "StepReport", "EntityKind"]
