@@ -124,6 +124,7 @@ class ConditionBank:
         self.row_table = _row_table(self.rows)
         self.needs_road = bool(self.rows.road.any())
         self.needs_on_net = bool((self.rows.kind == M.END_OF_ROAD).any())
+        self.needs_contacts = bool((self.rows.kind == M.COLLISION).any())
         self.row_trigger = self.cond_trigger[self.rows.owner]
         self.since = np.full(len(self.rows), np.nan)
         self.points = np.full((len(self.rows), 2), np.nan)

@@ -606,7 +606,8 @@ class ScenarioEngine:
         n = len(rows)
         contacts: set[frozenset[int]] = set()
         contact_any = self._no_contact
-        for col in sim.collisions:
+        # only collision conditions read the contacts
+        for col in sim.collisions if self.bank.needs_contacts else ():
             if col.depth <= 0.0:
                 continue  # SUMO's per-lane check alone: no sublanes, beside counts as hit
             ia, ib = self.index.get(col.a, -1), self.index.get(col.b, -1)
