@@ -204,6 +204,7 @@ class ScenarioEngine:
         # log length / (log length, motion version) at the start of the latest storyboard
         # update / action-ending pass that changed nothing (-1 / None: it changed something)
         self._idle: tuple[int, tuple[int, int] | None] = (-1, None)
+        self._cleared = -1  # log length when the element transitions were last cleared
 
     # ------------------------------------------------------------------ who drives what
     def storyboard_drives(self, name: str) -> bool:
@@ -363,7 +364,9 @@ class ScenarioEngine:
         view = self._view()
         snap, gather = self._snapshot(world, sim, view)
         fired = self.bank.evaluate(snap, view.active, self.tree.state, self.tree.transition, gather)
-        self.tree.transition[:] = NO_TRANSITION
+        if len(self.tree.log) != self._cleared:  # transitions are set with a log entry only
+            self.tree.transition[:] = NO_TRANSITION
+            self._cleared = len(self.tree.log)
         any_fired = self.bank.n_fired > 0
         if any_fired and fired[0]:
             self.finished = True
