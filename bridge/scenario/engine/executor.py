@@ -380,9 +380,14 @@ class ScenarioEngine:
             self._acts(fired)
             self._events(fired)
             self._idle = (version if len(self.tree.log) == version else -1, self._idle[1])
-        self._advance()
-        self._finish_actions(self.now)
-        self._command(sim)
+        # when no action can end (see _finish_actions), the commands are computed in the
+        # motion pass's compiled call
+        idle = (len(self.tree.log), self.table.motion_version) == self._idle[1]
+        changed = self._advance(self._command_args() if idle else None)
+        if changed is None:
+            self._finish_actions(self.now)
+            changed = command_step(*self._command_args())
+        self._send(sim, changed)
         return self._report()
 
     def _report(self) -> StepReport:
@@ -482,7 +487,10 @@ class ScenarioEngine:
         self.instances.setdefault(ai, []).append(inst)
 
     # ------------------------------------------------------------------ motion
-    def _advance(self) -> None:
+    def _advance(self, command: tuple | None = None) -> np.ndarray | None:
+        """Move the driven actors to the next step; ``command``: the arguments of
+        ``command_step``, run in the same compiled call when the pass ends nothing (returns
+        its result; None: not run)."""
         nxt = self.now + self.dt
         view, tb = self._view(), self.table
         key = (view.version, tb.motion_version)  # free changes only with the motion version
@@ -490,11 +498,14 @@ class ScenarioEngine:
             on_road = np.flatnonzero(view.driven & ~tb.free)
             self._advance_rows = (key, on_road, np.flatnonzero(view.driven & tb.free).tolist())
         _, on_road, on_path = self._advance_rows
-        advance_road_actors(self.roads.odr, self._actor_list, on_road, nxt, self.dt)
+        changed = advance_road_actors(
+            self.roads.odr, self._actor_list, on_road, nxt, self.dt, None if on_path else command
+        )
         for k in on_path:
             a = self._actor_list[k]
             if a.path is not None:
                 self.starter.follow_path(a, nxt)
+        return changed
 
     def _finish_actions(self, now: float) -> None:
         """End the actions whose transitions or paths are over, then every element whose
@@ -524,6 +535,10 @@ class ScenarioEngine:
     def _command(self, sim: Simulation) -> None:
         """Place every inserted scripted actor for the next step; its speed is sent only when
         it changed (SUMO holds the speed set last)."""
+        self._send(sim, command_step(*self._command_args()))
+
+    def _command_args(self) -> tuple:
+        """The arguments of ``command_step`` for the inserted scripted actors."""
         tb = self.table
         key = (self._view().version, self._inserts)
         if key != self._moved_key:
@@ -537,12 +552,17 @@ class ScenarioEngine:
                 left[rows] = False
                 self._sent_speed[left] = np.nan  # others may set its speed meanwhile
             self._moved_key = key
-        rows, names, out = self._moved
+        rows, _, out = self._moved
         prof = tb.lane_profile(self.roads.odr)
-        changed = command_step(
+        return (
             rows, tb.state, self._cx, self._cy, self._length, self._sent_speed, *out, tb.free,
             tb.road_code, tb.lane, prof.sec_first, prof.sec_count, prof.sec_s0, self._lane_key,
         )  # fmt: skip
+
+    def _send(self, sim: Simulation, changed: np.ndarray) -> None:
+        """Send the commands computed into the arrays of ``_moved``; ``changed``: the rows
+        whose SUMO lane is to be looked up again."""
+        rows, names, out = self._moved
         edges, lanes = self._sumo_lanes(rows, changed)
         if names:
             front_x, front_y, angle = out[3].tolist()
