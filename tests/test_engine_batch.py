@@ -10,8 +10,18 @@ import pytest
 import shapely
 from openscenario_files import ALKS
 
+from hiyari.bridge.scenario.engine import motion_kernel as MK
 from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
 from hiyari.bridge.scenario.engine.positions import Pose
+from hiyari.bridge.scenario.engine.snapshot import (
+    F_ACCEL,
+    F_HEADING,
+    F_ROAD_DIR,
+    F_ROAD_S,
+    F_ROAD_T,
+    F_SPEED,
+    gather_entities,
+)
 from hiyari.bridge.scenario.model import (
     Condition,
     CoordinateSystem,
@@ -154,6 +164,66 @@ def test_batched_evaluation_equals_one_condition_at_a_time() -> None:
         fired_any |= got
         fired_not |= active & ~got
     assert fired_any.sum() > 30 and fired_not.sum() > 30  # not all one way
+
+
+def _gathered_snapshot(t: float, length: np.ndarray, width: np.ndarray) -> tuple:
+    """A Snapshot on zeroed arrays for gather_entities to fill, and those arrays."""
+    present, centre, ref, ent = (
+        np.zeros(E, bool),
+        np.zeros((E, 2)),
+        np.zeros((E, 2)),
+        np.zeros((6, E)),
+    )
+    snap = Snapshot(
+        t, present, ref, centre, ent[F_HEADING], length, width, ent[F_SPEED], ent[F_ACCEL],
+        np.ones(E, bool), ent[F_ROAD_S], ent[F_ROAD_T], ent[F_ROAD_DIR], set(),
+        np.zeros(E, bool),
+    )  # fmt: skip
+    return snap, (present, centre, ref, ent)
+
+
+def test_gathering_in_the_trigger_call_equals_gathering_first() -> None:
+    """The snapshot gathered in the trigger evaluation's compiled call (with point conditions:
+    just before it, as their positions need it) is the one gather_entities fills, and the
+    firings and their count are those of evaluating after it, bit for bit."""
+    rng = np.random.default_rng(5)
+    index = {f"e{k}": k for k in range(E)}
+
+    def resolve(p: WorldPosition) -> Pose:
+        return Pose(p.x, p.y, 0.0, 0.0, "", 0, 0.0, 0.0)
+
+    conditions = _random_conditions(rng, 60)
+    no_points = [c for k, c in enumerate(conditions) if k % 10 not in (3, 8, 9)]
+    length, width, none = rng.uniform(3, 6, E), rng.uniform(1.5, 2.5, E), np.zeros(0, np.int8)
+    fired_total = 0
+    for conds in (no_points, conditions):
+        banks = [
+            ConditionBank([((c,),) for c in conds], index, lambda *a: 0, {}, resolve, DT)
+            for _ in range(2)
+        ]
+        for step in range(10):
+            n_world = E + 2
+            rows = rng.permutation(n_world)[:E]
+            rows[rng.random(E) < 0.25] = -1
+            world = (
+                rows, rng.uniform(-15, 15, (n_world, 3)), rng.uniform(-np.pi, np.pi, n_world),
+                rng.uniform(0, 20, n_world), rng.uniform(-5, 3, n_world),
+                rng.uniform(-1, 2, (E, 2)), rng.random(E) < 0.5, rng.integers(-1, 2, E),
+                rng.uniform(0, 60, (len(MK.STATE), E)), rng.choice([-1.0, 1.0], E),
+            )  # fmt: skip
+            active = rng.random(len(conds)) < 0.7
+            (snap0, out0), (snap1, out1) = (_gathered_snapshot(step * DT, length, width)
+                                            for _ in range(2))  # fmt: skip
+            gather_entities(*world, *out0)
+            want = banks[0].evaluate(snap0, active, none, none).copy()
+            got = banks[1].evaluate(snap1, active, none, none, (*world, *out1))
+            assert got.tolist() == want.tolist()
+            assert banks[1].n_fired == banks[0].n_fired == int(want.sum())
+            assert all(
+                np.array_equal(a, b, equal_nan=True) for a, b in zip(out0, out1, strict=True)
+            )
+            fired_total += int(want.sum())
+    assert fired_total > 20  # the comparison saw firings
 
 
 def test_locate_near_matches_the_full_search_on_a_curved_road() -> None:

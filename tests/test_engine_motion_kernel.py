@@ -12,7 +12,12 @@ import numpy as np
 import pytest
 
 from hiyari.bridge.scenario.engine import motion_kernel as MK
-from hiyari.bridge.scenario.engine.command_kernel import command_rows, command_step, lane_keys
+from hiyari.bridge.scenario.engine.command_kernel import (
+    advance_and_command,
+    command_rows,
+    command_step,
+    lane_keys,
+)
 from hiyari.bridge.scenario.engine.shapes import CUBIC, LINEAR, SINUSOIDAL
 from hiyari.kinematics import point_ahead, vehicle_to_world
 from hiyari.net.road.lane_profile import lane_profile
@@ -263,6 +268,52 @@ def test_advance_and_place_equals_the_passes_one_by_one() -> None:
             MK.place_rows(rows, *plan.arrays(), direction, two[0])
         assert got == (n_long, missing, n_lat, want_placed)
         assert all(np.array_equal(a, b) for a, b in zip(one, two, strict=True))
+
+
+def test_advance_and_command_commands_only_when_nothing_ended() -> None:
+    """The motion step and the commands in one call leave the same arrays, bit for bit, as
+    advance_and_place then command_step; when a transition ends (the storyboard ends its
+    action first) the commands are left to the caller, their arrays untouched."""
+    rng = np.random.default_rng(5)
+    road = OpenDriveMap.from_file(ROADS / "alks_road_left_radius_250m.xodr").road("0")
+    profile = lane_profile([road])
+    n = 6
+    rows = np.arange(n)[::-1].copy()
+    st = np.zeros((len(MK.STATE), n))
+    st[MK.S] = rng.uniform(50.0, 250.0, n)
+    st[MK.T] = [road.lane_t(-1, s) for s in st[MK.S]]
+    st[MK.V] = rng.uniform(5.0, 30.0, n)
+    long_par = np.zeros((n, 8))
+    long_par[:, MK.L_V0], long_par[:, MK.L_GOAL] = st[MK.V], rng.uniform(0.0, 30.0, n)
+    long_par[:, MK.L_SHAPE], long_par[:, MK.L_SPAN] = LINEAR, 2.0
+    cx, cy, length = rng.uniform(0, 2, n), rng.uniform(-0.5, 0.5, n), rng.uniform(3, 6, n)
+    off, none = np.zeros(n, bool), np.zeros(n, bool)
+
+    def motion(x: list, has_long: np.ndarray, now: float) -> tuple:
+        return (
+            rows, now, 0.05, np.zeros(n), np.ones(n), x[0], has_long, x[1], x[2], none,
+            np.zeros((n, 9)), none, False, *profile.arrays(), *road.plan_view.arrays(),
+        )  # fmt: skip
+
+    def command(x: list) -> tuple:
+        return (
+            rows, x[0], cx, cy, length, *x[3:8], none, np.zeros(n, np.intp),
+            np.full(n, -1, np.int64), profile.sec_first, profile.sec_count,
+            profile.sec_s0, x[8],
+        )  # fmt: skip
+
+    for has_long, now, commanded in ((off, 1.0, True), (~off, 3.0, False)):
+        one = [st.copy(), long_par.copy(), np.zeros(n, bool), np.full(n, np.nan),
+               np.zeros((n, 2)), np.zeros(n), np.zeros(n), np.zeros((3, n)),
+               np.full((n, 3), -2, np.int64)]  # fmt: skip
+        two = [x.copy() for x in one]
+        *got, changed = advance_and_command(*motion(one, has_long, now), *command(one))
+        assert tuple(got) == MK.advance_and_place(*motion(two, has_long, now))
+        if commanded:
+            assert changed.tolist() == command_step(*command(two)).tolist() == rows.tolist()
+        else:
+            assert got[0] == n and not len(changed)
+        assert all(np.array_equal(a, b, equal_nan=True) for a, b in zip(one, two, strict=True))
 
 
 def test_command_step_is_command_rows_and_lane_keys(curved_road: object) -> None:

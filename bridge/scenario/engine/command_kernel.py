@@ -12,7 +12,16 @@ import math
 import numpy as np
 from numba import njit
 
-from hiyari.bridge.scenario.engine.motion_kernel import V_LAT, H, S, V, X, Y, _remainder
+from hiyari.bridge.scenario.engine.motion_kernel import (
+    V_LAT,
+    H,
+    S,
+    V,
+    X,
+    Y,
+    _remainder,
+    advance_and_place,
+)
 from hiyari.net.road.lane_profile import section_of
 
 
@@ -106,3 +115,69 @@ def command_step(
     returns the rows whose SUMO lane is to be looked up again."""
     command_rows(rows, st, cx, cy, length, sent_speed, centres, heading, send, sumo)
     return lane_keys(rows, free, road_code, lane, st[S], sec_first, sec_count, sec_s0, key)
+
+
+@njit(cache=True)
+def advance_and_command(
+    rows: np.ndarray,
+    now: float,
+    dt: float,
+    kappa: np.ndarray,
+    direction: np.ndarray,
+    st: np.ndarray,
+    has_long: np.ndarray,
+    long_par: np.ndarray,
+    long_done: np.ndarray,
+    has_lat: np.ndarray,
+    lat_par: np.ndarray,
+    lat_done: np.ndarray,
+    lateral: bool,
+    rec_s0: np.ndarray,
+    rec_c: np.ndarray,
+    off_first: np.ndarray,
+    off_count: np.ndarray,
+    sec_first: np.ndarray,
+    sec_count: np.ndarray,
+    sec_s0: np.ndarray,
+    w_first: np.ndarray,
+    w_count: np.ndarray,
+    max_lane: int,
+    length: float,
+    geom: np.ndarray,
+    elev_s0: np.ndarray,
+    elev_c: np.ndarray,
+    c_rows: np.ndarray,
+    c_st: np.ndarray,
+    cx: np.ndarray,
+    cy: np.ndarray,
+    box_length: np.ndarray,
+    sent_speed: np.ndarray,
+    centres: np.ndarray,
+    heading: np.ndarray,
+    send: np.ndarray,
+    sumo: np.ndarray,
+    free: np.ndarray,
+    road_code: np.ndarray,
+    lane: np.ndarray,
+    c_sec_first: np.ndarray,
+    c_sec_count: np.ndarray,
+    c_sec_s0: np.ndarray,
+    key: np.ndarray,
+) -> tuple[int, int, int, bool, np.ndarray]:
+    """``motion_kernel.advance_and_place`` (its arguments first) and, when it ended no
+    transition and placed every row (nothing for the storyboard to end in between), then
+    :func:`command_step` (its arguments after, ``c_``: its own) in the same call. Returns
+    advance_and_place's result and command_step's (empty when it did not run, as an ended
+    transition or ``placed`` False tell: the caller ends them first, then commands)."""
+    n_long, missing, n_lat, placed = advance_and_place(
+        rows, now, dt, kappa, direction, st, has_long, long_par, long_done, has_lat, lat_par,
+        lat_done, lateral, rec_s0, rec_c, off_first, off_count, sec_first, sec_count, sec_s0,
+        w_first, w_count, max_lane, length, geom, elev_s0, elev_c,
+    )  # fmt: skip
+    if n_long > 0 or not placed:
+        return n_long, missing, n_lat, placed, np.empty(0, dtype=np.intp)
+    changed = command_step(
+        c_rows, c_st, cx, cy, box_length, sent_speed, centres, heading, send, sumo, free,
+        road_code, lane, c_sec_first, c_sec_count, c_sec_s0, key,
+    )  # fmt: skip
+    return n_long, missing, n_lat, placed, changed

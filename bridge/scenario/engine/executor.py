@@ -91,7 +91,7 @@ class _View:
     ego_driven: bool
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class StepReport:
     """What one update did. ``time``: scenario time of the evaluated state (s)."""
 
@@ -204,6 +204,7 @@ class ScenarioEngine:
         # log length / (log length, motion version) at the start of the latest storyboard
         # update / action-ending pass that changed nothing (-1 / None: it changed something)
         self._idle: tuple[int, tuple[int, int] | None] = (-1, None)
+        self._cleared = -1  # log length when the element transitions were last cleared
 
     # ------------------------------------------------------------------ who drives what
     def storyboard_drives(self, name: str) -> bool:
@@ -360,25 +361,33 @@ class ScenarioEngine:
         self._started, self._ended, self._ego_requests = [], [], []
         if self.finished:
             return self._report()
-        active = self._view().active
-        snap = self._snapshot(world, sim)
-        fired = self.bank.evaluate(snap, active, self.tree.state, self.tree.transition)
-        self.tree.transition[:] = NO_TRANSITION
-        if fired[0]:
+        view = self._view()
+        snap, gather = self._snapshot(world, sim, view)
+        fired = self.bank.evaluate(snap, view.active, self.tree.state, self.tree.transition, gather)
+        if len(self.tree.log) != self._cleared:  # transitions are set with a log entry only
+            self.tree.transition[:] = NO_TRANSITION
+            self._cleared = len(self.tree.log)
+        any_fired = self.bank.n_fired > 0
+        if any_fired and fired[0]:
             self.finished = True
             for story in self.tree.of_kind("story"):
                 self.tree.stop(story.index, self.now)
             return self._report()
         # with nothing fired and no element changed since an update that changed nothing,
         # the update would change nothing again
-        if fired.any() or len(self.tree.log) != self._idle[0]:
+        if any_fired or len(self.tree.log) != self._idle[0]:
             version = len(self.tree.log)
             self._acts(fired)
             self._events(fired)
             self._idle = (version if len(self.tree.log) == version else -1, self._idle[1])
-        self._advance()
-        self._finish_actions(self.now)
-        self._command(sim)
+        # when no action can end (see _finish_actions), the commands are computed in the
+        # motion pass's compiled call
+        idle = (len(self.tree.log), self.table.motion_version) == self._idle[1]
+        changed = self._advance(self._command_args() if idle else None)
+        if changed is None:
+            self._finish_actions(self.now)
+            changed = command_step(*self._command_args())
+        self._send(sim, changed)
         return self._report()
 
     def _report(self) -> StepReport:
@@ -478,7 +487,10 @@ class ScenarioEngine:
         self.instances.setdefault(ai, []).append(inst)
 
     # ------------------------------------------------------------------ motion
-    def _advance(self) -> None:
+    def _advance(self, command: tuple | None = None) -> np.ndarray | None:
+        """Move the driven actors to the next step; ``command``: the arguments of
+        ``command_step``, run in the same compiled call when the pass ends nothing (returns
+        its result; None: not run)."""
         nxt = self.now + self.dt
         view, tb = self._view(), self.table
         key = (view.version, tb.motion_version)  # free changes only with the motion version
@@ -486,11 +498,14 @@ class ScenarioEngine:
             on_road = np.flatnonzero(view.driven & ~tb.free)
             self._advance_rows = (key, on_road, np.flatnonzero(view.driven & tb.free).tolist())
         _, on_road, on_path = self._advance_rows
-        advance_road_actors(self.roads.odr, self._actor_list, on_road, nxt, self.dt)
+        changed = advance_road_actors(
+            self.roads.odr, self._actor_list, on_road, nxt, self.dt, None if on_path else command
+        )
         for k in on_path:
             a = self._actor_list[k]
             if a.path is not None:
                 self.starter.follow_path(a, nxt)
+        return changed
 
     def _finish_actions(self, now: float) -> None:
         """End the actions whose transitions or paths are over, then every element whose
@@ -520,6 +535,10 @@ class ScenarioEngine:
     def _command(self, sim: Simulation) -> None:
         """Place every inserted scripted actor for the next step; its speed is sent only when
         it changed (SUMO holds the speed set last)."""
+        self._send(sim, command_step(*self._command_args()))
+
+    def _command_args(self) -> tuple:
+        """The arguments of ``command_step`` for the inserted scripted actors."""
         tb = self.table
         key = (self._view().version, self._inserts)
         if key != self._moved_key:
@@ -533,12 +552,17 @@ class ScenarioEngine:
                 left[rows] = False
                 self._sent_speed[left] = np.nan  # others may set its speed meanwhile
             self._moved_key = key
-        rows, names, out = self._moved
+        rows, _, out = self._moved
         prof = tb.lane_profile(self.roads.odr)
-        changed = command_step(
+        return (
             rows, tb.state, self._cx, self._cy, self._length, self._sent_speed, *out, tb.free,
             tb.road_code, tb.lane, prof.sec_first, prof.sec_count, prof.sec_s0, self._lane_key,
         )  # fmt: skip
+
+    def _send(self, sim: Simulation, changed: np.ndarray) -> None:
+        """Send the commands computed into the arrays of ``_moved``; ``changed``: the rows
+        whose SUMO lane is to be looked up again."""
+        rows, names, out = self._moved
         edges, lanes = self._sumo_lanes(rows, changed)
         if names:
             front_x, front_y, angle = out[3].tolist()
@@ -582,23 +606,31 @@ class ScenarioEngine:
             self._rows = {str(i): k for k, i in enumerate(ids)}
             self._entity_rows = np.array([self._rows.get(n, -1) for n in self.names], np.intp)
 
-    def _snapshot(self, world: WorldState, sim: Simulation) -> Snapshot:
+    def _snapshot(
+        self, world: WorldState, sim: Simulation, view: _View
+    ) -> tuple[Snapshot, tuple | None]:
         """What the conditions read now, in arrays reused from step to step (the snapshot
-        lives for one evaluation)."""
-        rows, tb, view, out = self._entity_rows, self.table, self._view(), self._ent
+        lives for one evaluation), and the arguments of ``gather_entities`` that fills its
+        entity arrays in the trigger evaluation's compiled call (None: filled here, as
+        entities are located on the map after it)."""
+        rows, tb, out = self._entity_rows, self.table, self._ent
         if self.bank.needs_road:
             tb.refresh(self.roads.odr)
-        present, centre, ref = self._present, self._centre, self._ref
-        gather_entities(
+        present = self._present
+        gather = (
             rows, world.xyz, world.heading, world.speed, world.accel, self._centre_offset,
-            view.own, tb.road_code, tb.state, tb.direction, present, centre, ref, out,
+            view.own, tb.road_code, tb.state, tb.direction, present, self._centre, self._ref,
+            out,
         )  # fmt: skip
         if view.located:
+            gather_entities(*gather)
+            gather = None
             self._located_road_coords(present)
         n = len(rows)
         contacts: set[frozenset[int]] = set()
         contact_any = self._no_contact
-        for col in sim.collisions:
+        # only collision conditions read the contacts
+        for col in sim.collisions if self.bank.needs_contacts else ():
             if col.depth <= 0.0:
                 continue  # SUMO's per-lane check alone: no sublanes, beside counts as hit
             ia, ib = self.index.get(col.a, -1), self.index.get(col.b, -1)
@@ -616,7 +648,7 @@ class ScenarioEngine:
         snap.time, snap.on_net, snap.contacts, snap.contact_any = (
             self.now, on_net, contacts, contact_any
         )  # fmt: skip
-        return snap
+        return snap, gather
 
 
 __all__ = ["ScenarioEngine", "StepReport", "EntityKind"]

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hiyari.bridge.scenario.engine import command_kernel as CK
 from hiyari.bridge.scenario.engine import motion_kernel as MK
 from hiyari.bridge.scenario.engine.shapes import SHAPE_CODE
 from hiyari.bridge.scenario.model.actions import Shape
@@ -339,13 +340,21 @@ def by_road(table: ActorTable, rows: np.ndarray) -> list[tuple[str, np.ndarray]]
 
 
 def advance_road_actors(
-    odr: OpenDriveMap, actors: list[Actor], rows: np.ndarray, now: float, dt: float
-) -> None:
+    odr: OpenDriveMap,
+    actors: list[Actor],
+    rows: np.ndarray,
+    now: float,
+    dt: float,
+    command: tuple | None = None,
+) -> np.ndarray | None:
     """Advance the road actors in table ``rows`` (indices into ``actors``, which share one
     table) by one step to scenario time ``now``: speeds and s, then lateral positions, in one
-    compiled pass each; goals that follow other entities are read before each pass."""
+    compiled pass each; goals that follow other entities are read before each pass.
+    ``command``: the arguments of ``command_kernel.command_step``, run in the same compiled
+    call when the rows are on one road and the pass ends no transition; returns its result
+    (None: not run)."""
     if not len(rows):
-        return
+        return None
     tb = actors[0].table
     tb.refresh(odr)
     groups = tb.groups(rows)
@@ -360,16 +369,22 @@ def advance_road_actors(
     one = groups[0][0] if len(groups) == 1 and groups[0][1] is rows else None
     plan = odr.road(one).plan_view if one is not None else None
     if plan is not None and not tb.lat_offsets:  # the whole step in one compiled call
-        ended, missing, lat_ended, placed = MK.advance_and_place(
+        args = (
             rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par,
             tb.long_done, tb.has_lat, tb.lat_par, tb.lat_done, tb.n_lat > 0,
             *tb.lane_profile(odr).arrays(), *plan.arrays(),
         )  # fmt: skip
+        if command is None:
+            ended, missing, lat_ended, placed = MK.advance_and_place(*args)
+        else:
+            ended, missing, lat_ended, placed, changed = CK.advance_and_command(*args, *command)
+            if not ended and placed:
+                return changed
         _end_long(actors, rows, ended)
         if not placed:
             _end_lateral(odr, actors, rows, missing, lat_ended)
             place_on_road(odr, one, tb, rows)
-        return
+        return None
     ended = MK.advance_long(
         rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par, tb.long_done
     )
@@ -378,6 +393,7 @@ def advance_road_actors(
         _advance_lateral(odr, actors, rows, now, dt)
     for road, r in groups:
         place_on_road(odr, road, tb, r)
+    return None
 
 
 def _end_long(actors: list[Actor], rows: np.ndarray, ended: int) -> None:

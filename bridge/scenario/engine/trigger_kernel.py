@@ -33,6 +33,15 @@ from hiyari.bridge.scenario.engine.measures import (
     single_measure,
     ttc_above,
 )
+from hiyari.bridge.scenario.engine.snapshot import (
+    F_ACCEL,
+    F_HEADING,
+    F_ROAD_DIR,
+    F_ROAD_S,
+    F_ROAD_T,
+    F_SPEED,
+    gather_entities,
+)
 
 #: Condition kinds (column 0 of the condition table).
 STATIC, TIME, STATE, ENTITY = 0, 1, 2, 3
@@ -245,8 +254,8 @@ def evaluate_triggers(
     counts: np.ndarray,
     flags: np.ndarray,
     fired: np.ndarray,
-) -> None:
-    """Into ``fired`` (T,): the fired triggers at scenario time ``now`` (s), step ``step_no``
+) -> int:
+    """Into ``fired`` (T,), returning how many: the fired triggers at scenario time ``now`` (s), step ``step_no``
     since the bank was built, given which triggers are ``active``. ``group_start`` (G + 1,):
     first condition of each AND group (last: C); ``trigger_group`` (T + 1,): first group of
     each trigger (last: G). Entity arrays are per entity (see measures.Snapshot);
@@ -259,7 +268,7 @@ def evaluate_triggers(
         contact, contact_any, states, transitions, trig, counts, raw,
     )  # fmt: skip
     _edges_and_delays(raw, active, cond, prev, history, step_no, value)
-    n_trig = len(trigger_group) - 1
+    n_trig, n_fired = len(trigger_group) - 1, 0
     for t in range(n_trig):
         fired[t] = False
         if not active[t]:
@@ -270,7 +279,66 @@ def evaluate_triggers(
                 all_hold = all_hold and value[c]
             if all_hold:
                 fired[t] = True
+                n_fired += 1
                 break
+    return n_fired
+
+
+@njit(cache=True)
+def gather_and_evaluate(
+    rows: np.ndarray,
+    xyz: np.ndarray,
+    w_heading: np.ndarray,
+    w_speed: np.ndarray,
+    w_accel: np.ndarray,
+    centre_offset: np.ndarray,
+    own: np.ndarray,
+    road_code: np.ndarray,
+    table: np.ndarray,
+    direction: np.ndarray,
+    present: np.ndarray,
+    centre: np.ndarray,
+    ref: np.ndarray,
+    ent: np.ndarray,
+    now: float,
+    step_no: int,
+    active: np.ndarray,
+    cond: np.ndarray,
+    time_value: np.ndarray,
+    static: np.ndarray,
+    group_start: np.ndarray,
+    trigger_group: np.ndarray,
+    prev: np.ndarray,
+    history: np.ndarray,
+    row_table: np.ndarray,
+    row_value: np.ndarray,
+    points: np.ndarray,
+    since: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    on_net: np.ndarray,
+    contact: np.ndarray,
+    contact_any: np.ndarray,
+    states: np.ndarray,
+    transitions: np.ndarray,
+    trig: np.ndarray,
+    counts: np.ndarray,
+    flags: np.ndarray,
+    fired: np.ndarray,
+) -> int:
+    """:func:`snapshot.gather_entities` (its arguments first; ``ent``: its ``out``) and then
+    :func:`evaluate_triggers` on what it gathered, in one call (a step's snapshot and
+    triggers when no entity's road coordinates are located in Python)."""
+    gather_entities(
+        rows, xyz, w_heading, w_speed, w_accel, centre_offset, own, road_code, table,
+        direction, present, centre, ref, ent,
+    )  # fmt: skip
+    return evaluate_triggers(
+        now, step_no, active, cond, time_value, static, group_start, trigger_group, prev,
+        history, row_table, row_value, points, since, present, centre, ref, ent[F_HEADING],
+        length, width, ent[F_SPEED], ent[F_ACCEL], on_net, ent[F_ROAD_S], ent[F_ROAD_T],
+        ent[F_ROAD_DIR], contact, contact_any, states, transitions, trig, counts, flags, fired,
+    )  # fmt: skip
 
 
 @njit(cache=True)
