@@ -3,7 +3,9 @@
 
 Results go to ``<out>/results.csv``, one row per concrete run keyed by ``run_id``; a row is
 appended (one write, flushed) as soon as its run finishes, so a killed campaign keeps what
-finished and a new one runs only the missing rows. Failed runs are then re-run with an MCAP
+finished and a new one runs only the missing rows. When every row is in, the table is rewritten
+in plan order (workers finish in any order), so the same inputs give the same file; only the
+``wall_s`` column (each run's wall time) varies. Failed runs are then re-run with an MCAP
 recording (``<out>/recordings/<run_id>.mcap``; runs are deterministic, so the recording is
 the failing run).
 """
@@ -17,6 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from hiyari.atomic import write_text_atomic
 from hiyari.bridge.campaign.pool import PoolOptions, run_all
 from hiyari.bridge.catalogue.evaluation.cc_driver import cc_reference_stack
 from hiyari.bridge.catalogue.evaluation.expectation import Expectation, annex_g, judge
@@ -221,9 +224,23 @@ def run_catalogue(options: CatalogueOptions, out: Path,
             count += 1
             if on_progress:
                 on_progress(count, len(cases))
+    _sort_table(table, [c.run_id for c in cases])
     if options.record_failures:
         record_failures(options, cases, done, out / "recordings")
     return [done[c.run_id] for c in cases]
+
+
+def _sort_table(path: Path, order: list[str]) -> None:
+    """Rewrite the results table with the rows of ``order`` first, in that order, then any other
+    rows (from campaigns with other options) by run_id; atomically."""
+    rows = read_results(path)
+    rank = {run_id: k for k, run_id in enumerate(order)}
+    ids = sorted(rows, key=lambda r: (rank.get(r, len(rank)), r))
+    buf = io.StringIO()
+    writer = csv.DictWriter(buf, COLUMNS, lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows[r] for r in ids)
+    write_text_atomic(path, buf.getvalue())
 
 
 def _record(task: tuple[ConcreteCase, RunConfig, Path]) -> str:
