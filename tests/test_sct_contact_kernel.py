@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import shapely
+from sct_reference import near_pairs
 
 from hiyari.bridge.campaign.sct_scan import zone_scan
 from hiyari.kinematics import footprint_corners, overlap_depth
@@ -23,7 +24,6 @@ from hiyari.risk.metrics.pedestrian_geometry import KerbSegments
 from hiyari.risk.sct.area_kernel import AreaTest, locate_xy
 from hiyari.risk.sct.contact_kernel import (
     first_contacts,
-    near_pairs,
     pair_time_bounds,
     within_reach,
 )

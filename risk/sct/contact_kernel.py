@@ -171,66 +171,6 @@ def path_at(
 
 
 @njit(cache=True)
-def _near_pairs(
-    centre: np.ndarray,
-    reach2: np.ndarray,
-    points: np.ndarray,
-    a_idx: np.ndarray,
-    t_idx: np.ndarray,
-    upto: np.ndarray,
-) -> np.ndarray:
-    out = np.zeros(len(a_idx), np.bool_)
-    for i in range(len(a_idx)):
-        a, t = a_idx[i], t_idx[i]
-        low = np.inf
-        for k in range(upto[i]):
-            dx = points[t, k, 0] - centre[a, k, 0]
-            dy = points[t, k, 1] - centre[a, k, 1]
-            d2 = dx * dx + dy * dy
-            if d2 != d2:  # as numpy's min: a NaN distance makes the minimum NaN
-                low = d2
-                break
-            low = min(low, d2)
-        out[i] = low <= reach2[a]
-    return out
-
-
-def near_pairs(
-    centre: np.ndarray,
-    length: np.ndarray,
-    width: np.ndarray,
-    margin: float,
-    radius: float,
-    points: np.ndarray,
-    a_idx: np.ndarray,
-    t_idx: np.ndarray,
-    upto: np.ndarray | int | None = None,
-) -> np.ndarray:
-    """(n,) bool: whether pedestrian track ``t_idx[i]`` (``points`` (T, K, 2) m) comes within
-    reach of vehicle track ``a_idx[i]`` (rectangle centres ``centre`` (A, K, 2) m, ``length``
-    / ``width`` (A,) m grown by ``margin``, disc ``radius`` m) at some sample before
-    ``upto`` (per pair, or one for all; None: every sample): the grown rectangle lies within
-    its circumscribed circle, so contact needs the point within that circle plus the disc.
-    False: no contact at those samples. A micrometre of slack keeps rounding from ever
-    excluding a contact. hiyari.risk.sct.model.near_contact per pair, bit for bit."""
-    reach = np.hypot(
-        0.5 * np.asarray(length, float) + margin, 0.5 * np.asarray(width, float) + margin
-    )
-    reach = reach + radius + 1e-6
-    n = len(a_idx)
-    k = np.shape(centre)[1]
-    upto = np.full(n, k if upto is None else upto, np.int64) if np.ndim(upto) == 0 else upto
-    return _near_pairs(
-        np.ascontiguousarray(centre, float),
-        reach * reach,
-        np.ascontiguousarray(points, float),
-        np.asarray(a_idx, np.int64),
-        np.asarray(t_idx, np.int64),
-        np.asarray(upto, np.int64),
-    )
-
-
-@njit(cache=True)
 def travel_rows(
     accel: np.ndarray, v0: np.ndarray, v_max: np.ndarray, dt: float, stop_speed: float
 ) -> tuple[np.ndarray, np.ndarray]:

@@ -177,7 +177,7 @@ class SCTController:
         margin, radius = contact.vehicle_margin, contact.pedestrian_radius
         length, width = state.length[rows], state.width[rows]
         half_x, half_y = 0.5 * length + margin, 0.5 * width + margin
-        # near_pairs' reach: circumscribed circle, disc and slack
+        # the near test's reach: circumscribed circle, disc and slack
         reach = np.hypot(half_x, half_y) + radius + 1e-6
         areas = model.geometry.crossings if model.geometry is not None else None
         if areas is None or len(areas) == 0:

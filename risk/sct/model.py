@@ -336,7 +336,7 @@ class SCTModel:
         hiyari.risk.metrics.contact.safety_cushion_time on the step's shared pedestrian
         tracks. Pedestrians off the carriageway are protected in both. The gap is the TTC
         shapes' distance now (<= 0: touching). ``with_sct`` False: SCT is not computed (inf).
-        Pairs whose tracks never come near enough to touch (contact_kernel.near_pairs) are inf without
+        Pairs whose tracks never come near enough to touch (pair_kernel's near test) are inf without
         further work.
         """
         n = len(vi)
@@ -347,7 +347,7 @@ class SCTModel:
         seg = table.seg
         prows, pinv = _distinct(pj, len(state))
         vslot = view.veh_slot[vi]
-        # shapes per vehicle of the view: half sizes and the near_pairs reach, for both shapes
+        # shapes per vehicle of the view: half sizes and the near-test reach, for both shapes
         length, width = state.length[view.veh_rows], state.width[view.veh_rows]
         ttc_x, ttc_y, ttc_reach2 = _grown(length, width, ttc_contact)
         contact = self.config.contact
@@ -465,8 +465,8 @@ def _grown(
     length: np.ndarray, width: np.ndarray, contact: ContactGeometry
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Half length and width (m) of vehicle rectangles grown by the contact margin, and the
-    squared reach of near_pairs (circumscribed circle, disc and slack), as contact_gap and
-    near_pairs compute them."""
+    squared reach of the near test (circumscribed circle, disc and slack), as contact_gap and
+    pair_kernel compute them."""
     half_x = 0.5 * length + contact.vehicle_margin
     half_y = 0.5 * width + contact.vehicle_margin
     reach = np.hypot(half_x, half_y) + contact.pedestrian_radius + 1e-6

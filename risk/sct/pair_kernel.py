@@ -4,9 +4,10 @@ For the logged vehicle–pedestrian pairs of a step: the vehicles' poses at thei
 along their routes, the pedestrians' constant-velocity tracks, the gap now, and which pairs
 can come near enough to touch within the horizon (for the TTC shapes, and for the SCT shapes
 under every speed hypothesis). The operations are those of SCTModel.vehicle_poses,
-contact.contact_gap and contact_kernel.near_pairs per scalar, in the same order, with headings
-entering as the cosine / sine numpy computed (per path segment, per pedestrian), so the values
-are the numpy code's bit for bit (tests/test_sct_vectorised.py and test_sct_contact_kernel.py).
+contact.contact_gap and the near-pairs bound (tests/sct_reference.near_pairs) per scalar, in
+the same order, with headings entering as the cosine / sine numpy computed (per path segment,
+per pedestrian), so the values are the numpy code's bit for bit (tests/test_sct_vectorised.py
+and test_sct_contact_kernel.py).
 
 Frames and units: network coordinates in metres, speeds m/s, times s.
 """
@@ -101,7 +102,7 @@ def pair_screen(
 @njit(cache=True)
 def _near(points: np.ndarray, centre: np.ndarray, reach2: float) -> bool:
     """Whether ``points`` (K, 2) come within sqrt(``reach2``) of ``centre`` (K, 2) at some
-    sample (contact_kernel._near_pairs for one pair)."""
+    sample (tests/sct_reference.near_pairs for one pair)."""
     low = np.inf
     for k in range(len(points)):
         dx = points[k, 0] - centre[k, 0]

@@ -2,7 +2,7 @@
 
 decide asks, per step: where would each vehicle be under its own driver at full acceleration
 (travel, then path sampling), which pedestrians come within ``act_distance`` of that track,
-which vehicles may touch one of their pedestrian tracks (near_pairs), their first contacts
+which vehicles may touch one of their pedestrian tracks (the near test), their first contacts
 (first_contacts), and, for the vehicles that must plan, the SCT of every candidate profile.
 In numpy that is some forty small array operations per step; here it is three calls. Each pass
 runs the compiled kernels of contact_kernel (travel_rows, _first_contacts, the path sampling)
