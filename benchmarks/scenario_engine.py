@@ -6,10 +6,11 @@ whose events start lane changes and speed changes. Per step we time, interleaved
 run: SUMO's step (simulationStep + WorldState read + contact check) plus the time libsumo itself
 spends in the engine's commands (moveToXY and setSpeed per scripted actor: the unavoidable cost
 of moving them), and the engine's own work (trigger evaluation, storyboard update, kinematics,
-and the Python side of its commands). libsumo's calls are timed by wrapping its moveToXY and
-setSpeed for one run at a time (put back after each run); the wrapper's own cost outside its
-window (a no-op measured in the same process, times the calls counted) lands on the engine's
-side and is printed. Prints the medians over all steps of all repeats, their ratio (the
+and the Python side of its commands). The engine calls libsumo's SWIG functions
+(``_libsumo.vehicle_moveToXY`` / ``vehicle_setSpeed``) directly; they are timed by wrapping
+them for one run at a time (put back after each run); the wrapper's own cost outside its
+window (a no-op driven as the engine drives the calls, measured in the same process, times the
+calls counted) lands on the engine's side and is printed. Prints the medians over all steps of all repeats, their ratio (the
 issue's target: the engine <= 10 % of the SUMO step) and the load average.
 
 To say where the floor of a numpy design lies it also runs the same scenario with 5 actors (the
@@ -23,9 +24,11 @@ first compiles the engine's numba kernels (or loads them from numba's cache), ou
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import tempfile
 import time
+from collections import deque
 from collections.abc import Callable
 from pathlib import Path
 
@@ -159,24 +162,15 @@ def _run(
     ``sc``, and the actions started."""
     with Simulation(SimConfig(net=net, step_length=DT)) as sim:
         engine = ScenarioEngine(sc, roads, DT)
-        commands = [0.0, 0]
-        # time libsumo's own moveToXY / setSpeed work. ``vehicle`` is libsumo's module-level
-        # class, shared by every run in this process: the originals are put back after the
-        # run, else each run would wrap the previous run's wrappers (whose cost then lands
-        # inside the window, on the SUMO side)
-        vehicle = sim._api().vehicle
-        originals = vehicle.moveToXY, vehicle.setSpeed
-
-        def timed(fn: Callable[..., None]) -> Callable[..., None]:
-            def call(*args: object, **kw: object) -> None:
-                t = time.perf_counter()
-                fn(*args, **kw)
-                commands[0] += time.perf_counter() - t
-                commands[1] += 1
-
-            return call
-
-        vehicle.moveToXY, vehicle.setSpeed = (timed(fn) for fn in originals)
+        # time libsumo's own moveToXY / setSpeed work: the engine calls the SWIG functions
+        # (``_libsumo.vehicle_moveToXY``, ``vehicle_setSpeed``) directly, so they are wrapped
+        # there. ``_libsumo`` is one module shared by every run in this process: the originals
+        # are put back after the run, else each run would wrap the previous run's wrappers
+        # (whose cost then lands inside the window, on the SUMO side)
+        swig = sim._api()._libsumo
+        originals = swig.vehicle_moveToXY, swig.vehicle_setSpeed
+        windows: list[float] = []
+        swig.vehicle_moveToXY, swig.vehicle_setSpeed = (_timed(fn, windows) for fn in originals)
         try:
             engine.start(sim)
             t_sumo, t_engine, calls = np.zeros(steps), np.zeros(steps), np.zeros(steps)
@@ -185,17 +179,32 @@ def _run(
                 t = time.perf_counter()
                 world = sim.step()
                 t_sumo[k] = time.perf_counter() - t
-                commands[0], commands[1] = 0.0, 0
+                windows.clear()
                 t = time.perf_counter()
                 report = engine.step(sim, world)
-                t_engine[k] = time.perf_counter() - t - commands[0]
-                t_sumo[k] += commands[0]
-                calls[k] = commands[1]
+                t_engine[k] = time.perf_counter() - t
+                spent = math.fsum(windows)
+                t_engine[k] -= spent
+                t_sumo[k] += spent
+                calls[k] = len(windows)
                 started += len(report.started)
                 sim.set_speed("Ego", 20.0)
         finally:
-            vehicle.moveToXY, vehicle.setSpeed = originals
+            swig.vehicle_moveToXY, swig.vehicle_setSpeed = originals
     return t_sumo, t_engine, calls, started
+
+
+def _timed(fn: Callable[..., None], windows: list[float]) -> Callable[..., None]:
+    """``fn`` (a libsumo SWIG function, called positionally) appending the time it took (s)
+    to ``windows``; kept lean, as its cost outside the window lands on the engine's side."""
+    clock, add = time.perf_counter, windows.append
+
+    def call(*args: object) -> None:
+        t = clock()
+        fn(*args)
+        add(clock() - t)
+
+    return call
 
 
 def _call_cost() -> float:
@@ -212,25 +221,21 @@ def _call_cost() -> float:
 
 def _wrapper_cost() -> float:
     """Time (s) per wrapped libsumo call that the timing wrapper adds outside its own window
-    (so on the engine's side): the call into the wrapper, a clock read and the sum."""
+    (so on the engine's side): the call into the wrapper, a clock read and the append, as
+    the engine's map drives it."""
 
-    def noop(*args: object, **kw: object) -> None:
+    def noop(*args: object) -> None:
         return None
 
-    window = [0.0]
-
-    def call(*args: object, **kw: object) -> None:
-        t = time.perf_counter()
-        noop(*args, **kw)
-        window[0] += time.perf_counter() - t
-
+    windows: list[float] = []
+    call, n = _timed(noop, windows), 500
+    args = (["a"] * n, [""] * n, [0] * n, [1.0] * n, [2.0] * n, [3.0] * n, [6] * n)
     runs = []
     for _ in range(20):
-        window[0] = 0.0
+        windows.clear()
         t = time.perf_counter()
-        for _ in range(500):
-            call("a", "", 0, 1.0, 2.0, 3.0, 6)  # as the engine calls moveToXY
-        runs.append((time.perf_counter() - t - window[0]) / 500)
+        deque(map(call, *args), maxlen=0)  # as the engine calls moveToXY
+        runs.append((time.perf_counter() - t - math.fsum(windows)) / n)
     return max(0.0, float(np.median(runs)))
 
 

@@ -13,7 +13,7 @@ import math
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
-from itertools import repeat
+from itertools import repeat, starmap
 from typing import Any
 
 import numpy as np
@@ -184,9 +184,11 @@ class Commands:
 
     def set_speeds(self, vehicle_ids: Sequence[str], speeds: Sequence[float]) -> None:
         """``set_speed`` for many vehicles."""
-        set_speed = self._api().vehicle.setSpeed
-        for vid, v in zip(vehicle_ids, speeds, strict=True):
-            set_speed(vid, float(v))
+        # libsumo's SWIG function itself, driven by map: no Python frame per vehicle
+        set_speed = self._api()._libsumo.vehicle_setSpeed
+        if len(vehicle_ids) != len(speeds):
+            raise ValueError("set_speeds: arguments of different lengths")
+        deque(map(set_speed, vehicle_ids, map(float, speeds)), maxlen=0)
 
     def release_speed(self, vehicle_id: str) -> None:
         """Hand the vehicle's speed back to its own SUMO driver."""
@@ -232,7 +234,7 @@ class Commands:
         front_x: Sequence[float],
         front_y: Sequence[float],
         angle: Sequence[float],
-        speed: np.ndarray,
+        speed: np.ndarray | Sequence[float],
     ) -> None:
         """``move_vehicle`` for many vehicles, in SUMO's own terms (the scenario engine computes
         them in one compiled pass): front-bumper points x, y (m, lists of floats), SUMO angles
@@ -242,14 +244,19 @@ class Commands:
         sizes = (len(edges), len(lanes), len(front_x), len(front_y), len(angle), len(speed))
         if any(k != n for k in sizes):
             raise ValueError("move_vehicle_fronts: arguments of different lengths")
-        v = self._api().vehicle
-        move, set_speed = v.moveToXY, v.setSpeed
-        # keepRoute 6 as in move_vehicle; positional (vehID, edgeID, lane, x, y, angle,
-        # keepRoute), driven by map (no Python loop): every move, then the speeds to set (each
-        # vehicle's move still precedes its speed; vehicles do not interact until the step)
-        deque(map(move, vehicle_ids, edges, lanes, front_x, front_y, angle, repeat(6, n)), maxlen=0)
-        for k in np.flatnonzero(speed == speed).tolist():
-            set_speed(vehicle_ids[k], float(speed[k]))
+        # libsumo's SWIG functions themselves (its Python wrappers add a frame per call),
+        # positional (vehID, edgeID, lane, x, y, angle, keepRoute 6 as in move_vehicle) and
+        # driven by map (no Python loop): every move, then the speeds to set (each vehicle's
+        # move still precedes its speed; vehicles do not interact until the step)
+        c = self._api()._libsumo
+        deque(
+            map(c.vehicle_moveToXY, vehicle_ids, edges, lanes, front_x, front_y, angle,
+                repeat(6, n)),
+            maxlen=0,
+        )  # fmt: skip
+        speeds = speed.tolist() if isinstance(speed, np.ndarray) else speed
+        sets = [(vid, v) for vid, v in zip(vehicle_ids, speeds, strict=True) if v == v]
+        deque(starmap(c.vehicle_setSpeed, sets), maxlen=0)
 
     def move_person(
         self, person_id: str, x: float, y: float, heading: float, edge: str = ""

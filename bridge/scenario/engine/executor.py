@@ -566,7 +566,7 @@ class ScenarioEngine:
         edges, lanes = self._sumo_lanes(rows, changed)
         if names:
             front_x, front_y, angle = out[3].tolist()
-            sim.move_vehicle_fronts(names, edges, lanes, front_x, front_y, angle, out[2])
+            sim.move_vehicle_fronts(names, edges, lanes, front_x, front_y, angle, out[2].tolist())
 
     def _sumo_lanes(self, rows: np.ndarray, changed: np.ndarray) -> tuple[list[str], list[int]]:
         """SUMO edge ('' = any) and lane index (-1) of each of ``rows`` (for moveToXY), looked
