@@ -98,6 +98,10 @@ class Commands:
     def _api(self) -> Any:  # the libsumo module; provided by Simulation
         raise NotImplementedError
 
+    def _commanded(self, actor_ids: Sequence[str], persons: bool = False) -> None:
+        """Commands are about to move these actors or set their speeds (Simulation's read
+        scope then reads them every step: no speed bound holds for them)."""
+
     # ------------------------------------------------------------------ actors
     def define_vehicle_type(self, vt: VehicleType) -> None:
         """Create vehicle type ``vt.type_id`` as a copy of ``vt.base`` with the given sizes."""
@@ -171,6 +175,7 @@ class Commands:
 
     def set_speed_mode(self, vehicle_id: str, mode: int) -> None:
         """SUMO's speed-mode bit field for one vehicle (SPEED_MODE_SCRIPTED, _DEFAULT, ...)."""
+        self._commanded((vehicle_id,))
         self._api().vehicle.setSpeedMode(vehicle_id, mode)
 
     def set_lane_change_mode(self, vehicle_id: str, mode: int) -> None:
@@ -180,10 +185,12 @@ class Commands:
     # ------------------------------------------------------------------ motion
     def set_speed(self, vehicle_id: str, speed: float) -> None:
         """Hold ``speed`` m/s from the next step (within the vehicle's speed-mode checks)."""
+        self._commanded((vehicle_id,))
         self._api().vehicle.setSpeed(vehicle_id, speed)
 
     def set_speeds(self, vehicle_ids: Sequence[str], speeds: Sequence[float]) -> None:
         """``set_speed`` for many vehicles."""
+        self._commanded(vehicle_ids)
         set_speed = self._api().vehicle.setSpeed
         for vid, v in zip(vehicle_ids, speeds, strict=True):
             set_speed(vid, float(v))
@@ -194,6 +201,7 @@ class Commands:
 
     def set_acceleration(self, vehicle_id: str, accel: float, duration: float) -> None:
         """Accelerate at ``accel`` m/s^2 for ``duration`` s."""
+        self._commanded((vehicle_id,))
         self._api().vehicle.setAcceleration(vehicle_id, accel, duration)
 
     def change_lane(self, vehicle_id: str, lane_index: int, duration: float) -> None:
@@ -214,6 +222,7 @@ class Commands:
         """Place a vehicle's rectangle centre at (``x``, ``y``) facing ``heading`` for the next
         step (SUMO maps it to the nearest lane of ``edge`` when given, else of any edge);
         ``speed`` m/s is what SUMO reports for it (None: implied by the move)."""
+        self._commanded((vehicle_id,))
         s = self._api()
         fx, fy = (float(v) for v in point_ahead((x, y), heading, 0.5 * length))
         # keepRoute 2 | 4: anywhere, mapped to the nearest lane whatever its permissions, so a
@@ -242,6 +251,7 @@ class Commands:
         sizes = (len(edges), len(lanes), len(front_x), len(front_y), len(angle), len(speed))
         if any(k != n for k in sizes):
             raise ValueError("move_vehicle_fronts: arguments of different lengths")
+        self._commanded(vehicle_ids)
         v = self._api().vehicle
         move, set_speed = v.moveToXY, v.setSpeed
         # keepRoute 6 as in move_vehicle; positional (vehID, edgeID, lane, x, y, angle,
@@ -255,6 +265,7 @@ class Commands:
         self, person_id: str, x: float, y: float, heading: float, edge: str = ""
     ) -> None:
         """Place a person's centre at (``x``, ``y``) facing ``heading`` for the next step."""
+        self._commanded((person_id,), persons=True)
         self._api().person.moveToXY(
             person_id, edge, x, y, angle=heading_to_sumo_angle(heading), keepRoute=2
         )

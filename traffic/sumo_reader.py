@@ -1,8 +1,9 @@
 """Read one WorldState per step out of a running libsumo simulation.
 
 What is read: every vehicle and person in the network (the default), or with a
-:class:`~hiyari.traffic.read_scope.ReadScope` only the actors around the ego (SUMO's context
-subscription finds them); :meth:`WorldStateReader.read_full` reads everyone on demand either way.
+:class:`~hiyari.traffic.read_scope.ReadScope` only the actors around the ego (a
+:class:`~hiyari.traffic.read_scope.ScopeScan` finds them); :meth:`WorldStateReader.read_full`
+reads everyone on demand either way.
 
 How the full state is read: ``"getters"`` calls libsumo's compiled per-object getters (the SWIG
 functions themselves, without libsumo's Python wrappers) in one pass per variable;
@@ -24,7 +25,7 @@ import numpy as np
 
 from hiyari.kinematics import point_ahead, wrap_angle
 from hiyari.traffic.actor_class import ActorClass, actor_class_from_vclass
-from hiyari.traffic.read_scope import Columns, ContextScope, ReadScope
+from hiyari.traffic.read_scope import Columns, ReadScope, ScopeScan, positions
 from hiyari.traffic.world_state import WorldState
 
 ReadMode = Literal["getters", "subscriptions"]
@@ -93,7 +94,7 @@ class WorldStateReader:
         self._edge_of: dict[str, str] = {}
         self._dt = sumo.simulation.getDeltaT()
         self._now = self._before = float("nan")  # the times of the latest two reads, s
-        self._scope = ContextScope(sumo, scope) if scope is not None else None
+        self._scope = ScopeScan(sumo, scope) if scope is not None else None
         # the SWIG functions themselves: libsumo's Python wrappers add a call layer per value
         c = sumo._libsumo
         self._time = c.simulation_getTime
@@ -133,15 +134,20 @@ class WorldStateReader:
         """The WorldState at the simulation's current time: the scope's actors when a scope is
         set and its centre is in the network, else every actor."""
         if self._scope is not None:
-            cols = self._scope.read(self._v[0])
+            cols = self._scope.read()
             if cols is not None:
                 return self._assemble(*cols)
         return self.read_full()
 
     def pause(self) -> None:
-        """Nothing will be read for a while (bare stepping): stop the scope's subscriptions."""
+        """Nothing will be read for a while (bare stepping): the scope rescans afterwards."""
         if self._scope is not None:
             self._scope.pause()
+
+    def pin(self, ids: Sequence[str], persons: bool = False) -> None:
+        """Commands moved (or set the speed of) these actors: the scope reads them every step."""
+        if self._scope is not None:
+            self._scope.pin(ids, persons)
 
     def read_full(self) -> WorldState:
         """The WorldState with every vehicle and person in the network now."""
@@ -168,8 +174,7 @@ class WorldStateReader:
         vrow = self._veh.rows(veh.ids, self._vehicle_static)
         prow = self._per.rows(per.ids, self._person_static)
         st = np.concatenate([self._veh.data[vrow], self._per.data[prow]])
-        pos = np.fromiter(chain.from_iterable(chain(veh.pos, per.pos)), float, 3 * n)
-        pos = pos.reshape(n, 3)
+        pos = np.concatenate([veh.pos, per.pos]) if n > nv else veh.pos
         angle = np.fromiter(chain(veh.angle, per.angle), float, n)
         speed = np.fromiter(chain(veh.speed, per.speed), float, n)
         accel = np.empty(n)
@@ -213,7 +218,7 @@ class WorldStateReader:
         vids = list(ids())
         veh = Columns(
             vids,
-            list(map(pos, vids)),
+            positions(pos, vids),
             list(map(ang, vids)),
             list(map(spd, vids)),
             list(map(acc, vids)),
@@ -223,7 +228,7 @@ class WorldStateReader:
         pids = list(ids())
         per = Columns(
             pids,
-            list(map(pos, pids)),
+            positions(pos, pids),
             list(map(ang, pids)),
             list(map(spd, pids)),
             None,
@@ -246,12 +251,17 @@ class WorldStateReader:
         pres = s.person.getAllSubscriptionResults()
         vr = [vres.get(i) or self._fetch(self._v, self._veh_vars, i) for i in vids]
         pr = [pres.get(i) or self._fetch(self._p, self._per_vars, i) for i in pids]
-        veh = Columns(vids, *([r[k] for r in vr] for k in self._veh_vars))
+        vc = [[r[k] for r in vr] for k in self._veh_vars]
         pc = [[r[k] for r in pr] for k in self._per_vars]
-        return veh, Columns(pids, pc[0], pc[1], pc[2], None, pc[3])
+        veh = Columns(vids, _xyz(vc[0]), *vc[1:])
+        return veh, Columns(pids, _xyz(pc[0]), pc[1], pc[2], None, pc[3])
 
     @staticmethod
     def _fetch(
         getters: Sequence[Callable[[str], object]], keys: Sequence[str], actor_id: str
     ) -> dict:
         return dict(zip(keys, (g(actor_id) for g in getters[1:]), strict=True))
+
+
+def _xyz(points: list[tuple[float, float, float]]) -> np.ndarray:
+    return np.array(points, dtype=float).reshape(len(points), 3)
