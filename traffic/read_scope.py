@@ -14,13 +14,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
-from itertools import compress
+from itertools import chain, compress
 from types import ModuleType
 from typing import NamedTuple
 
 import numpy as np
 
 from hiyari.errors import HiyariError
+from hiyari.traffic.state_kernel import within
 
 
 @dataclass(frozen=True)
@@ -81,21 +82,21 @@ class Columns(NamedTuple):
 
 
 class _Domain:
-    """One domain's (vehicles' or persons') getters and candidate bookkeeping."""
+    """One domain's (vehicles' or persons') getters, candidates and speed bound."""
 
     def __init__(self, c: ModuleType, prefix: str, vehicles: bool) -> None:
         get = lambda name: getattr(c, f"{prefix}_{name}")  # noqa: E731
-        self.ids, self.pos, self.max_speed = (
-            get("getIDList"),
-            get("getPosition3D"),
-            get("getMaxSpeed"),
-        )
+        self.ids, self.pos = get("getIDList"), get("getPosition3D")
+        self.max_speed = get("getMaxSpeed")
         self.values = (get("getAngle"), get("getSpeed"), get("getLaneID"))
         self.accel = get("getAcceleration") if vehicles else None
         self.vehicles = vehicles
         self.candidates: set[str] = set()
         self.pinned: set[str] = set()  # moved by commands: read every step, whatever the bound
-        self.known: set[str] = set()  # actors whose max speed is in the bound
+        self.known: set[str] = set()  # actors whose max speed is in ``v_max``
+        self.v_max = 0.0  # m/s, the largest max speed of this domain's actors
+        self.scan_time = math.nan  # s; NaN: scan at the next read
+        self.scan_xy = (0.0, 0.0)  # the centre's SUMO position at the scan, m
         self._order: list[str] | None = []
 
     def add(self, ids: Iterable[str]) -> None:
@@ -120,6 +121,13 @@ class _Domain:
             self._order = sorted(self.candidates)
         return self._order
 
+    def learn(self, present: set[str]) -> None:
+        """Fold the max speeds of actors not seen before into ``v_max``."""
+        new = present - self.known
+        if new:
+            self.v_max = max(self.v_max, *map(self.max_speed, new))
+            self.known |= new
+
     def columns(self, ids: list[str], pos: np.ndarray) -> Columns:
         angle, speed, lane = self.values
         accel = list(map(self.accel, ids)) if self.accel is not None else None
@@ -132,24 +140,27 @@ def positions(
     getter: Callable[[str], tuple[float, float, float]], ids: Sequence[str]
 ) -> np.ndarray:
     """(N, 3) SUMO positions of ``ids`` through ``getter``, m."""
-    return np.array(list(map(getter, ids)), dtype=float).reshape(len(ids), 3)
+    n = len(ids)
+    return np.fromiter(chain.from_iterable(map(getter, ids)), float, 3 * n).reshape(n, 3)
 
 
 class ScopeScan:
     """The actors of a :class:`ReadScope` at the current step, as Columns.
 
     The exact rule is applied every step to a candidate set; the candidate set is exact as long
-    as no actor outside it can have come within ``radius``. At a scan (every actor's position)
-    the candidates are the actors within ``radius + margin``. Between scans an actor moves at
-    most ``v_max`` m/s (the largest SUMO max speed of any actor seen: vehicles, persons, and so
-    riding persons) plus, per step, one lateral jump of a lane change (the widest lane of the
-    network); the centre's own displacement is measured. A scan comes again as soon as these
-    bounds together could exceed ``margin``, and at once when something breaks them: a
-    teleport, a vehicle starting or ending to park, any vehicle at a stop (persons board and
-    alight there, jumping to or from their vehicle), a step not read, a candidate gone. A
-    network without internal junction lanes (vehicles jump across junctions) is scanned every
-    step. Actors moved or sped by commands (:meth:`pin`) and departing actors are candidates
-    until they leave.
+    as no actor outside it can have come within ``radius``. At a scan (every position of a
+    domain: vehicles, persons) the candidates are the domain's actors within
+    ``radius + margin``. Between scans an actor moves at most its domain's ``v_max`` m/s (the
+    largest SUMO max speed of the domain's actors seen) plus, per step, one lateral jump of a
+    lane change (the widest lane of the network); the centre's own displacement is measured. A
+    domain is scanned again as soon as these bounds together could exceed ``margin``, and both
+    at once when something breaks them: a teleport, a vehicle starting or ending to park or
+    stop, any vehicle at a stop (persons board and alight there, jumping to or from their
+    vehicle), a departing vehicle with persons aboard, a step not read, a candidate gone.
+    Persons riding a vehicle at a scan move as fast as it: they stay candidates until the next
+    scan. A network without internal junction lanes (vehicles jump across junctions) is scanned
+    every step. Actors moved or sped by commands (:meth:`pin`) and departing actors are
+    candidates until they leave.
     """
 
     def __init__(self, sumo: ModuleType, scope: ReadScope) -> None:
@@ -164,12 +175,25 @@ class ScopeScan:
         self._jump = max(map(c.lane_getWidth, lanes), default=0.0) if junction_lanes else math.inf
         self._veh = _Domain(c, "vehicle", True)
         self._per = _Domain(c, "person", False)
+        self._riding = c.person_getVehicle
+        self._aboard = c.vehicle_getPersonNumber
         self._include = frozenset(scope.include)
-        self._v_max = 0.0
         self._stopped: set[str] = set()
-        self._scan_time = math.nan  # NaN: scan at the next read
-        self._scan_xy = (0.0, 0.0)
+        self._cx = self._cy = 0.0  # the centre's SUMO position at the latest read, m
         self._read_time = math.nan
+        # the step's events in one call (SUMO collects them in the step anyway)
+        tc = sumo.constants
+        self._departed = (tc.VAR_DEPARTED_VEHICLES_IDS, tc.VAR_DEPARTED_PERSONS_IDS)
+        self._arrived = (tc.VAR_ARRIVED_VEHICLES_IDS, tc.VAR_ARRIVED_PERSONS_IDS)
+        self._stops = (tc.VAR_STOP_STARTING_VEHICLES_IDS, tc.VAR_STOP_ENDING_VEHICLES_IDS)
+        self._jumps = (
+            tc.VAR_TELEPORT_STARTING_VEHICLES_NUMBER,
+            tc.VAR_TELEPORT_ENDING_VEHICLES_NUMBER,
+            tc.VAR_PARKING_STARTING_VEHICLES_NUMBER,
+            tc.VAR_PARKING_ENDING_VEHICLES_NUMBER,
+        )
+        sumo.simulation.subscribe([*self._departed, *self._arrived, *self._stops, *self._jumps])
+        self._results = c.simulation_getSubscriptionResults
 
     def pin(self, ids: Iterable[str], persons: bool = False) -> None:
         """Read these actors every step until they leave (commands move them off any bound)."""
@@ -180,93 +204,103 @@ class ScopeScan:
 
     def pause(self) -> None:
         """Steps will go unread: scan at the next read."""
-        self._scan_time = math.nan
+        self._veh.scan_time = self._per.scan_time = math.nan
 
     def read(self) -> tuple[Columns, Columns] | None:
         """(vehicles, persons) in scope now, or None when the centre is not in the network."""
-        c = self._c
-        now = c.simulation_getTime()
+        now = self._c.simulation_getTime()
         self._events(now)
-        center = self.scope.center
-        if self._scan_time != self._scan_time and center not in c.vehicle_getIDList():
-            return None
         try:
-            cx, cy, _ = c.vehicle_getPosition3D(center)
-        except self._error:
-            self._scan_time = math.nan
-            return None
-        if self._scan_due(now, cx, cy):
-            self._scan(now, cx, cy)
-        try:
-            return self._columns(self._veh, cx, cy), self._columns(self._per, cx, cy)
-        except self._error:  # a candidate has gone without an arrival (e.g. removed)
-            self._scan(now, cx, cy)
-            return self._columns(self._veh, cx, cy), self._columns(self._per, cx, cy)
+            veh = self._vehicles(now)
+            return None if veh is None else (veh, self._persons(now))
+        except (self._error, ValueError):  # an actor gone unannounced (removed), the centre
+            self.pause()
+            veh = self._vehicles(now)
+            return None if veh is None else (veh, self._persons(now))
 
     def _events(self, now: float) -> None:
         """Departures and arrivals of the last step; what forces a scan."""
-        c = self._c
         stepped = now - self._read_time
         self._read_time = now
         if stepped == 0.0:
             return  # a second read at the same time: the step's events are in already
         if not abs(stepped - self._dt) <= 1e-9 * max(1.0, now):
-            self._scan_time = math.nan  # steps went unread: their events are lost
-        self._veh.add(c.simulation_getDepartedIDList())
-        self._per.add(c.simulation_getDepartedPersonIDList())
-        self._veh.drop(c.simulation_getArrivedIDList())
-        self._per.drop(c.simulation_getArrivedPersonIDList())
-        if c.simulation_getStopStartingVehiclesNumber():
-            self._stopped.update(c.simulation_getStopStartingVehiclesIDList())
-        if c.simulation_getStopEndingVehiclesNumber():
-            self._stopped.difference_update(c.simulation_getStopEndingVehiclesIDList())
-        jumps = (
-            c.simulation_getStartingTeleportNumber()
-            or c.simulation_getEndingTeleportNumber()
-            or c.simulation_getParkingStartingVehiclesNumber()
-            or c.simulation_getParkingEndingVehiclesNumber()
-        )
-        if jumps or self._stopped:
-            self._scan_time = math.nan
+            self.pause()  # steps went unread: their events are lost
+        ev = self._results()
+        (dv, dp), (av, ap), (start, end) = self._departed, self._arrived, self._stops
+        self._veh.add(ev[dv])
+        self._per.add(ev[dp])
+        self._veh.drop(ev[av])
+        self._per.drop(ev[ap])
+        self._stopped.update(ev[start])
+        self._stopped.difference_update(ev[end])
+        if self._stopped or ev[start] or ev[end] or any(ev[k] for k in self._jumps):
+            self.pause()
+        elif ev[dv] and any(map(self._aboard, ev[dv])):
+            self._per.scan_time = math.nan
 
-    def _scan_due(self, now: float, cx: float, cy: float) -> bool:
-        since = now - self._scan_time
+    def _due(self, d: _Domain, now: float) -> bool:
+        """Whether an actor of ``d`` outside the candidates could be within the radius now."""
+        since = now - d.scan_time
         if since != since:
             return True
         steps = round(since / self._dt)
-        if steps == 0:
+        if not steps:
             return False
-        closed = self._v_max * since + self._jump * steps
-        closed += math.hypot(cx - self._scan_xy[0], cy - self._scan_xy[1])
+        closed = d.v_max * since + self._jump * steps
+        closed += math.hypot(self._cx - d.scan_xy[0], self._cy - d.scan_xy[1])
         # the slack keeps rounding of the distances away from the bound
         return closed >= self.scope.margin - 1e-6 * (self.scope.radius + self.scope.margin)
 
-    def _scan(self, now: float, cx: float, cy: float) -> None:
-        """Every actor's position: the candidates, the speed bound, the stopped vehicles."""
-        reach = self.scope.radius + self.scope.margin
-        for d in (self._veh, self._per):
-            ids = d.ids()
-            new = [i for i in ids if i not in d.known]
-            if new:
-                self._v_max = max(self._v_max, *map(d.max_speed, new))
-                d.known.update(new)
+    def _vehicles(self, now: float) -> Columns | None:
+        """The vehicles in scope; None when the centre is not in the network."""
+        d = self._veh
+        if d.scan_time == d.scan_time:
+            ids = d.order()
             xyz = positions(d.pos, ids)
-            near = np.hypot(xyz[:, 0] - cx, xyz[:, 1] - cy) <= reach
-            present = set(ids)
-            d.pinned &= present
-            d.set_candidates(
-                set(compress(ids, near.tolist())) | d.pinned | (self._include & present)
-            )
-            if d.vehicles:
-                self._stopped &= present
-        self._scan_time = now
-        self._scan_xy = (cx, cy)
-
-    def _columns(self, d: _Domain, cx: float, cy: float) -> Columns:
-        """The candidates within the radius (and the included ones), exactly."""
-        ids = d.order()
+            k = ids.index(self.scope.center)
+            self._cx, self._cy = xyz[k, 0], xyz[k, 1]
+            if not self._due(d, now):
+                return self._filter(d, ids, xyz)
+        ids = d.ids()
+        if self.scope.center not in ids:
+            self.pause()
+            return None
         xyz = positions(d.pos, ids)
-        keep = np.hypot(xyz[:, 0] - cx, xyz[:, 1] - cy) <= self.scope.radius
+        k = ids.index(self.scope.center)
+        self._cx, self._cy = xyz[k, 0], xyz[k, 1]
+        return self._scan(d, now, list(ids), xyz)
+
+    def _persons(self, now: float) -> Columns:
+        d = self._per
+        if not self._due(d, now):
+            ids = d.order()
+            return self._filter(d, ids, positions(d.pos, ids))
+        ids = list(d.ids())
+        return self._scan(d, now, ids, positions(d.pos, ids))
+
+    def _scan(self, d: _Domain, now: float, ids: list[str], xyz: np.ndarray) -> Columns:
+        """New candidates of ``d`` from every position ``xyz`` of its actors ``ids``; the
+        domain's actors in scope."""
+        reach = within(xyz, self._cx, self._cy, self.scope.radius + self.scope.margin)
+        present = set(ids)
+        d.learn(present)
+        d.pinned &= present
+        near = set(compress(ids, reach.tolist()))
+        near |= d.pinned | (self._include & present)
+        if d.vehicles:
+            self._stopped &= present
+        else:
+            near.update(compress(ids, map(self._riding, ids)))
+        d.set_candidates(near)
+        d.scan_time = now
+        d.scan_xy = (self._cx, self._cy)
+        return self._filter(d, ids, xyz)
+
+    def _filter(self, d: _Domain, ids: list[str], xyz: np.ndarray) -> Columns:
+        """The actors of ``ids`` (SUMO positions ``xyz``) within the radius of the centre, and
+        the included ones, exactly."""
+        keep = within(xyz, self._cx, self._cy, self.scope.radius)
         if self._include:
             keep |= np.fromiter((i in self._include for i in ids), bool, len(ids))
         if not keep.all():

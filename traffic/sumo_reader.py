@@ -23,9 +23,9 @@ from typing import Literal
 
 import numpy as np
 
-from hiyari.kinematics import point_ahead, wrap_angle
 from hiyari.traffic.actor_class import ActorClass, actor_class_from_vclass
 from hiyari.traffic.read_scope import Columns, ReadScope, ScopeScan, positions
+from hiyari.traffic.state_kernel import sumo_to_state
 from hiyari.traffic.world_state import WorldState
 
 ReadMode = Literal["getters", "subscriptions"]
@@ -58,22 +58,6 @@ class _ActorTable:
         self.data[r] = values
         self.row[actor_id] = r
         return r
-
-    def differenced_accel(
-        self, rows: np.ndarray, speed: np.ndarray, now: float, before: float, dt: float
-    ) -> np.ndarray:
-        """(speed - speed read at time ``before``) / ``dt`` per row, 0 where the actor was not
-        read at ``before``; records ``speed`` as read at ``now`` (s)."""
-        hist = self.speeds[rows]
-        if (hist[:, 0] != now).all():  # the usual case: the first read at this time
-            hist[:, 2:] = hist[:, :2]
-        else:  # a second read at the same time keeps the history of the first
-            fresh = hist[:, 0] != now
-            hist[fresh, 2:] = hist[fresh, :2]
-        hist[:, 0] = now
-        hist[:, 1] = speed
-        self.speeds[rows] = hist
-        return np.where(hist[:, 2] == before, (speed - hist[:, 3]) / dt, 0.0)
 
 
 class WorldStateReader:
@@ -123,7 +107,10 @@ class WorldStateReader:
                 tc.VAR_LANE_ID,
             ]
             self._per_vars = [tc.VAR_POSITION3D, tc.VAR_ANGLE, tc.VAR_SPEED, tc.VAR_LANE_ID]
-            sumo.simulation.subscribe([tc.VAR_DEPARTED_VEHICLES_IDS, tc.VAR_DEPARTED_PERSONS_IDS])
+            if scope is None:  # the scope's own subscription includes the departures
+                sumo.simulation.subscribe(
+                    [tc.VAR_DEPARTED_VEHICLES_IDS, tc.VAR_DEPARTED_PERSONS_IDS]
+                )
 
     @property
     def scope(self) -> ReadScope | None:
@@ -173,19 +160,27 @@ class WorldStateReader:
         nv, n = len(veh.ids), len(veh.ids) + len(per.ids)
         vrow = self._veh.rows(veh.ids, self._vehicle_static)
         prow = self._per.rows(per.ids, self._person_static)
-        st = np.concatenate([self._veh.data[vrow], self._per.data[prow]])
-        pos = np.concatenate([veh.pos, per.pos]) if n > nv else veh.pos
+        front = np.concatenate([veh.pos, per.pos]) if n > nv else veh.pos
         angle = np.fromiter(chain(veh.angle, per.angle), float, n)
         speed = np.fromiter(chain(veh.speed, per.speed), float, n)
         accel = np.empty(n)
         accel[:nv] = veh.accel
-        if n > nv:
-            # persons have no acceleration getter: difference of speeds over the last step
-            accel[nv:] = self._per.differenced_accel(prow, speed[nv:], time, self._before, self._dt)
-        heading = wrap_angle(np.radians(90.0 - angle))
-        length = st[:, 1]
-        # SUMO reports the front-bumper centre; the toolkit uses the rectangle centre
-        pos[:, :2] = point_ahead(pos[:, :2], heading, -0.5 * length)
+        # SUMO reports the front-bumper centre; the toolkit uses the rectangle centre. Persons
+        # have no acceleration getter: their speeds are differenced over the last step
+        xyz, heading, st = sumo_to_state(
+            front,
+            angle,
+            speed,
+            accel,
+            self._veh.data,
+            vrow,
+            self._per.data,
+            prow,
+            self._per.speeds,
+            time,
+            self._before,
+            self._dt,
+        )
         lanes = [*veh.lane, *per.lane]
         edges = list(map(self._edge_of.get, lanes))
         if None in edges:
@@ -196,11 +191,11 @@ class WorldStateReader:
             time=time,
             ids=np.array([*veh.ids, *per.ids], dtype=object),
             cls=st[:, 0].astype(np.int8),
-            xyz=pos,
+            xyz=xyz,
             heading=heading,
             speed=speed,
             accel=accel,
-            length=length,
+            length=st[:, 1],
             width=st[:, 2],
             height=st[:, 3],
             lane=np.array(lanes, dtype=object),
