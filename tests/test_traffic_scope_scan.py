@@ -123,3 +123,32 @@ def test_parked_vehicle_is_in_scope(intersection_net, intersection_demand):
                 assert "parker" in state.ids
                 parked += 1
     assert parked > 50
+
+
+def test_person_riding_a_bus_is_in_scope(intersection_net, intersection_demand):
+    import libsumo
+
+    scope = ReadScope("ego", 100.0, margin=10.0)
+    cfg = SimConfig(net=intersection_net, routes=[intersection_demand], seed=3, read_scope=scope)
+    riding = outside = 0
+    with Simulation(cfg) as sim:
+        sim.fast_forward(60.0)
+        # the ego waits before the junction on the south arm: the bus passes it
+        sim.add_vehicle("ego", ["s_in", "n_out"], "DEFAULT_VEHTYPE", "best", 60.0, 0.0, False)
+        sim.set_speed("ego", 0.0)
+        # a bus that stops where a person waits for line L1, then carries it away at speed
+        libsumo.route.add("r_bus", ROUTE)
+        libsumo.vehicle.add("bus", "r_bus", typeID="DEFAULT_VEHTYPE", line="L1", departPos="0")
+        libsumo.vehicle.setStop("bus", "w_in", pos=65.0, laneIndex=1, duration=5.0, startPos=50.0)
+        libsumo.person.add("rider", "w_in", 58.0)
+        libsumo.person.appendDrivingStage("rider", "e_out", lines="L1")
+        for _ in range(300):
+            state = sim.step()
+            full = sim.full_state
+            if "ego" not in full.ids:
+                continue
+            _assert_scoped(state, full, 100.0)
+            if "rider" in full.ids and libsumo.person.getVehicle("rider"):
+                riding += 1
+                outside += "rider" not in state.ids
+    assert riding > 10 and 0 < outside < riding

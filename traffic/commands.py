@@ -161,6 +161,8 @@ class Commands:
         self, person_id: str, edges: Sequence[str], pos: float, type_id: str, speed: float = -1.0
     ) -> None:
         """Insert a person who walks along ``edges`` (SUMO's pedestrian model moves it)."""
+        if speed >= 0:  # a set walking speed may exceed the person's own maximum
+            self._commanded((person_id,), persons=True)
         p = self._api().person
         p.add(person_id, edges[0], pos=pos, typeID=type_id)
         p.appendWalkingStage(person_id, list(edges), arrivalPos=-1.0, speed=speed)

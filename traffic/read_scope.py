@@ -158,9 +158,11 @@ class ScopeScan:
     stop, any vehicle at a stop (persons board and alight there, jumping to or from their
     vehicle), a departing vehicle with persons aboard, a step not read, a candidate gone.
     Persons riding a vehicle at a scan move as fast as it: they stay candidates until the next
-    scan. A network without internal junction lanes (vehicles jump across junctions) is scanned
-    every step. Actors moved or sped by commands (:meth:`pin`) and departing actors are
-    candidates until they leave.
+    scan (persons board only at stops and at triggered departures: until one of those has
+    happened, nobody rides and this check is skipped). A network without internal junction lanes (vehicles jump across junctions) is scanned
+    every step. Actors moved or sped by Simulation's commands (:meth:`pin`: no bound holds for
+    them) and departing actors are candidates until they leave; a move through libsumo
+    directly, bypassing Simulation, is not seen.
     """
 
     def __init__(self, sumo: ModuleType, scope: ReadScope) -> None:
@@ -179,6 +181,8 @@ class ScopeScan:
         self._aboard = c.vehicle_getPersonNumber
         self._include = frozenset(scope.include)
         self._stopped: set[str] = set()
+        # persons board only at stops and triggered departures: none can ride before either
+        self._may_ride = False
         self._cx = self._cy = 0.0  # the centre's SUMO position at the latest read, m
         self._read_time = math.nan
         # the step's events in one call (SUMO collects them in the step anyway)
@@ -234,9 +238,13 @@ class ScopeScan:
         self._per.drop(ev[ap])
         self._stopped.update(ev[start])
         self._stopped.difference_update(ev[end])
-        if self._stopped or ev[start] or ev[end] or any(ev[k] for k in self._jumps):
+        j0, j1, j2, j3 = self._jumps
+        if ev[start] or ev[end]:
+            self._may_ride = True
+        if self._stopped or ev[start] or ev[end] or ev[j0] or ev[j1] or ev[j2] or ev[j3]:
             self.pause()
-        elif ev[dv] and any(map(self._aboard, ev[dv])):
+        elif ev[dv] and any(map(self._aboard, ev[dv])):  # a triggered departure
+            self._may_ride = True
             self._per.scan_time = math.nan
 
     def _due(self, d: _Domain, now: float) -> bool:
@@ -285,12 +293,11 @@ class ScopeScan:
         reach = within(xyz, self._cx, self._cy, self.scope.radius + self.scope.margin)
         present = set(ids)
         d.learn(present)
-        d.pinned &= present
         near = set(compress(ids, reach.tolist()))
-        near |= d.pinned | (self._include & present)
+        near |= (d.pinned | self._include) & present
         if d.vehicles:
             self._stopped &= present
-        else:
+        elif self._may_ride:
             near.update(compress(ids, map(self._riding, ids)))
         d.set_candidates(near)
         d.scan_time = now
