@@ -310,7 +310,7 @@ class ScopeScan:
         keep = within(xyz, self._cx, self._cy, self.scope.radius)
         if self._include:
             keep |= np.fromiter((i in self._include for i in ids), bool, len(ids))
-        if not keep.all():
-            ids = list(compress(ids, keep.tolist()))
-            xyz = xyz[keep]
-        return d.columns(ids, xyz)
+        flags = keep.tolist()
+        if all(flags):
+            return d.columns(ids, xyz)
+        return d.columns(list(compress(ids, flags)), xyz[keep])
