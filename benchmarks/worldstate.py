@@ -6,9 +6,10 @@ measured window, and one ego vehicle inserted after the warm-up on a long route 
 
   bare                 one libsumo.simulationStep per step, nothing read (the baseline);
   full state           every actor every step (getters; subscriptions) - the default;
-  ego scope R m        the actors within R m of the ego (ReadScope): 250 m covers the sensors
-                       (LiDAR 120 m, camera 200 m, radar) plus margin, 310 m also the closed
-                       loop's 300 m ground-truth eye;
+  ego scope R m        the actors within R m of the ego (ReadScope; ScopeScan reads the
+                       candidates' positions every step and every position now and then):
+                       250 m covers the sensors (LiDAR 120 m, camera 200 m, radar) plus
+                       margin, 310 m also the closed loop's 300 m ground-truth eye;
   ... + collisions     the same with contact detection on the state read.
 
 The machine is shared with other work whose load changes by the second, so the runs are timed

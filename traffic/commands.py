@@ -98,6 +98,10 @@ class Commands:
     def _api(self) -> Any:  # the libsumo module; provided by Simulation
         raise NotImplementedError
 
+    def _commanded(self, actor_ids: Sequence[str], persons: bool = False) -> None:
+        """Commands are about to move these actors or set their speeds (Simulation's read
+        scope then reads them every step: no speed bound holds for them)."""
+
     # ------------------------------------------------------------------ actors
     def define_vehicle_type(self, vt: VehicleType) -> None:
         """Create vehicle type ``vt.type_id`` as a copy of ``vt.base`` with the given sizes."""
@@ -157,6 +161,8 @@ class Commands:
         self, person_id: str, edges: Sequence[str], pos: float, type_id: str, speed: float = -1.0
     ) -> None:
         """Insert a person who walks along ``edges`` (SUMO's pedestrian model moves it)."""
+        if speed >= 0:  # a set walking speed may exceed the person's own maximum
+            self._commanded((person_id,), persons=True)
         p = self._api().person
         p.add(person_id, edges[0], pos=pos, typeID=type_id)
         p.appendWalkingStage(person_id, list(edges), arrivalPos=-1.0, speed=speed)
@@ -171,6 +177,7 @@ class Commands:
 
     def set_speed_mode(self, vehicle_id: str, mode: int) -> None:
         """SUMO's speed-mode bit field for one vehicle (SPEED_MODE_SCRIPTED, _DEFAULT, ...)."""
+        self._commanded((vehicle_id,))
         self._api().vehicle.setSpeedMode(vehicle_id, mode)
 
     def set_lane_change_mode(self, vehicle_id: str, mode: int) -> None:
@@ -180,10 +187,12 @@ class Commands:
     # ------------------------------------------------------------------ motion
     def set_speed(self, vehicle_id: str, speed: float) -> None:
         """Hold ``speed`` m/s from the next step (within the vehicle's speed-mode checks)."""
+        self._commanded((vehicle_id,))
         self._api().vehicle.setSpeed(vehicle_id, speed)
 
     def set_speeds(self, vehicle_ids: Sequence[str], speeds: Sequence[float]) -> None:
         """``set_speed`` for many vehicles."""
+        self._commanded(vehicle_ids)
         # libsumo's SWIG function itself, driven by map: no Python frame per vehicle
         set_speed = self._api()._libsumo.vehicle_setSpeed
         if len(vehicle_ids) != len(speeds):
@@ -196,6 +205,7 @@ class Commands:
 
     def set_acceleration(self, vehicle_id: str, accel: float, duration: float) -> None:
         """Accelerate at ``accel`` m/s^2 for ``duration`` s."""
+        self._commanded((vehicle_id,))
         self._api().vehicle.setAcceleration(vehicle_id, accel, duration)
 
     def change_lane(self, vehicle_id: str, lane_index: int, duration: float) -> None:
@@ -216,6 +226,7 @@ class Commands:
         """Place a vehicle's rectangle centre at (``x``, ``y``) facing ``heading`` for the next
         step (SUMO maps it to the nearest lane of ``edge`` when given, else of any edge);
         ``speed`` m/s is what SUMO reports for it (None: implied by the move)."""
+        self._commanded((vehicle_id,))
         s = self._api()
         fx, fy = (float(v) for v in point_ahead((x, y), heading, 0.5 * length))
         # keepRoute 2 | 4: anywhere, mapped to the nearest lane whatever its permissions, so a
@@ -244,6 +255,7 @@ class Commands:
         sizes = (len(edges), len(lanes), len(front_x), len(front_y), len(angle), len(speed))
         if any(k != n for k in sizes):
             raise ValueError("move_vehicle_fronts: arguments of different lengths")
+        self._commanded(vehicle_ids)
         # libsumo's SWIG functions themselves (its Python wrappers add a frame per call),
         # positional (vehID, edgeID, lane, x, y, angle, keepRoute 6 as in move_vehicle) and
         # driven by map (no Python loop): every move, then the speeds to set (each vehicle's
@@ -262,6 +274,7 @@ class Commands:
         self, person_id: str, x: float, y: float, heading: float, edge: str = ""
     ) -> None:
         """Place a person's centre at (``x``, ``y``) facing ``heading`` for the next step."""
+        self._commanded((person_id,), persons=True)
         self._api().person.moveToXY(
             person_id, edge, x, y, angle=heading_to_sumo_angle(heading), keepRoute=2
         )

@@ -266,6 +266,10 @@ class Simulation(Commands):
         self._require_open()
         return self._sumo
 
+    def _commanded(self, actor_ids: Sequence[str], persons: bool = False) -> None:
+        self._require_open()
+        self._reader.pin(actor_ids, persons)
+
     @property
     def state(self) -> WorldState:
         """The WorldState after the latest step (or at load time)."""

@@ -1,8 +1,9 @@
 """Read one WorldState per step out of a running libsumo simulation.
 
 What is read: every vehicle and person in the network (the default), or with a
-:class:`~hiyari.traffic.read_scope.ReadScope` only the actors around the ego (SUMO's context
-subscription finds them); :meth:`WorldStateReader.read_full` reads everyone on demand either way.
+:class:`~hiyari.traffic.read_scope.ReadScope` only the actors around the ego (a
+:class:`~hiyari.traffic.read_scope.ScopeScan` finds them); :meth:`WorldStateReader.read_full`
+reads everyone on demand either way.
 
 How the full state is read: ``"getters"`` calls libsumo's compiled per-object getters (the SWIG
 functions themselves, without libsumo's Python wrappers) in one pass per variable;
@@ -22,9 +23,9 @@ from typing import Literal
 
 import numpy as np
 
-from hiyari.kinematics import point_ahead, wrap_angle
 from hiyari.traffic.actor_class import ActorClass, actor_class_from_vclass
-from hiyari.traffic.read_scope import Columns, ContextScope, ReadScope
+from hiyari.traffic.read_scope import Columns, ReadScope, ScopeScan, positions
+from hiyari.traffic.state_kernel import sumo_to_state
 from hiyari.traffic.world_state import WorldState
 
 ReadMode = Literal["getters", "subscriptions"]
@@ -58,22 +59,6 @@ class _ActorTable:
         self.row[actor_id] = r
         return r
 
-    def differenced_accel(
-        self, rows: np.ndarray, speed: np.ndarray, now: float, before: float, dt: float
-    ) -> np.ndarray:
-        """(speed - speed read at time ``before``) / ``dt`` per row, 0 where the actor was not
-        read at ``before``; records ``speed`` as read at ``now`` (s)."""
-        hist = self.speeds[rows]
-        if (hist[:, 0] != now).all():  # the usual case: the first read at this time
-            hist[:, 2:] = hist[:, :2]
-        else:  # a second read at the same time keeps the history of the first
-            fresh = hist[:, 0] != now
-            hist[fresh, 2:] = hist[fresh, :2]
-        hist[:, 0] = now
-        hist[:, 1] = speed
-        self.speeds[rows] = hist
-        return np.where(hist[:, 2] == before, (speed - hist[:, 3]) / dt, 0.0)
-
 
 class WorldStateReader:
     """Turns the current libsumo state into a WorldState; one reader per simulation."""
@@ -93,7 +78,7 @@ class WorldStateReader:
         self._edge_of: dict[str, str] = {}
         self._dt = sumo.simulation.getDeltaT()
         self._now = self._before = float("nan")  # the times of the latest two reads, s
-        self._scope = ContextScope(sumo, scope) if scope is not None else None
+        self._scope = ScopeScan(sumo, scope) if scope is not None else None
         # the SWIG functions themselves: libsumo's Python wrappers add a call layer per value
         c = sumo._libsumo
         self._time = c.simulation_getTime
@@ -122,7 +107,10 @@ class WorldStateReader:
                 tc.VAR_LANE_ID,
             ]
             self._per_vars = [tc.VAR_POSITION3D, tc.VAR_ANGLE, tc.VAR_SPEED, tc.VAR_LANE_ID]
-            sumo.simulation.subscribe([tc.VAR_DEPARTED_VEHICLES_IDS, tc.VAR_DEPARTED_PERSONS_IDS])
+            if scope is None:  # the scope's own subscription includes the departures
+                sumo.simulation.subscribe(
+                    [tc.VAR_DEPARTED_VEHICLES_IDS, tc.VAR_DEPARTED_PERSONS_IDS]
+                )
 
     @property
     def scope(self) -> ReadScope | None:
@@ -133,15 +121,20 @@ class WorldStateReader:
         """The WorldState at the simulation's current time: the scope's actors when a scope is
         set and its centre is in the network, else every actor."""
         if self._scope is not None:
-            cols = self._scope.read(self._v[0])
+            cols = self._scope.read()
             if cols is not None:
                 return self._assemble(*cols)
         return self.read_full()
 
     def pause(self) -> None:
-        """Nothing will be read for a while (bare stepping): stop the scope's subscriptions."""
+        """Nothing will be read for a while (bare stepping): the scope rescans afterwards."""
         if self._scope is not None:
             self._scope.pause()
+
+    def pin(self, ids: Sequence[str], persons: bool = False) -> None:
+        """Commands moved (or set the speed of) these actors: the scope reads them every step."""
+        if self._scope is not None:
+            self._scope.pin(ids, persons)
 
     def read_full(self) -> WorldState:
         """The WorldState with every vehicle and person in the network now."""
@@ -167,20 +160,27 @@ class WorldStateReader:
         nv, n = len(veh.ids), len(veh.ids) + len(per.ids)
         vrow = self._veh.rows(veh.ids, self._vehicle_static)
         prow = self._per.rows(per.ids, self._person_static)
-        st = np.concatenate([self._veh.data[vrow], self._per.data[prow]])
-        pos = np.fromiter(chain.from_iterable(chain(veh.pos, per.pos)), float, 3 * n)
-        pos = pos.reshape(n, 3)
+        front = np.concatenate([veh.pos, per.pos]) if n > nv else veh.pos
         angle = np.fromiter(chain(veh.angle, per.angle), float, n)
         speed = np.fromiter(chain(veh.speed, per.speed), float, n)
         accel = np.empty(n)
         accel[:nv] = veh.accel
-        if n > nv:
-            # persons have no acceleration getter: difference of speeds over the last step
-            accel[nv:] = self._per.differenced_accel(prow, speed[nv:], time, self._before, self._dt)
-        heading = wrap_angle(np.radians(90.0 - angle))
-        length = st[:, 1]
-        # SUMO reports the front-bumper centre; the toolkit uses the rectangle centre
-        pos[:, :2] = point_ahead(pos[:, :2], heading, -0.5 * length)
+        # SUMO reports the front-bumper centre; the toolkit uses the rectangle centre. Persons
+        # have no acceleration getter: their speeds are differenced over the last step
+        xyz, heading, st = sumo_to_state(
+            front,
+            angle,
+            speed,
+            accel,
+            self._veh.data,
+            vrow,
+            self._per.data,
+            prow,
+            self._per.speeds,
+            time,
+            self._before,
+            self._dt,
+        )
         lanes = [*veh.lane, *per.lane]
         edges = list(map(self._edge_of.get, lanes))
         if None in edges:
@@ -191,11 +191,11 @@ class WorldStateReader:
             time=time,
             ids=np.array([*veh.ids, *per.ids], dtype=object),
             cls=st[:, 0].astype(np.int8),
-            xyz=pos,
+            xyz=xyz,
             heading=heading,
             speed=speed,
             accel=accel,
-            length=length,
+            length=st[:, 1],
             width=st[:, 2],
             height=st[:, 3],
             lane=np.array(lanes, dtype=object),
@@ -213,7 +213,7 @@ class WorldStateReader:
         vids = list(ids())
         veh = Columns(
             vids,
-            list(map(pos, vids)),
+            positions(pos, vids),
             list(map(ang, vids)),
             list(map(spd, vids)),
             list(map(acc, vids)),
@@ -223,7 +223,7 @@ class WorldStateReader:
         pids = list(ids())
         per = Columns(
             pids,
-            list(map(pos, pids)),
+            positions(pos, pids),
             list(map(ang, pids)),
             list(map(spd, pids)),
             None,
@@ -246,12 +246,17 @@ class WorldStateReader:
         pres = s.person.getAllSubscriptionResults()
         vr = [vres.get(i) or self._fetch(self._v, self._veh_vars, i) for i in vids]
         pr = [pres.get(i) or self._fetch(self._p, self._per_vars, i) for i in pids]
-        veh = Columns(vids, *([r[k] for r in vr] for k in self._veh_vars))
+        vc = [[r[k] for r in vr] for k in self._veh_vars]
         pc = [[r[k] for r in pr] for k in self._per_vars]
-        return veh, Columns(pids, pc[0], pc[1], pc[2], None, pc[3])
+        veh = Columns(vids, _xyz(vc[0]), *vc[1:])
+        return veh, Columns(pids, _xyz(pc[0]), pc[1], pc[2], None, pc[3])
 
     @staticmethod
     def _fetch(
         getters: Sequence[Callable[[str], object]], keys: Sequence[str], actor_id: str
     ) -> dict:
         return dict(zip(keys, (g(actor_id) for g in getters[1:]), strict=True))
+
+
+def _xyz(points: list[tuple[float, float, float]]) -> np.ndarray:
+    return np.array(points, dtype=float).reshape(len(points), 3)
