@@ -2,11 +2,12 @@
 
 A closed loop's consumers (sensors, perception truth, TTC, the stack) need the actors within
 some range of the ego, not the whole city. Reading only those is what makes the read cheap.
-:class:`ScopeScan` finds them without a SUMO subscription (a context subscription costs a
-spatial search inside every ``simulationStep``): now and then it reads every actor's position
-(compiled getters, one call per actor) and keeps as candidates those that could reach the
-radius before the next scan; every step it reads the candidates' positions, keeps exactly those
-within the radius and reads their other values. benchmarks/worldstate.py measures it.
+:class:`ScopeScan` finds them without a context subscription (that costs a spatial search
+inside every ``simulationStep``; the step's events come from one simulation subscription): now
+and then it reads every actor's position (compiled getters, one call per actor) and keeps as
+candidates those that could reach the radius before the next scan; every step it reads the
+candidates' positions, keeps exactly those within the radius and reads their other values.
+benchmarks/worldstate.py measures it.
 """
 
 from __future__ import annotations
