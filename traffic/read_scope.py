@@ -218,7 +218,7 @@ class ScopeScan:
         try:
             veh = self._vehicles(now)
             return None if veh is None else (veh, self._persons(now))
-        except (self._error, ValueError):  # an actor gone unannounced (removed), the centre
+        except self._error:  # an actor gone unannounced (removed), or the centre
             self.pause()
             veh = self._vehicles(now)
             return None if veh is None else (veh, self._persons(now))
@@ -265,12 +265,12 @@ class ScopeScan:
         """The vehicles in scope; None when the centre is not in the network."""
         d = self._veh
         if d.scan_time == d.scan_time:
-            ids = d.order()
-            xyz = positions(d.pos, ids)
-            k = ids.index(self.scope.center)
-            self._cx, self._cy = xyz[k, 0], xyz[k, 1]
+            # the centre alone first: a scan due now reads every position anyway (a centre
+            # gone since raises, and read() scans)
+            self._cx, self._cy, _ = d.pos(self.scope.center)
             if not self._due(d, now):
-                return self._filter(d, ids, xyz)
+                ids = d.order()
+                return self._filter(d, ids, positions(d.pos, ids))
         ids = d.ids()
         if self.scope.center not in ids:
             self.pause()
