@@ -29,14 +29,18 @@ from hiyari.kinematics import footprint_distance, footprint_extent, unrotate_xy,
 DT = 0.1
 
 
+def _fields(e: dict, k: int) -> tuple:
+    """measures.entity_scalars of entity ``k`` of the arrays in ``e`` (cos and sin by numpy)."""
+    c, r, h = e["centre"][k], e["ref"][k], e["heading"][k]
+    return (
+        c[0], c[1], r[0], r[1], h, np.cos(h), np.sin(h), e["length"][k], e["width"][k],
+        e["speed"][k], 0.0, e["road_s"][k], e["road_t"][k], e["road_dir"][k],
+    )  # fmt: skip
+
+
 def _pair(kind: int, fs: bool, dtype: int, road: bool, e: dict) -> float:
     """pair_measure of entity 0 (A) to entity 1 (B) of the arrays in ``e``."""
-    h = e["heading"]
-    return M.pair_measure(
-        kind, 0, 1, fs, dtype, road, np.ones(2, bool), e["centre"], e["ref"], h, np.cos(h),
-        np.sin(h), e["length"], e["width"], e["speed"], e["road_s"], e["road_t"],
-        e["road_dir"],
-    )  # fmt: skip
+    return M.pair_measure(kind, fs, dtype, road, _fields(e, 0), _fields(e, 1))
 
 
 def _two_cars(gap_ahead: float, va: float, vb: float) -> dict:
@@ -202,12 +206,11 @@ def test_ttc_bound_decides_only_when_the_footprint_ttc_is_above_the_value() -> N
         length, width = rng.uniform(0.5, 12.0, 2), rng.uniform(0.5, 3.0, 2)
         speed = rng.uniform(0.0, 40.0, 2)
         value = float(rng.uniform(-1.0, 6.0))
-        cos_h, sin_h = np.cos(h), np.sin(h)
-        if not M.ttc_above(0, 1, value, centre, cos_h, sin_h, length, width, speed):
-            continue
-        decided += 1
         e = {"centre": centre, "ref": centre, "heading": h, "length": length, "width": width,
              "speed": speed, "road_s": np.zeros(2), "road_t": np.zeros(2), "road_dir": np.ones(2)}  # fmt: skip
+        if not M.ttc_above(value, _fields(e, 0), _fields(e, 1)):
+            continue
+        decided += 1
         ttc = _pair(M.TTC, True, 0, False, e)
         assert ttc > value
         for rule in range(6):

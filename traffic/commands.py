@@ -13,7 +13,7 @@ import math
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
-from itertools import repeat, starmap
+from itertools import compress, repeat
 from typing import Any
 
 import numpy as np
@@ -252,23 +252,28 @@ class Commands:
         (degrees clockwise from north, as :func:`heading_to_sumo_angle`), speeds (N,) m/s (NaN:
         leave the speed set last, SUMO holds it), edge ('' = any) and lane index (-1) each."""
         n = len(vehicle_ids)
-        sizes = (len(edges), len(lanes), len(front_x), len(front_y), len(angle), len(speed))
-        if any(k != n for k in sizes):
+        if {len(edges), len(lanes), len(front_x), len(front_y), len(angle), len(speed)} != {n}:
             raise ValueError("move_vehicle_fronts: arguments of different lengths")
         self._commanded(vehicle_ids)
+        speed = np.asarray(speed, dtype=float)
+        speeds, send = speed.tolist(), speed == speed  # NaN: leave the speed set last
+        keep = None if send.all() else send.tolist()
         # libsumo's SWIG functions themselves (its Python wrappers add a frame per call),
         # positional (vehID, edgeID, lane, x, y, angle, keepRoute 6 as in move_vehicle) and
         # driven by map (no Python loop): every move, then the speeds to set (each vehicle's
-        # move still precedes its speed; vehicles do not interact until the step)
+        # move still precedes its speed; vehicles do not interact until the step). The speeds
+        # are sorted out before: Python run between SUMO's calls runs in cold caches
         c = self._api()._libsumo
         deque(
             map(c.vehicle_moveToXY, vehicle_ids, edges, lanes, front_x, front_y, angle,
                 repeat(6, n)),
             maxlen=0,
         )  # fmt: skip
-        speeds = speed.tolist() if isinstance(speed, np.ndarray) else speed
-        sets = [(vid, v) for vid, v in zip(vehicle_ids, speeds, strict=True) if v == v]
-        deque(starmap(c.vehicle_setSpeed, sets), maxlen=0)
+        if keep is None:
+            deque(map(c.vehicle_setSpeed, vehicle_ids, speeds), maxlen=0)
+        else:
+            ids = compress(vehicle_ids, keep)
+            deque(map(c.vehicle_setSpeed, ids, compress(speeds, keep)), maxlen=0)
 
     def move_person(
         self, person_id: str, x: float, y: float, heading: float, edge: str = ""

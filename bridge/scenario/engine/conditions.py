@@ -132,7 +132,7 @@ class ConditionBank:
         self.point_rows = np.flatnonzero(np.isin(self.rows.kind, M.POINT_KINDS))
         self._no_contact = np.zeros((len(self.entity_index),) * 2, dtype=bool)
         # the kernel's work arrays and result, reused from step to step
-        self._trig = np.zeros((2, len(self.entity_index)))
+        self._work = np.zeros((len(self.entity_index), M.N_FIELDS))
         self._counts = np.zeros((2, n), dtype=np.int64)
         self._flags = np.zeros((2, n), dtype=bool)
         self._fired = np.zeros(self.n_triggers, dtype=bool)
@@ -166,6 +166,20 @@ class ConditionBank:
             len(self.entity_index),
         )  # fmt: skip
 
+    @property
+    def fired(self) -> np.ndarray:
+        """(T,) bool: the triggers fired at the latest evaluation (updated in place)."""
+        return self._fired
+
+    @property
+    def no_contact(self) -> np.ndarray:
+        """(E, E) bool, all False: the contact matrix of a step without contacts."""
+        return self._no_contact
+
+    def work_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The trigger kernel's work arrays and its result (``fired``), in its order."""
+        return self._work, self._counts, self._flags, self._fired
+
     # ------------------------------------------------------------------ evaluate
     def evaluate(
         self,
@@ -191,8 +205,8 @@ class ConditionBank:
             for pair in snap.contacts:
                 i, j = (*pair, *pair)[:2]  # a pair, or one entity (a set of one)
                 contact[i, j] = contact[j, i] = True
-        if self._trig.shape[1] != len(snap.heading):
-            self._trig = np.zeros((2, len(snap.heading)))
+        if len(self._work) != len(snap.heading):
+            self._work = np.zeros((len(snap.heading), M.N_FIELDS))
         if gather is None:
             self.n_fired = K.evaluate_triggers(
                 snap.time, self.step_no, active, self.cond, self.time_value, self.static,
@@ -200,7 +214,7 @@ class ConditionBank:
                 self.rows.value, self.points, self.since, snap.present, snap.centre, snap.ref,
                 snap.heading, snap.length, snap.width, snap.speed, snap.accel, snap.on_net,
                 snap.road_s, snap.road_t, snap.road_dir, contact, snap.contact_any, states,
-                transitions, self._trig, self._counts, self._flags, self._fired,
+                transitions, self._work, self._counts, self._flags, self._fired,
             )  # fmt: skip
         else:
             self.n_fired = K.gather_and_evaluate(
@@ -208,7 +222,7 @@ class ConditionBank:
                 self.static, self.group_start, self.trigger_group, self.prev, self.history,
                 self.row_table, self.rows.value, self.points, self.since, snap.length,
                 snap.width, snap.on_net, contact, snap.contact_any, states, transitions,
-                self._trig, self._counts, self._flags, self._fired,
+                self._work, self._counts, self._flags, self._fired,
             )  # fmt: skip
         self.step_no += 1
         return self._fired

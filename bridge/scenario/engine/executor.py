@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -39,7 +40,10 @@ from hiyari.bridge.scenario.engine.motion import (
     Actor,
     ActorTable,
     advance_road_actors,
+    finish_pass,
     forward,
+    quiet_motion,
+    read_targets,
 )
 from hiyari.bridge.scenario.engine.positions import Pose, PoseResolver
 from hiyari.bridge.scenario.engine.snapshot import (
@@ -52,6 +56,7 @@ from hiyari.bridge.scenario.engine.snapshot import (
     Snapshot,
     gather_entities,
 )
+from hiyari.bridge.scenario.engine.step_kernel import quiet_step
 from hiyari.bridge.scenario.model.actions import AssignRouteAction
 from hiyari.bridge.scenario.model.entities import EntityKind
 from hiyari.bridge.scenario.model.storyboard import Scenario
@@ -91,9 +96,9 @@ class _View:
     ego_driven: bool
 
 
-@dataclass(frozen=True, slots=True)
-class StepReport:
-    """What one update did. ``time``: scenario time of the evaluated state (s)."""
+class StepReport(NamedTuple):
+    """What one update did. ``time``: scenario time of the evaluated state (s). (A named
+    tuple: immutable, and built every step at a quarter of a frozen dataclass's cost.)"""
 
     time: float
     finished: bool
@@ -183,6 +188,7 @@ class ScenarioEngine:
             (np.zeros((0, 2)), np.zeros(0), np.zeros(0), np.zeros((3, 0))),
         )  # fmt: skip
         self._moved_key: tuple[int, int] = (-1, -1)
+        self._command_cache: tuple[object, tuple] = (None, ())  # lane profile, command_step args
         self._inserts = 0
         self._lanes_of: tuple[np.ndarray | None, list[str], list[int]] = (None, [], [])
         # table rows on roads / following paths, for the view and motion versions
@@ -205,6 +211,7 @@ class ScenarioEngine:
         # update / action-ending pass that changed nothing (-1 / None: it changed something)
         self._idle: tuple[int, tuple[int, int] | None] = (-1, None)
         self._cleared = -1  # log length when the element transitions were last cleared
+        self._quiet: tuple[tuple, np.ndarray | None, tuple | None] = ((), None, None)
 
     # ------------------------------------------------------------------ who drives what
     def storyboard_drives(self, name: str) -> bool:
@@ -361,9 +368,35 @@ class ScenarioEngine:
         self._started, self._ended, self._ego_requests = [], [], []
         if self.finished:
             return self._report()
-        view = self._view()
-        snap, gather = self._snapshot(world, sim, view)
-        fired = self.bank.evaluate(snap, view.active, self.tree.state, self.tree.transition, gather)
+        quiet = self._quiet_args()
+        if quiet is not None:
+            if self.table.long_targets:
+                read_targets(self.table)
+            bank = self.bank
+            n_fired, ended, missing, lat_ended, placed, changed = quiet_step(
+                world.xyz, world.heading, world.speed, world.accel, self.now, bank.step_no,
+                self.now + self.dt, *quiet,
+            )  # fmt: skip
+            bank.step_no += 1
+            bank.n_fired = n_fired
+            if not n_fired:
+                if ended or not placed:  # the storyboard ends them, then the commands
+                    rows = self._advance_rows[1]
+                    road = self.table.road_ids[self.table.road_code[rows[0]]]
+                    finish_pass(
+                        self.roads.odr, self._actor_list, rows, road, ended, missing,
+                        lat_ended, placed,
+                    )  # fmt: skip
+                    self._finish_actions(self.now)
+                    changed = command_step(*self._command_args())
+                return self._send(sim, changed, self._report())
+            fired = bank.fired
+        else:
+            view = self._view()
+            snap, gather = self._snapshot(world, sim, view)
+            fired = self.bank.evaluate(
+                snap, view.active, self.tree.state, self.tree.transition, gather
+            )
         if len(self.tree.log) != self._cleared:  # transitions are set with a log entry only
             self.tree.transition[:] = NO_TRANSITION
             self._cleared = len(self.tree.log)
@@ -387,8 +420,54 @@ class ScenarioEngine:
         if changed is None:
             self._finish_actions(self.now)
             changed = command_step(*self._command_args())
-        self._send(sim, changed)
-        return self._report()
+        return self._send(sim, changed, self._report())
+
+    def _quiet_args(self) -> tuple | None:
+        """The arguments of ``step_kernel.quiet_step`` after the WorldState arrays, the time
+        and the evaluation number, when this step can be quiet; else None. A step is quiet
+        when the latest storyboard update and action-ending pass changed nothing (see
+        ``_idle``), the element transitions are cleared, the conditions read nothing the
+        kernel does not gather (entities located on the map, positions, contacts, on-network
+        states) and the motion runs in one compiled pass (``motion.quiet_motion``). Kept (or
+        refused) until the element log, the motion or road versions, the inserts, the idle
+        state or the entity rows change."""
+        tb = self.table
+        key = (
+            len(self.tree.log), tb.motion_version, tb.road_version, self._inserts, self._idle,
+            self._cleared,
+        )  # fmt: skip
+        cached = self._quiet
+        if cached[0] == key and cached[1] is self._entity_rows and not tb.any_stale:
+            return cached[2]
+        self._quiet = (key, self._entity_rows, self._build_quiet(key[0]))
+        return self._quiet[2]
+
+    def _build_quiet(self, version: int) -> tuple | None:
+        """See ``_quiet_args``; ``version``: the element log's length."""
+        tb, bank = self.table, self.bank
+        if not (
+            version == self._idle[0] == self._cleared
+            and self._idle[1] == (version, tb.motion_version)
+            and not bank.needs_contacts and not bank.needs_on_net and not len(bank.point_rows)
+        ):  # fmt: skip
+            return None
+        view = self._view()
+        if view.located:
+            return None
+        self._advance(None, rows_only=True)
+        _, on_road, on_path = self._advance_rows
+        motion = None if on_path else quiet_motion(self.roads.odr, tb, on_road, self.dt)
+        if motion is None:
+            return None
+        return (
+            self._entity_rows, self._centre_offset, view.own, tb.road_code, tb.state,
+            tb.direction, self._present, self._centre, self._ref, self._ent, view.active,
+            bank.cond, bank.time_value, bank.static, bank.group_start, bank.trigger_group,
+            bank.prev, bank.history, bank.row_table, bank.rows.value, bank.points, bank.since,
+            self._length, self._width, self._no_contact, bank.no_contact, self._no_contact,
+            self.tree.state, self.tree.transition, *bank.work_arrays(), *motion,
+            *self._command_args(),
+        )  # fmt: skip
 
     def _report(self) -> StepReport:
         return StepReport(
@@ -487,16 +566,18 @@ class ScenarioEngine:
         self.instances.setdefault(ai, []).append(inst)
 
     # ------------------------------------------------------------------ motion
-    def _advance(self, command: tuple | None = None) -> np.ndarray | None:
+    def _advance(self, command: tuple | None = None, rows_only: bool = False) -> np.ndarray | None:
         """Move the driven actors to the next step; ``command``: the arguments of
         ``command_step``, run in the same compiled call when the pass ends nothing (returns
-        its result; None: not run)."""
+        its result; None: not run). ``rows_only``: only find the rows (``_advance_rows``)."""
         nxt = self.now + self.dt
         view, tb = self._view(), self.table
         key = (view.version, tb.motion_version)  # free changes only with the motion version
         if self._advance_rows is None or self._advance_rows[0] != key:
             on_road = np.flatnonzero(view.driven & ~tb.free)
             self._advance_rows = (key, on_road, np.flatnonzero(view.driven & tb.free).tolist())
+        if rows_only:
+            return None
         _, on_road, on_path = self._advance_rows
         changed = advance_road_actors(
             self.roads.odr, self._actor_list, on_road, nxt, self.dt, None if on_path else command
@@ -535,12 +616,16 @@ class ScenarioEngine:
     def _command(self, sim: Simulation) -> None:
         """Place every inserted scripted actor for the next step; its speed is sent only when
         it changed (SUMO holds the speed set last)."""
-        self._send(sim, command_step(*self._command_args()))
+        self._send(sim, command_step(*self._command_args()), None)
 
     def _command_args(self) -> tuple:
-        """The arguments of ``command_step`` for the inserted scripted actors."""
+        """The arguments of ``command_step`` for the inserted scripted actors (kept while the
+        rows and the lane profile hold: the arrays are updated in place)."""
         tb = self.table
         key = (self._view().version, self._inserts)
+        prof = tb.lane_profile(self.roads.odr)
+        if key == self._moved_key and prof is self._command_cache[0]:
+            return self._command_cache[1]
         if key != self._moved_key:
             rows = np.flatnonzero(tb.inserted & self._driven())
             if not np.array_equal(rows, self._moved[0]):
@@ -553,20 +638,25 @@ class ScenarioEngine:
                 self._sent_speed[left] = np.nan  # others may set its speed meanwhile
             self._moved_key = key
         rows, _, out = self._moved
-        prof = tb.lane_profile(self.roads.odr)
-        return (
+        args = (
             rows, tb.state, self._cx, self._cy, self._length, self._sent_speed, *out, tb.free,
             tb.road_code, tb.lane, prof.sec_first, prof.sec_count, prof.sec_s0, self._lane_key,
         )  # fmt: skip
+        self._command_cache = (prof, args)
+        return args
 
-    def _send(self, sim: Simulation, changed: np.ndarray) -> None:
-        """Send the commands computed into the arrays of ``_moved``; ``changed``: the rows
-        whose SUMO lane is to be looked up again."""
+    def _send(
+        self, sim: Simulation, changed: np.ndarray, report: StepReport | None
+    ) -> StepReport | None:
+        """Send the commands computed into the arrays of ``_moved`` and return ``report``
+        (built before: Python after libsumo's calls runs in caches SUMO has just evicted);
+        ``changed``: the rows whose SUMO lane is to be looked up again."""
         rows, names, out = self._moved
         edges, lanes = self._sumo_lanes(rows, changed)
         if names:
             front_x, front_y, angle = out[3].tolist()
-            sim.move_vehicle_fronts(names, edges, lanes, front_x, front_y, angle, out[2].tolist())
+            sim.move_vehicle_fronts(names, edges, lanes, front_x, front_y, angle, out[2])
+        return report
 
     def _sumo_lanes(self, rows: np.ndarray, changed: np.ndarray) -> tuple[list[str], list[int]]:
         """SUMO edge ('' = any) and lane index (-1) of each of ``rows`` (for moveToXY), looked

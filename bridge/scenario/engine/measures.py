@@ -162,59 +162,86 @@ def _footprint_distance(
     return min(b_in_a, a_in_b)
 
 
-# ---------------------------------------------------------------------------------- pairs
-@njit(cache=True, inline="always")
-def _entity_distance(
-    a: int,
-    b: int,
-    fs: bool,
-    dtype: int,
+# ---------------------------------------------------------------------------------- entities
+#: Fields of an entity's scalars (the tuple :func:`entity_scalars` returns): box centre x, y
+#: and reference point x, y (m), heading (rad) with its cos and sin, length and width (m),
+#: speed (m/s), acceleration (m/s^2), road s and t (m) and road direction (+1 / -1).
+E_X, E_Y, E_RX, E_RY, E_H, E_COS, E_SIN, E_LEN, E_WID, E_V, E_ACC, E_S, E_T, E_DIR = range(14)
+N_FIELDS = 14
+
+
+@njit(cache=True)
+def pack_entities(
     centre: np.ndarray,
     ref: np.ndarray,
     heading: np.ndarray,
-    cos_h: np.ndarray,
-    sin_h: np.ndarray,
     length: np.ndarray,
     width: np.ndarray,
-) -> float:
-    """Distance (m) of B from A in A's frame, by distance type: between the reference points,
-    or the boxes' gap with ``fs`` (freespace)."""
-    ha, la, wa, ca, sa = heading[a], length[a], width[a], cos_h[a], sin_h[a]
-    if dtype == 0 and fs:
-        return _footprint_distance(
-            centre[a, 0], centre[a, 1], ha, ca, sa, la, wa,
-            centre[b, 0], centre[b, 1], heading[b], cos_h[b], sin_h[b], length[b], width[b],
-        )  # fmt: skip
-    if not fs:
-        rx, ry = _unrotate(ref[b, 0] - ref[a, 0], ref[b, 1] - ref[a, 1], ca, sa)
-        return math.hypot(rx, ry) if dtype == 0 else (abs(rx) if dtype == 1 else abs(ry))
-    bx, by = _unrotate(centre[b, 0] - centre[a, 0], centre[b, 1] - centre[a, 1], ca, sa)
-    # footprint_extent of B in A's frame
-    c, s = abs(math.cos(heading[b] - ha)), abs(math.sin(heading[b] - ha))
-    if dtype == 1:
-        return _max0(abs(bx) - 0.5 * la - (length[b] * c + width[b] * s) / 2)
-    return _max0(abs(by) - 0.5 * wa - (length[b] * s + width[b] * c) / 2)
-
-
-@njit(cache=True, inline="always")
-def _road_distance(
-    a: int,
-    b: int,
-    fs: bool,
-    dtype: int,
-    length: np.ndarray,
-    width: np.ndarray,
+    speed: np.ndarray,
+    accel: np.ndarray,
     road_s: np.ndarray,
     road_t: np.ndarray,
     road_dir: np.ndarray,
-) -> float:
+    out: np.ndarray,
+) -> None:
+    """Into ``out`` (E, N_FIELDS): each entity's fields (columns ``E_X`` ...), cos and sin of the
+    heading computed here. The measures read their scalars from it: a compiled function that
+    is handed many arrays per row pays a reference count per array and call (about 0.1
+    microseconds each, more than the measure itself)."""
+    for k in range(len(heading)):
+        h = heading[k]
+        out[k, E_X], out[k, E_Y], out[k, E_RX], out[k, E_RY] = (
+            centre[k, 0], centre[k, 1], ref[k, 0], ref[k, 1]
+        )  # fmt: skip
+        out[k, E_H], out[k, E_COS], out[k, E_SIN] = h, math.cos(h), math.sin(h)
+        out[k, E_LEN], out[k, E_WID], out[k, E_V], out[k, E_ACC] = (
+            length[k], width[k], speed[k], accel[k]
+        )  # fmt: skip
+        out[k, E_S], out[k, E_T], out[k, E_DIR] = road_s[k], road_t[k], road_dir[k]
+
+
+@njit(cache=True, inline="always")
+def entity_scalars(k: int, packed: np.ndarray) -> tuple:
+    """Entity ``k``'s fields (see ``E_X`` ...) from :func:`pack_entities`'s array, as one
+    tuple of floats."""
+    return (
+        packed[k, E_X], packed[k, E_Y], packed[k, E_RX], packed[k, E_RY], packed[k, E_H],
+        packed[k, E_COS], packed[k, E_SIN], packed[k, E_LEN], packed[k, E_WID],
+        packed[k, E_V], packed[k, E_ACC], packed[k, E_S], packed[k, E_T], packed[k, E_DIR],
+    )  # fmt: skip
+
+
+# ---------------------------------------------------------------------------------- pairs
+@njit(cache=True, inline="always")
+def _entity_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
+    """Distance (m) of B from A in A's frame, by distance type: between the reference points,
+    or the boxes' gap with ``fs`` (freespace)."""
+    ha, la, wa, ca, sa = ea[E_H], ea[E_LEN], ea[E_WID], ea[E_COS], ea[E_SIN]
+    if dtype == 0 and fs:
+        return _footprint_distance(
+            ea[E_X], ea[E_Y], ha, ca, sa, la, wa,
+            eb[E_X], eb[E_Y], eb[E_H], eb[E_COS], eb[E_SIN], eb[E_LEN], eb[E_WID],
+        )  # fmt: skip
+    if not fs:
+        rx, ry = _unrotate(eb[E_RX] - ea[E_RX], eb[E_RY] - ea[E_RY], ca, sa)
+        return math.hypot(rx, ry) if dtype == 0 else (abs(rx) if dtype == 1 else abs(ry))
+    bx, by = _unrotate(eb[E_X] - ea[E_X], eb[E_Y] - ea[E_Y], ca, sa)
+    # footprint_extent of B in A's frame
+    c, s = abs(math.cos(eb[E_H] - ha)), abs(math.sin(eb[E_H] - ha))
+    if dtype == 1:
+        return _max0(abs(bx) - 0.5 * la - (eb[E_LEN] * c + eb[E_WID] * s) / 2)
+    return _max0(abs(by) - 0.5 * wa - (eb[E_LEN] * s + eb[E_WID] * c) / 2)
+
+
+@njit(cache=True, inline="always")
+def _road_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
     """Distance (m) of B from A in road coordinates, by distance type."""
-    ds = (road_s[b] - road_s[a]) * road_dir[a]
-    dt = road_t[b] - road_t[a]
+    ds = (eb[E_S] - ea[E_S]) * ea[E_DIR]
+    dt = eb[E_T] - ea[E_T]
     lon, lat = abs(ds), abs(dt)
     if fs:
-        lon = _max0(abs(ds) - 0.5 * (length[a] + length[b]))
-        lat = _max0(abs(dt) - 0.5 * (width[a] + width[b]))
+        lon = _max0(abs(ds) - 0.5 * (ea[E_LEN] + eb[E_LEN]))
+        lat = _max0(abs(dt) - 0.5 * (ea[E_WID] + eb[E_WID]))
     if dtype == 1:
         return lon
     if dtype == 2:
@@ -232,20 +259,12 @@ def _sign(x: float) -> float:
 
 
 @njit(cache=True, inline="always")
-def _closing(
-    a: int,
-    b: int,
-    dtype: int,
-    centre: np.ndarray,
-    cos_h: np.ndarray,
-    sin_h: np.ndarray,
-    speed: np.ndarray,
-) -> float:
+def _closing(dtype: int, ea: tuple, eb: tuple) -> float:
     """Closing speed (m/s) of A and B along the measuring direction: A's axis (longitudinal /
     lateral) or the line between the centres (euclidean)."""
-    ca, sa, va, vb = cos_h[a], sin_h[a], speed[a], speed[b]
-    dvx, dvy = va * ca - vb * cos_h[b], va * sa - vb * sin_h[b]  # relative velocity
-    rx, ry = centre[b, 0] - centre[a, 0], centre[b, 1] - centre[a, 1]
+    ca, sa, va, vb = ea[E_COS], ea[E_SIN], ea[E_V], eb[E_V]
+    dvx, dvy = va * ca - vb * eb[E_COS], va * sa - vb * eb[E_SIN]  # relative velocity
+    rx, ry = eb[E_X] - ea[E_X], eb[E_Y] - ea[E_Y]
     n = max(math.hypot(rx, ry), 1e-9)
     if dtype == 1:
         dx, dy = ca, sa
@@ -257,146 +276,89 @@ def _closing(
 
 
 @njit(cache=True, inline="always")
-def pair_measure(
-    kind: int,
-    a: int,
-    b: int,
-    fs: bool,
-    dtype: int,
-    road: bool,
-    present: np.ndarray,
-    centre: np.ndarray,
-    ref: np.ndarray,
-    heading: np.ndarray,
-    cos_h: np.ndarray,
-    sin_h: np.ndarray,
-    length: np.ndarray,
-    width: np.ndarray,
-    speed: np.ndarray,
-    road_s: np.ndarray,
-    road_t: np.ndarray,
-    road_dir: np.ndarray,
-) -> float:
-    """Relative distance (m), time headway (s) or TTC (s) of A to B (NaN: one absent).
-    ``cos_h`` / ``sin_h``: cos and sin of each entity's heading. The distance is measured
-    only when the headway or TTC needs it (B ahead and A moving; closing)."""
-    if b < 0 or not present[a] or not present[b]:
-        return math.nan
+def pair_measure(kind: int, fs: bool, dtype: int, road: bool, ea: tuple, eb: tuple) -> float:
+    """Relative distance (m), time headway (s) or TTC (s) of present entity A to present
+    entity B (their :func:`entity_scalars`). The distance is measured only when the headway or
+    TTC needs it (B ahead and A moving; closing)."""
+    closing = 0.0
     if kind == HEADWAY:
         if road:
-            ahead = (road_s[b] - road_s[a]) * road_dir[a]
-        else:
-            ahead = (centre[b, 0] - centre[a, 0]) * cos_h[a] + (
-                centre[b, 1] - centre[a, 1]
-            ) * sin_h[a]  # B's centre along A's axis, as _unrotate
-        v = speed[a]
-        if not (ahead > 0 and v > 1e-6):
+            ahead = (eb[E_S] - ea[E_S]) * ea[E_DIR]
+        else:  # B's centre along A's axis, as _unrotate
+            ahead = (eb[E_X] - ea[E_X]) * ea[E_COS] + (eb[E_Y] - ea[E_Y]) * ea[E_SIN]
+        if not (ahead > 0 and ea[E_V] > 1e-6):
             return math.inf
     elif kind == TTC:
-        closing = _closing(a, b, dtype, centre, cos_h, sin_h, speed)
+        closing = _closing(dtype, ea, eb)
         if not closing > 1e-9:
             return math.inf
     if road:
-        dist = _road_distance(a, b, fs, dtype, length, width, road_s, road_t, road_dir)
+        dist = _road_distance(fs, dtype, ea, eb)
     else:
-        dist = _entity_distance(a, b, fs, dtype, centre, ref, heading, cos_h, sin_h, length, width)
+        dist = _entity_distance(fs, dtype, ea, eb)
     if kind == HEADWAY:
-        return dist / max(speed[a], 1e-6)
+        return dist / max(ea[E_V], 1e-6)
     if kind == TTC:
         return dist / max(closing, 1e-9)
     return dist
 
 
 @njit(cache=True, inline="always")
-def ttc_above(
-    a: int,
-    b: int,
-    value: float,
-    centre: np.ndarray,
-    cos_h: np.ndarray,
-    sin_h: np.ndarray,
-    length: np.ndarray,
-    width: np.ndarray,
-    speed: np.ndarray,
-) -> bool:
+def ttc_above(value: float, ea: tuple, eb: tuple) -> bool:
     """Whether the freespace euclidean TTC of present A to present B (``pair_measure``) is
     certainly infinite (not closing) or above ``value`` (s, below infinity), found without
     the footprint distance: the boxes' gap is at least the centres' distance less both
     half-diagonals (less a micrometre per metre, far above the rounding of either)."""
-    closing = _closing(a, b, 0, centre, cos_h, sin_h, speed)
+    closing = _closing(0, ea, eb)
     if not closing > 1e-9:
         return True
-    apart = math.hypot(centre[b, 0] - centre[a, 0], centre[b, 1] - centre[a, 1])
-    gap = apart - 0.5 * (math.hypot(length[a], width[a]) + math.hypot(length[b], width[b]))
+    apart = math.hypot(eb[E_X] - ea[E_X], eb[E_Y] - ea[E_Y])
+    gap = apart - 0.5 * (math.hypot(ea[E_LEN], ea[E_WID]) + math.hypot(eb[E_LEN], eb[E_WID]))
     margin = 1e-6 * (1.0 + apart)
     return gap - margin > 0.0 and gap - margin > value * closing * (1.0 + 1e-9)
 
 
 # ---------------------------------------------------------------------------------- one entity
 @njit(cache=True, inline="always")
-def single_measure(
-    kind: int, a: int, b: int, present: np.ndarray, speed: np.ndarray, accel: np.ndarray
-) -> float:
-    """Speed (m/s), acceleration (m/s^2) or speed relative to entity B (NaN: absent)."""
-    if not present[a]:
-        return math.nan
+def single_measure(kind: int, ea: tuple, speed_b: float) -> float:
+    """Speed (m/s), acceleration (m/s^2) of present entity A, or its speed relative to
+    entity B (``speed_b``; NaN: B absent)."""
     if kind == SPEED:
-        return speed[a]
+        return ea[E_V]
     if kind == ACCEL:
-        return accel[a]
-    if b < 0 or not present[b]:
-        return math.nan
-    return speed[a] - speed[b]
+        return ea[E_ACC]
+    return ea[E_V] - speed_b
 
 
 @njit(cache=True, inline="always")
 def duration_measure(
-    kind: int,
-    a: int,
-    row: int,
-    now: float,
-    present: np.ndarray,
-    speed: np.ndarray,
-    on_net: np.ndarray,
-    since: np.ndarray,
-) -> float:
-    """How long (s) the row's state (standing still / off the road network) has lasted at
-    ``now``; ``since[row]`` (NaN: not in the state) is updated."""
-    state = speed[a] < STANDSTILL_SPEED if kind == STANDSTILL else not on_net[a]
-    if state and present[a]:
-        if since[row] != since[row]:
-            since[row] = now
+    kind: int, now: float, present: bool, speed: float, on_net: bool, since: float
+) -> tuple[float, float]:
+    """How long (s) an entity's state (standing still / off the road network) has lasted at
+    ``now`` (NaN: absent), and the state's start time (s; NaN: not in the state) to keep,
+    given the one kept so far (``since``)."""
+    state = speed < STANDSTILL_SPEED if kind == STANDSTILL else not on_net
+    if state and present:
+        if since != since:
+            since = now
     else:
-        since[row] = math.nan
-    return now - since[row] if present[a] else math.nan
+        since = math.nan
+    return (now - since if present else math.nan), since
 
 
 @njit(cache=True, inline="always")
-def point_measure(
-    kind: int,
-    a: int,
-    px: float,
-    py: float,
-    fs: bool,
-    centre: np.ndarray,
-    ref: np.ndarray,
-    cos_h: np.ndarray,
-    sin_h: np.ndarray,
-    length: np.ndarray,
-    width: np.ndarray,
-    speed: np.ndarray,
-) -> float:
+def point_measure(kind: int, ea: tuple, px: float, py: float, fs: bool) -> float:
     """Distance (m), reach distance (m) or TTC (s) of A to the point (``px``, ``py``) (NaN:
     no point, i.e. A absent)."""
     if px != px:
         return math.nan
-    dx, dy = px - ref[a, 0], py - ref[a, 1]
+    dx, dy = px - ea[E_RX], py - ea[E_RY]
     dist = math.hypot(dx, dy)
     if fs and kind != REACH:  # kinematics.rectangle_point_distance
-        x, y = _unrotate(px - centre[a, 0], py - centre[a, 1], cos_h[a], sin_h[a])
-        dist = _outside(x, y, 0.5 * length[a], 0.5 * width[a])
+        x, y = _unrotate(px - ea[E_X], py - ea[E_Y], ea[E_COS], ea[E_SIN])
+        dist = _outside(x, y, 0.5 * ea[E_LEN], 0.5 * ea[E_WID])
     if kind == TTC_POINT:
         n = max(math.hypot(dx, dy), 1e-9)
-        closing = speed[a] * (cos_h[a] * dx + sin_h[a] * dy) / n
+        closing = ea[E_V] * (ea[E_COS] * dx + ea[E_SIN] * dy) / n
         return dist / max(closing, 1e-9) if closing > 1e-9 else math.inf
     return dist

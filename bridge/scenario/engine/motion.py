@@ -28,6 +28,7 @@ from hiyari.bridge.scenario.model.actions import Shape
 from hiyari.bridge.scenario.model.entities import Entity
 from hiyari.net.road.lane_profile import LaneProfile, lane_profile
 from hiyari.net.road.opendrive_lanes import OpenDriveMap
+from hiyari.net.road.plan_view import PlanView
 
 
 @dataclass(eq=False)
@@ -163,6 +164,7 @@ class ActorTable:
         #: Counts installs and removals of transitions and paths: the running actions can
         #: only have finished when it moved.
         self.motion_version = 0
+        self._pass: tuple[tuple, tuple] | None = None  # see pass_args
 
     def set_road(self, k: int, road: str) -> None:
         """Row ``k`` is on ``road`` ('' for none)."""
@@ -189,6 +191,25 @@ class ActorTable:
         if self._profile is None or len(self._profile.sec_first) != len(self.road_ids):
             self._profile = lane_profile([odr.road(r) for r in self.road_ids])
         return self._profile
+
+    def pass_args(self, odr: OpenDriveMap, rows: np.ndarray, dt: float, plan: PlanView) -> tuple:
+        """The arguments of ``motion_kernel.advance_and_place`` after ``rows`` and the time,
+        for ``rows`` all on the road of ``plan``, with steps of ``dt`` s; kept while none of
+        these, the lane profile or whether a lateral transition runs changes (its arrays are
+        updated in place), as building them costs more than the pass itself."""
+        prof, lateral = self.lane_profile(odr), self.n_lat > 0
+        key = self._pass[0] if self._pass is not None else None
+        if key is None or not (
+            key[0] is rows and key[1] == dt and key[2] == lateral and key[3] is prof
+            and key[4] is plan
+        ):  # fmt: skip
+            tail = (
+                dt, self.kappa, self.direction, self.state, self.has_long, self.long_par,
+                self.long_done, self.has_lat, self.lat_par, self.lat_done, lateral,
+                *prof.arrays(), *plan.arrays(),
+            )  # fmt: skip
+            self._pass = ((rows, dt, lateral, prof, plan), tail)
+        return self._pass[1]
 
     def mark_stale(self, k: int) -> None:
         """Row ``k``'s road or lane changed: its direction is recomputed at the next refresh."""
@@ -364,26 +385,18 @@ def advance_road_actors(
             tb.kappa[r] = 0.0 if odr.road(road).straight else curvature(odr, road, tb.s[r])
         if all(odr.road(road).straight for road, _ in groups):
             tb.straight_groups = groups
-    for k, target in tb.long_targets.items():
-        tb.long_par[k, MK.L_GOAL] = target()
+    read_targets(tb)
     one = groups[0][0] if len(groups) == 1 and groups[0][1] is rows else None
     plan = odr.road(one).plan_view if one is not None else None
     if plan is not None and not tb.lat_offsets:  # the whole step in one compiled call
-        args = (
-            rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par,
-            tb.long_done, tb.has_lat, tb.lat_par, tb.lat_done, tb.n_lat > 0,
-            *tb.lane_profile(odr).arrays(), *plan.arrays(),
-        )  # fmt: skip
+        args = (rows, now, *tb.pass_args(odr, rows, dt, plan))
         if command is None:
             ended, missing, lat_ended, placed = MK.advance_and_place(*args)
         else:
             ended, missing, lat_ended, placed, changed = CK.advance_and_command(*args, *command)
             if not ended and placed:
                 return changed
-        _end_long(actors, rows, ended)
-        if not placed:
-            _end_lateral(odr, actors, rows, missing, lat_ended)
-            place_on_road(odr, one, tb, rows)
+        finish_pass(odr, actors, rows, one, ended, missing, lat_ended, placed)
         return None
     ended = MK.advance_long(
         rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par, tb.long_done
@@ -394,6 +407,49 @@ def advance_road_actors(
     for road, r in groups:
         place_on_road(odr, road, tb, r)
     return None
+
+
+def finish_pass(
+    odr: OpenDriveMap,
+    actors: list[Actor],
+    rows: np.ndarray,
+    road: str,
+    ended: int,
+    missing: int,
+    lat_ended: int,
+    placed: bool,
+) -> None:
+    """After ``motion_kernel.advance_and_place`` of ``rows`` on ``road`` (its results): remove
+    the ended transitions, and when it did not place the rows (a lateral transition ended or
+    missed its lane), put them on their lanes and place them."""
+    _end_long(actors, rows, ended)
+    if not placed:
+        _end_lateral(odr, actors, rows, missing, lat_ended)
+        place_on_road(odr, road, actors[0].table, rows)
+
+
+def quiet_motion(odr: OpenDriveMap, table: ActorTable, rows: np.ndarray, dt: float) -> tuple | None:
+    """The arguments of ``motion_kernel.advance_and_place`` after the time for ``rows``, when
+    their step can run inside the quiet step's compiled call: all on one straight road of
+    lines and arcs, no lateral offset following another entity (read in Python every step);
+    else None. Goals following other entities are read by the caller before the call
+    (``read_targets``)."""
+    if not len(rows) or table.lat_offsets:
+        return None
+    table.refresh(odr)
+    groups = table.groups(rows)
+    if len(groups) != 1 or groups[0][1] is not rows or groups is not table.straight_groups:
+        return None
+    plan = odr.road(groups[0][0]).plan_view
+    if plan is None:
+        return None
+    return (rows, *table.pass_args(odr, rows, dt, plan))
+
+
+def read_targets(table: ActorTable) -> None:
+    """Read the goals of the running speed transitions that follow other entities."""
+    for k, target in table.long_targets.items():
+        table.long_par[k, MK.L_GOAL] = target()
 
 
 def _end_long(actors: list[Actor], rows: np.ndarray, ended: int) -> None:

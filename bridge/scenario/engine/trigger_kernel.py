@@ -21,13 +21,17 @@ from numba import njit
 from hiyari.bridge.scenario.engine.measures import (
     COLLISION,
     DISTANCE,
+    E_V,
     END_OF_ROAD,
     REL_SPEED,
     SPEED,
+    STANDSTILL,
     TTC,
     TTC_POINT,
     duration_measure,
+    entity_scalars,
     holds,
+    pack_entities,
     pair_measure,
     point_measure,
     single_measure,
@@ -54,55 +58,50 @@ FIRST_TRANSITION = 3
 
 
 @njit(cache=True, inline="always")
-def _row_measure(
-    r: int,
-    rows: np.ndarray,
+def _row_holds(
+    kind: int,
+    rule: int,
+    value: float,
     now: float,
-    points: np.ndarray,
-    since: np.ndarray,
-    present: np.ndarray,
-    centre: np.ndarray,
-    ref: np.ndarray,
-    heading: np.ndarray,
-    cos_h: np.ndarray,
-    sin_h: np.ndarray,
-    length: np.ndarray,
-    width: np.ndarray,
-    speed: np.ndarray,
-    accel: np.ndarray,
-    on_net: np.ndarray,
-    road_s: np.ndarray,
-    road_t: np.ndarray,
-    road_dir: np.ndarray,
-) -> float:
-    """The measure of entity row ``r`` (units by kind; NaN: an entity absent)."""
-    kind, a, b = rows[r, R_KIND], rows[r, R_A], rows[r, R_B]
+    fs: bool,
+    dtype: int,
+    road: bool,
+    present_a: bool,
+    present_b: bool,
+    ea: tuple,
+    eb: tuple,
+    on_net_a: bool,
+    since: float,
+    px: float,
+    py: float,
+) -> tuple[bool, float]:
+    """Whether an entity row (not a collision row) of ``kind`` holds against ``value`` now,
+    and its duration state's start time to keep (``since``, see measures.duration_measure),
+    given its entities' presence and fields (``ea``, ``eb``: measures.entity_scalars; ``eb``
+    is any entity's when the row has none) and its point (``px``, ``py``). An absent entity
+    measures NaN, which no rule holds for. Scalars only: a compiled helper inlined with
+    array arguments pays a reference count per array and row."""
+    if STANDSTILL <= kind <= END_OF_ROAD:
+        m, since = duration_measure(kind, now, present_a, ea[E_V], on_net_a, since)
+        return holds(m, value, rule), since
+    if not present_a or ((kind < SPEED or kind == REL_SPEED) and not present_b):
+        return False, since
     if kind < SPEED:
-        return pair_measure(
-            kind, a, b, rows[r, R_FS] != 0, rows[r, R_DTYPE], rows[r, R_ROAD] != 0, present,
-            centre, ref, heading, cos_h, sin_h, length, width, speed, road_s, road_t, road_dir,
-        )  # fmt: skip
+        if (
+            kind == TTC
+            and fs
+            and dtype == 0
+            and not road
+            and value < math.inf
+            and ttc_above(value, ea, eb)
+        ):  # certainly above the value: every rule decides as for an infinite TTC
+            return holds(math.inf, value, rule), since
+        return holds(pair_measure(kind, fs, dtype, road, ea, eb), value, rule), since
     if kind <= REL_SPEED:
-        return single_measure(kind, a, b, present, speed, accel)
-    if kind <= END_OF_ROAD:
-        return duration_measure(kind, a, r, now, present, speed, on_net, since)
+        return holds(single_measure(kind, ea, eb[E_V]), value, rule), since
     if DISTANCE <= kind <= TTC_POINT:
-        return point_measure(
-            kind, a, points[r, 0], points[r, 1], rows[r, R_FS] != 0, centre, ref, cos_h, sin_h,
-            length, width, speed,
-        )  # fmt: skip
-    return np.nan
-
-
-@njit(cache=True, inline="always")
-def _footprint_ttc(r: int, rows: np.ndarray, present: np.ndarray) -> bool:
-    """Whether entity row ``r`` is a freespace euclidean TTC between two present entities in
-    entity coordinates (measured with the footprint distance)."""
-    b = rows[r, R_B]
-    return (
-        rows[r, R_KIND] == TTC and rows[r, R_FS] != 0 and rows[r, R_DTYPE] == 0
-        and rows[r, R_ROAD] == 0 and b >= 0 and present[rows[r, R_A]] and present[b]
-    )  # fmt: skip
+        return holds(point_measure(kind, ea, px, py, fs), value, rule), since
+    return False, since
 
 
 @njit(cache=True)
@@ -132,17 +131,17 @@ def _condition_values(
     contact_any: np.ndarray,
     states: np.ndarray,
     transitions: np.ndarray,
-    trig: np.ndarray,
+    work: np.ndarray,
     counts: np.ndarray,
     raw: np.ndarray,
 ) -> None:
     """Into ``raw`` (C,): whether each condition holds now, before edges and delays
     (conditions of inactive triggers: False; their duration rows are still tracked).
-    ``trig`` (2, E) and ``counts`` (2, C): work arrays (cos and sin of the headings; rows
-    holding and rows evaluated per condition)."""
-    cos_h, sin_h = trig[0], trig[1]
-    np.cos(heading, cos_h)
-    np.sin(heading, sin_h)
+    ``work`` (E, N_FIELDS) and ``counts`` (2, C): work arrays (the entities' fields packed, see
+    measures.pack_entities; rows holding and rows evaluated per condition)."""
+    pack_entities(
+        centre, ref, heading, length, width, speed, accel, road_s, road_t, road_dir, work
+    )  # fmt: skip
     n = len(cond)
     hits, count = counts[0], counts[1]
     hits[:] = 0
@@ -152,21 +151,17 @@ def _condition_values(
         on = active[cond[owner, C_TRIGGER]]
         if not (on or rows[r, R_ALWAYS]):
             continue
-        a, b = rows[r, R_A], rows[r, R_B]
         if rows[r, R_KIND] == COLLISION:
+            a, b = rows[r, R_A], rows[r, R_B]
             res = contact[a, b] if b >= 0 else contact_any[a]
-        elif (
-            _footprint_ttc(r, rows, present)
-            and row_value[r] < math.inf
-            and ttc_above(a, b, row_value[r], centre, cos_h, sin_h, length, width, speed)
-        ):  # certainly above the value: every rule decides as for an infinite TTC
-            res = holds(math.inf, row_value[r], rows[r, R_RULE])
         else:
-            m = _row_measure(
-                r, rows, now, points, since, present, centre, ref, heading, cos_h, sin_h,
-                length, width, speed, accel, on_net, road_s, road_t, road_dir,
+            a, b = rows[r, R_A], rows[r, R_B]
+            res, since[r] = _row_holds(
+                rows[r, R_KIND], rows[r, R_RULE], row_value[r], now, rows[r, R_FS] != 0,
+                rows[r, R_DTYPE], rows[r, R_ROAD] != 0, present[a], b >= 0 and present[b],
+                entity_scalars(a, work), entity_scalars(max(b, 0), work), on_net[a], since[r],
+                points[r, 0], points[r, 1],
             )  # fmt: skip
-            res = holds(m, row_value[r], rows[r, R_RULE])
         if on:
             count[owner] += 1
             hits[owner] += res
@@ -250,22 +245,22 @@ def evaluate_triggers(
     contact_any: np.ndarray,
     states: np.ndarray,
     transitions: np.ndarray,
-    trig: np.ndarray,
+    work: np.ndarray,
     counts: np.ndarray,
     flags: np.ndarray,
     fired: np.ndarray,
 ) -> int:
-    """Into ``fired`` (T,), returning how many: the fired triggers at scenario time ``now`` (s), step ``step_no``
-    since the bank was built, given which triggers are ``active``. ``group_start`` (G + 1,):
+    """Into ``fired`` (T,), returning how many: the fired triggers at scenario time ``now``
+    (s), step ``step_no`` since the bank was built, given which triggers are ``active``. ``group_start`` (G + 1,):
     first condition of each AND group (last: C); ``trigger_group`` (T + 1,): first group of
     each trigger (last: G). Entity arrays are per entity (see measures.Snapshot);
-    ``contact`` (E, E) bool. Work arrays (reused, so a step allocates nothing): ``trig``
-    (2, E) float, ``counts`` (2, C) int64, ``flags`` (2, C) bool."""
+    ``contact`` (E, E) bool. Work arrays (reused, so a step allocates nothing): ``work``
+    (E, 14) float, ``counts`` (2, C) int64, ``flags`` (2, C) bool."""
     raw, value = flags[0], flags[1]
     _condition_values(
         now, active, cond, time_value, static, rows, row_value, points, since, present,
         centre, ref, heading, length, width, speed, accel, on_net, road_s, road_t, road_dir,
-        contact, contact_any, states, transitions, trig, counts, raw,
+        contact, contact_any, states, transitions, work, counts, raw,
     )  # fmt: skip
     _edges_and_delays(raw, active, cond, prev, history, step_no, value)
     n_trig, n_fired = len(trigger_group) - 1, 0
@@ -321,7 +316,7 @@ def gather_and_evaluate(
     contact_any: np.ndarray,
     states: np.ndarray,
     transitions: np.ndarray,
-    trig: np.ndarray,
+    work: np.ndarray,
     counts: np.ndarray,
     flags: np.ndarray,
     fired: np.ndarray,
@@ -337,7 +332,7 @@ def gather_and_evaluate(
         now, step_no, active, cond, time_value, static, group_start, trigger_group, prev,
         history, row_table, row_value, points, since, present, centre, ref, ent[F_HEADING],
         length, width, ent[F_SPEED], ent[F_ACCEL], on_net, ent[F_ROAD_S], ent[F_ROAD_T],
-        ent[F_ROAD_DIR], contact, contact_any, states, transitions, trig, counts, flags, fired,
+        ent[F_ROAD_DIR], contact, contact_any, states, transitions, work, counts, flags, fired,
     )  # fmt: skip
 
 
