@@ -6,12 +6,17 @@ whose events start lane changes and speed changes. Per step we time, interleaved
 run: SUMO's step (simulationStep + WorldState read + contact check) plus the time libsumo itself
 spends in the engine's commands (moveToXY and setSpeed per scripted actor: the unavoidable cost
 of moving them), and the engine's own work (trigger evaluation, storyboard update, kinematics,
-and the Python side of its commands). The engine calls libsumo's SWIG functions
-(``_libsumo.vehicle_moveToXY`` / ``vehicle_setSpeed``) directly; they are timed by wrapping
-them for one run at a time (put back after each run); the wrapper's own cost outside its
-window (a no-op driven as the engine drives the calls, measured in the same process, times the
-calls counted) lands on the engine's side and is printed. Prints the medians over all steps of all repeats, their ratio (the
-issue's target: the engine <= 10 % of the SUMO step) and the load average.
+and the Python side of its commands). The engine's commands reach libsumo's SWIG functions
+(``_libsumo.vehicle_moveToXY`` / ``vehicle_setSpeed``) in two C-level loops per step
+(``deque(map(...))`` in ``traffic.commands``); the benchmark times those two loops as libsumo's
+share by timing ``traffic.commands``' ``deque`` for one run at a time (put back after each
+run): no Python runs between the calls, so the measurement adds two clock reads per loop and
+nothing per call (a per-call wrapper, used before, ran Python after every libsumo call, in
+caches SUMO had just evicted: it cost the engine side 30-50 us a step in place, several times
+its cost measured on a no-op). The loops' own C iteration (about 40 ns a call) falls on
+libsumo's side. The wrapper's cost outside its window (measured on a no-op in the same process,
+times the calls counted) is printed. Prints the medians over all steps of all repeats, their
+ratio (the issue's target: the engine <= 10 % of the SUMO step) and the load average.
 
 To say where the floor of a numpy design lies it also runs the same scenario with 5 actors (the
 engine's fixed cost per step) and times one small numpy call in the same process: the engine's
@@ -70,6 +75,7 @@ from hiyari.bridge.scenario.model import (
 )
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.net.sumo.opendrive import import_opendrive
+from hiyari.traffic import commands
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.simulation import SimConfig, Simulation
 
@@ -78,6 +84,7 @@ XODR = (
     / "shared/data/openscenario/alks/road_networks/alks_road_straight.xodr"
 )
 N_ACTORS, STEPS, DT = 50, 600, 0.05
+_DEQUE = deque  # traffic.commands' own, restored after each run
 LANES = (-3, -4, -5, 3, 4, 5)
 
 
@@ -162,15 +169,12 @@ def _run(
     ``sc``, and the actions started."""
     with Simulation(SimConfig(net=net, step_length=DT)) as sim:
         engine = ScenarioEngine(sc, roads, DT)
-        # time libsumo's own moveToXY / setSpeed work: the engine calls the SWIG functions
-        # (``_libsumo.vehicle_moveToXY``, ``vehicle_setSpeed``) directly, so they are wrapped
-        # there. ``_libsumo`` is one module shared by every run in this process: the originals
-        # are put back after the run, else each run would wrap the previous run's wrappers
-        # (whose cost then lands inside the window, on the SUMO side)
-        swig = sim._api()._libsumo
-        originals = swig.vehicle_moveToXY, swig.vehicle_setSpeed
+        # time libsumo's own moveToXY / setSpeed loops: traffic.commands drives the SWIG
+        # functions by deque(map(...)), so its ``deque`` is timed. The module is shared by
+        # every run in this process: the original is put back after the run, else each run
+        # would wrap the previous run's wrapper (whose cost then lands inside the window)
         windows: list[float] = []
-        swig.vehicle_moveToXY, swig.vehicle_setSpeed = (_timed(fn, windows) for fn in originals)
+        commands.deque = _timed(_DEQUE, windows)
         try:
             engine.start(sim)
             t_sumo, t_engine, calls = np.zeros(steps), np.zeros(steps), np.zeros(steps)
@@ -190,18 +194,18 @@ def _run(
                 started += len(report.started)
                 sim.set_speed("Ego", 20.0)
         finally:
-            swig.vehicle_moveToXY, swig.vehicle_setSpeed = originals
+            commands.deque = _DEQUE
     return t_sumo, t_engine, calls, started
 
 
-def _timed(fn: Callable[..., None], windows: list[float]) -> Callable[..., None]:
-    """``fn`` (a libsumo SWIG function, called positionally) appending the time it took (s)
+def _timed(fn: Callable[..., object], windows: list[float]) -> Callable[..., None]:
+    """``fn`` (``deque``, consuming a loop of libsumo calls) appending the time it took (s)
     to ``windows``; kept lean, as its cost outside the window lands on the engine's side."""
     clock, add = time.perf_counter, windows.append
 
-    def call(*args: object) -> None:
+    def call(*args: object, **kwargs: object) -> None:
         t = clock()
-        fn(*args)
+        fn(*args, **kwargs)
         add(clock() - t)
 
     return call
@@ -220,21 +224,17 @@ def _call_cost() -> float:
 
 
 def _wrapper_cost() -> float:
-    """Time (s) per wrapped libsumo call that the timing wrapper adds outside its own window
-    (so on the engine's side): the call into the wrapper, a clock read and the append, as
-    the engine's map drives it."""
-
-    def noop(*args: object) -> None:
-        return None
-
+    """Time (s) per timed loop that the timing wrapper adds outside its own window (so on
+    the engine's side): the call into the wrapper, a clock read and the append, measured on
+    an empty loop."""
     windows: list[float] = []
-    call, n = _timed(noop, windows), 500
-    args = (["a"] * n, [""] * n, [0] * n, [1.0] * n, [2.0] * n, [3.0] * n, [6] * n)
+    call, n = _timed(_DEQUE, windows), 500
     runs = []
     for _ in range(20):
         windows.clear()
         t = time.perf_counter()
-        deque(map(call, *args), maxlen=0)  # as the engine calls moveToXY
+        for _ in range(n):
+            call((), maxlen=0)
         runs.append((time.perf_counter() - t - math.fsum(windows)) / n)
     return max(0.0, float(np.median(runs)))
 
@@ -284,8 +284,8 @@ def main() -> None:
     # as the headline ratio: per run (engine and SUMO timed in the same run), then the median
     bare = [(np.median(e) - 1e-3 * wrap_ms) / np.median(s) for e, s in zip(eng, sumo, strict=True)]
     print(
-        f"  of the engine's time, the timing wrapper on its {n_wrapped:.1f} libsumo calls per "
-        f"step (mean; {wrap_us:.2f} us each outside its window, measured on a no-op): "
+        f"  of the engine's time, the timing wrapper on its {n_wrapped:.1f} libsumo loops per "
+        f"step (mean; {wrap_us:.2f} us each outside its window, measured on an empty loop): "
         f"~{wrap_ms:.3f} ms/step; without it the ratio would be ~{float(np.median(bare)):.3f}"
     )
     print(
