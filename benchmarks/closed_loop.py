@@ -8,7 +8,8 @@ same number of simulated seconds untimed (traffic fills the network), then time 
 Next to it, the physical limit of this machine: 1 / (SUMO step + raw Embree cast of the same
 rays) per simulated second, the raw cast being one Embree query per LiDAR scan (10 Hz) and
 radar cycle (20 Hz) of the rig's rays into one prebuilt scene holding the road and the actors
-of the last step (nothing else); on one thread, and with the rays in two threads.
+of the last step (nothing else; benchmarks/raw_cast.py, shared with benchmarks/judge.py); on
+one thread, and with the rays in two threads.
 
 Wall times on this shared 2-core machine swing with other load, so the CPU seconds per
 simulated second of each part (process CPU, cast threads included) are printed too, with the
@@ -23,24 +24,16 @@ import argparse
 import os
 import tempfile
 import time
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-import numpy as np
-from embreex import rtcore_scene
-from embreex.mesh_construction import TriangleMesh
+from raw_cast import raw_cast_seconds, static_mesh
 
 from hiyari.bridge.scenario.engine import ScenarioEngine
 from hiyari.bridge.scenario.presets import build_scenario
 from hiyari.bridge.scenario.run import RunOptions, run_concrete
 from hiyari.bridge.scenario.toml_file import ConcreteScenario
 from hiyari.bridge.stack.interfaces import EgoStep
-from hiyari.net.mesh.road_mesh import build_scene_mesh
-from hiyari.net.mesh.scene_mesh import SceneMesh
-from hiyari.net.road.network import RoadNetwork
 from hiyari.sensors.rig import SensorRig
-from hiyari.sensors.scene.actor_shapes import ActorAppearance, build_actor_mesh
-from hiyari.sensors.scene.ray_scene import CAST_CHUNK
 from hiyari.traffic.commands import SPEED_MODE_DEFAULT
 from hiyari.traffic.simulation import SimConfig, Simulation
 from hiyari.traffic.world_state import WorldState
@@ -70,63 +63,6 @@ def bare(cs: ConcreteScenario, work: Path) -> tuple[float, float, int, int]:
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     nveh, nper = int(state.is_vehicle.sum()), int(state.is_pedestrian.sum())
     return cs.duration / wall, cpu / cs.duration, nveh, nper
-
-
-def raw_cast_seconds(
-    net: Path, world: WorldState, ego_id: str, repeats: int = 5
-) -> tuple[float, float, float]:
-    """Wall seconds of the raw Embree casts of one simulated second of the rig's LiDAR and
-    radar rays (fastest of ``repeats``), on one thread and in two threads, and the CPU seconds
-    of the one-thread casts (least of ``repeats``)."""
-    mesh = build_scene_mesh(RoadNetwork(net).geometry, buildings=False)
-    actors = build_actor_mesh(world, ActorAppearance(), world.ids == ego_id)
-    both = SceneMesh.concatenate(
-        [mesh, SceneMesh(actors.vertices.astype(np.float64), actors.faces, actors.material)]
-    )
-    scene = rtcore_scene.EmbreeScene()
-    TriangleMesh(scene, both.vertices.astype(np.float32), both.faces.astype(np.int32))
-    ego = world.pose_of(ego_id)
-    rig = SensorRig.default()
-    bundles = []
-    for sensor in rig.sensors:
-        if hasattr(sensor, "index") and sensor.name in ("lidar", "radar"):
-            s2w = sensor.sensor_to_world(ego)
-            d = (sensor.index.directions.astype(np.float64) @ s2w[:3, :3].T).astype(np.float32)
-            o = np.empty_like(d)
-            o[:] = s2w[:3, 3].astype(np.float32)
-            bundles.append((o, d, np.float32(sensor.config.max_range_m), sensor.rate_hz))
-    pool = ThreadPoolExecutor(2)
-
-    def one(o: np.ndarray, d: np.ndarray, r: np.float32) -> None:
-        scene.run(o, d, dists=r, output=1)
-
-    def two(o: np.ndarray, d: np.ndarray, r: np.float32) -> None:
-        n = len(d)
-        fs = [
-            pool.submit(scene.run, o[a : a + CAST_CHUNK], d[a : a + CAST_CHUNK], dists=r, output=1)
-            for a in range(0, n, CAST_CHUNK)
-        ]
-        for f in fs:
-            f.result()
-
-    out = []
-    for cast, clock in (
-        (one, time.perf_counter),
-        (two, time.perf_counter),
-        (one, time.thread_time),
-    ):
-        best = []
-        for o, d, r, rate in bundles:
-            cast(o, d, r)
-            t = []
-            for _ in range(repeats):
-                t0 = clock()
-                cast(o, d, r)
-                t.append(clock() - t0)
-            best.append(min(t) * rate)
-        out.append(sum(best))
-    pool.shutdown()
-    return out[0], out[1], out[2]
 
 
 def main() -> None:
@@ -160,8 +96,9 @@ def main() -> None:
                 counts[ol.source] = counts.get(ol.source, 0) + 1
 
         res = run_concrete(cs, RunOptions(), on_step=on_step)
-        net = build_scenario(cs, Path(tmp) / "limit").network.path
-        raw1, raw2, raw_cpu = raw_cast_seconds(net, counts["world"], "ego")
+        network = build_scenario(cs, Path(tmp) / "limit").network
+        raw = raw_cast_seconds(static_mesh(network), counts["world"], "ego", SensorRig.default())
+        raw1, raw2, raw_cpu = raw.wall_1, raw.wall_2, raw.cpu_1
         load1 = os.getloadavg()
     loop_rt = res.sim_seconds / res.wall_seconds
     sumo_s = 1.0 / base_rt  # wall seconds of SUMO + WorldState per simulated second
