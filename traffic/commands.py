@@ -255,9 +255,8 @@ class Commands:
         if {len(edges), len(lanes), len(front_x), len(front_y), len(angle), len(speed)} != {n}:
             raise ValueError("move_vehicle_fronts: arguments of different lengths")
         self._commanded(vehicle_ids)
-        speed = np.asarray(speed, dtype=float)
-        speeds, send = speed.tolist(), speed == speed  # NaN: leave the speed set last
-        keep = None if send.all() else send.tolist()
+        speeds = speed.tolist() if isinstance(speed, np.ndarray) else list(speed)
+        keep = [v == v for v in speeds]  # NaN: leave the speed set last
         # libsumo's SWIG functions themselves (its Python wrappers add a frame per call),
         # positional (vehID, edgeID, lane, x, y, angle, keepRoute 6 as in move_vehicle) and
         # driven by map (no Python loop): every move, then the speeds to set (each vehicle's
@@ -269,7 +268,7 @@ class Commands:
                 repeat(6, n)),
             maxlen=0,
         )  # fmt: skip
-        if keep is None:
+        if all(keep):
             deque(map(c.vehicle_setSpeed, vehicle_ids, speeds), maxlen=0)
         else:
             ids = compress(vehicle_ids, keep)

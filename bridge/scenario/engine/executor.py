@@ -108,6 +108,13 @@ class StepReport(NamedTuple):
     ego_requests: tuple[str, ...] = ()
 
 
+def _command_arrays(m: int) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+    """The arrays ``command_rows`` fills for ``m`` actors (centres (m, 2), headings, speeds to
+    send, SUMO commands (3, m)), the last two rows of one (4, m) array, and that array."""
+    cmd = np.empty((4, m))
+    return (np.empty((m, 2)), np.empty(m), cmd[3], cmd[:3]), cmd
+
+
 class ScenarioEngine:
     """Executes one scenario on one running Simulation (see the module docstring)."""
 
@@ -182,10 +189,11 @@ class ScenarioEngine:
         self._lane_index: list[int] = [-1] * n
         # the rows commanded (inserted and driven), their names and the arrays their centres,
         # headings, speeds and SUMO commands (see command_rows) are computed into, for the
-        # view version and insert count they were found at
-        self._moved: tuple[np.ndarray, list[str], tuple[np.ndarray, ...]] = (
-            np.zeros(0, np.intp), [],
-            (np.zeros((0, 2)), np.zeros(0), np.zeros(0), np.zeros((3, 0))),
+        # view version and insert count they were found at; the speeds and SUMO commands are
+        # the rows of one (4, m) array (front x, front y, SUMO angle, speed), read as lists in
+        # one call
+        self._moved: tuple[np.ndarray, list[str], tuple[np.ndarray, ...], np.ndarray] = (
+            np.zeros(0, np.intp), [], *_command_arrays(0),
         )  # fmt: skip
         self._moved_key: tuple[int, int] = (-1, -1)
         self._command_cache: tuple[object, tuple] = (None, ())  # lane profile, command_step args
@@ -630,14 +638,12 @@ class ScenarioEngine:
             rows = np.flatnonzero(tb.inserted & self._driven())
             if not np.array_equal(rows, self._moved[0]):
                 names = [self.names[k] for k in rows.tolist()]
-                m = len(rows)
-                out = (np.empty((m, 2)), np.empty(m), np.empty(m), np.empty((3, m)))
-                self._moved = (rows, names, out)
+                self._moved = (rows, names, *_command_arrays(len(rows)))
                 left = np.ones(len(self.names), dtype=bool)
                 left[rows] = False
                 self._sent_speed[left] = np.nan  # others may set its speed meanwhile
             self._moved_key = key
-        rows, _, out = self._moved
+        rows, _, out, _ = self._moved
         args = (
             rows, tb.state, self._cx, self._cy, self._length, self._sent_speed, *out, tb.free,
             tb.road_code, tb.lane, prof.sec_first, prof.sec_count, prof.sec_s0, self._lane_key,
@@ -651,11 +657,11 @@ class ScenarioEngine:
         """Send the commands computed into the arrays of ``_moved`` and return ``report``
         (built before: Python after libsumo's calls runs in caches SUMO has just evicted);
         ``changed``: the rows whose SUMO lane is to be looked up again."""
-        rows, names, out = self._moved
+        rows, names, _, cmd = self._moved
         edges, lanes = self._sumo_lanes(rows, changed)
         if names:
-            front_x, front_y, angle = out[3].tolist()
-            sim.move_vehicle_fronts(names, edges, lanes, front_x, front_y, angle, out[2])
+            front_x, front_y, angle, speed = cmd.tolist()
+            sim.move_vehicle_fronts(names, edges, lanes, front_x, front_y, angle, speed)
         return report
 
     def _sumo_lanes(self, rows: np.ndarray, changed: np.ndarray) -> tuple[list[str], list[int]]:
