@@ -10,10 +10,9 @@ import pytest
 import shapely
 from openscenario_files import ALKS
 
-from hiyari.bridge.scenario.engine import motion_kernel as MK
 from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
-from hiyari.bridge.scenario.engine.positions import Pose
-from hiyari.bridge.scenario.engine.snapshot import (
+from hiyari.bridge.scenario.engine.kernels import motion_kernel as MK
+from hiyari.bridge.scenario.engine.kernels.snapshot import (
     F_ACCEL,
     F_HEADING,
     F_ROAD_DIR,
@@ -22,6 +21,7 @@ from hiyari.bridge.scenario.engine.snapshot import (
     F_SPEED,
     gather_entities,
 )
+from hiyari.bridge.scenario.engine.positions import Pose
 from hiyari.bridge.scenario.model import (
     Condition,
     CoordinateSystem,

@@ -9,9 +9,9 @@ import math
 import numpy as np
 import pytest
 
-from hiyari.bridge.scenario.engine import measures as M
 from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
-from hiyari.bridge.scenario.engine.snapshot import F_HEADING, gather_entities
+from hiyari.bridge.scenario.engine.kernels import measures as M
+from hiyari.bridge.scenario.engine.kernels.snapshot import F_HEADING, gather_entities
 from hiyari.bridge.scenario.model import (
     Condition,
     CoordinateSystem,

@@ -28,9 +28,9 @@ import numpy as np
 
 from hiyari.bridge.scenario.engine import ScenarioEngine
 from hiyari.bridge.scenario.engine.elements import STANDBY
+from hiyari.bridge.scenario.engine.kernels.motion_kernel import L_GOAL, L_REACHED
+from hiyari.bridge.scenario.engine.kernels.shapes import progress
 from hiyari.bridge.scenario.engine.motion import Actor
-from hiyari.bridge.scenario.engine.motion_kernel import L_GOAL, L_REACHED
-from hiyari.bridge.scenario.engine.shapes import progress
 from hiyari.bridge.scenario.model.entities import EntityKind
 from hiyari.bridge.scenario.result import RunResult
 from hiyari.bridge.stack.aeb import ACCConfig

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from hiyari.bridge.scenario.engine.kernels.shapes import lateral_duration, span
 from hiyari.bridge.scenario.engine.motion import (
     Actor,
     LateralTransition,
@@ -23,7 +24,6 @@ from hiyari.bridge.scenario.engine.motion import (
     place_actor,
 )
 from hiyari.bridge.scenario.engine.positions import Pose, lane_shift
-from hiyari.bridge.scenario.engine.shapes import lateral_duration, span
 from hiyari.bridge.scenario.model.actions import (
     AbsoluteLane,
     AbsoluteOffset,

@@ -16,11 +16,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from hiyari.bridge.scenario.engine import measures as M
-from hiyari.bridge.scenario.engine import trigger_kernel as K
-from hiyari.bridge.scenario.engine.measures import EntityRows, holds
+from hiyari.bridge.scenario.engine.kernels import measures as M
+from hiyari.bridge.scenario.engine.kernels import trigger_kernel as K
+from hiyari.bridge.scenario.engine.kernels.measures import EntityRows, holds
+from hiyari.bridge.scenario.engine.kernels.snapshot import Snapshot, gather_entities
 from hiyari.bridge.scenario.engine.positions import Pose
-from hiyari.bridge.scenario.engine.snapshot import Snapshot, gather_entities
 from hiyari.bridge.scenario.model.conditions import (
     AccelerationCondition,
     CollisionCondition,

@@ -26,7 +26,6 @@ from typing import NamedTuple
 import numpy as np
 
 from hiyari.bridge.scenario.engine.actions import ActionStarter, Instance
-from hiyari.bridge.scenario.engine.command_kernel import command_step
 from hiyari.bridge.scenario.engine.conditions import ConditionBank
 from hiyari.bridge.scenario.engine.elements import (
     NO_TRANSITION,
@@ -36,6 +35,18 @@ from hiyari.bridge.scenario.engine.elements import (
     active_triggers,
     ends_bottom_up,
 )
+from hiyari.bridge.scenario.engine.kernels.command_kernel import command_step
+from hiyari.bridge.scenario.engine.kernels.snapshot import (
+    F_ACCEL,
+    F_HEADING,
+    F_ROAD_DIR,
+    F_ROAD_S,
+    F_ROAD_T,
+    F_SPEED,
+    Snapshot,
+    gather_entities,
+)
+from hiyari.bridge.scenario.engine.kernels.step_kernel import quiet_step
 from hiyari.bridge.scenario.engine.motion import (
     Actor,
     ActorTable,
@@ -46,17 +57,6 @@ from hiyari.bridge.scenario.engine.motion import (
     read_targets,
 )
 from hiyari.bridge.scenario.engine.positions import Pose, PoseResolver
-from hiyari.bridge.scenario.engine.snapshot import (
-    F_ACCEL,
-    F_HEADING,
-    F_ROAD_DIR,
-    F_ROAD_S,
-    F_ROAD_T,
-    F_SPEED,
-    Snapshot,
-    gather_entities,
-)
-from hiyari.bridge.scenario.engine.step_kernel import quiet_step
 from hiyari.bridge.scenario.model.actions import AssignRouteAction
 from hiyari.bridge.scenario.model.entities import EntityKind
 from hiyari.bridge.scenario.model.storyboard import Scenario

@@ -21,9 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hiyari.bridge.scenario.engine import command_kernel as CK
-from hiyari.bridge.scenario.engine import motion_kernel as MK
-from hiyari.bridge.scenario.engine.shapes import SHAPE_CODE
+from hiyari.bridge.scenario.engine.kernels import command_kernel as CK
+from hiyari.bridge.scenario.engine.kernels import motion_kernel as MK
+from hiyari.bridge.scenario.engine.kernels.shapes import SHAPE_CODE
 from hiyari.bridge.scenario.model.actions import Shape
 from hiyari.bridge.scenario.model.entities import Entity
 from hiyari.net.road.lane_profile import LaneProfile, lane_profile

@@ -17,7 +17,7 @@ import math
 import numpy as np
 from numba import njit
 
-from hiyari.bridge.scenario.engine.shapes import shape_progress
+from hiyari.bridge.scenario.engine.kernels.shapes import shape_progress
 from hiyari.net.road.lane_profile import lane_centre_at
 from hiyari.net.road.plan_view import road_pose_at
 

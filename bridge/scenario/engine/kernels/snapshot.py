@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from hiyari.bridge.scenario.engine.motion_kernel import S, T
+from hiyari.bridge.scenario.engine.kernels.motion_kernel import S, T
 
 
 @dataclass

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-from hiyari.bridge.scenario.engine.motion_kernel import (
+from hiyari.bridge.scenario.engine.kernels.motion_kernel import (
     V_LAT,
     H,
     S,

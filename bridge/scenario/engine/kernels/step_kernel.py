@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from hiyari.bridge.scenario.engine.command_kernel import advance_and_command
-from hiyari.bridge.scenario.engine.trigger_kernel import gather_and_evaluate
+from hiyari.bridge.scenario.engine.kernels.command_kernel import advance_and_command
+from hiyari.bridge.scenario.engine.kernels.trigger_kernel import gather_and_evaluate
 
 
 @njit(cache=True)

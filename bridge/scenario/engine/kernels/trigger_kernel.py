@@ -18,7 +18,7 @@ import math
 import numpy as np
 from numba import njit
 
-from hiyari.bridge.scenario.engine.measures import (
+from hiyari.bridge.scenario.engine.kernels.measures import (
     COLLISION,
     DISTANCE,
     E_V,
@@ -37,7 +37,7 @@ from hiyari.bridge.scenario.engine.measures import (
     single_measure,
     ttc_above,
 )
-from hiyari.bridge.scenario.engine.snapshot import (
+from hiyari.bridge.scenario.engine.kernels.snapshot import (
     F_ACCEL,
     F_HEADING,
     F_ROAD_DIR,
