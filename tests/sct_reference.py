@@ -178,7 +178,7 @@ def near_pairs(
     its circumscribed circle, so contact needs the point within that circle plus the disc.
     False: no contact at those samples. A micrometre of slack keeps rounding from ever
     excluding a contact. The bound pair_kernel computes per pair (its _near, with the reach of
-    model._grown), as it was computed for all pairs at once before it moved there."""
+    its _grown), as it was computed for all pairs at once before it moved there."""
     reach = np.hypot(
         0.5 * np.asarray(length, float) + margin, 0.5 * np.asarray(width, float) + margin
     )

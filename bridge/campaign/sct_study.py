@@ -456,38 +456,38 @@ def _evaluate(
 ) -> None:
     """Metrics, incidents and (SCT arm) control on one step: vehicle rows ``vin`` and
     pedestrian rows ``pin`` of ``st`` in scope, pairs (``vi``, ``pj``) near enough to log;
-    SCT is logged only when ``log_sct``."""
-    scope = np.concatenate([vin, pin])
-    s = st.select(scope)
-    remap = np.full(len(st), -1)
-    remap[scope] = np.arange(len(scope))
-    vi, pj = remap[vi], remap[pj]
-    for r in range(len(vin)):
-        vid = s.ids[r]
+    SCT is logged only when ``log_sct``. Every pass reads those rows of ``st`` itself (no
+    state cut down to them)."""
+    ids = st.ids
+    for vid in ids[vin].tolist():
         if not model.has_route(vid):
             model.set_route(vid, sim.route_of(vid))
-    view = model.prepare(s, _open_crossings(sim, links), log_sct or controller is not None)
+    view = model.prepare(
+        st, _open_crossings(sim, links), log_sct or controller is not None, (vin, pin)
+    )
     icfg = detector.config
     ttc, sct, gap = model.pair_metrics(view, vi, pj, icfg.contact, log_sct)
     ttc[ttc > icfg.ttc_horizon] = np.inf
     has, v_in, p_in = model.crossing_occupancy(view, vi, pj, icfg.contact.pedestrian_radius)
     zone = np.flatnonzero(has)
-    ids = s.ids
     keys = [(ids[vi[k]], ids[pj[k]]) for k in zone.tolist()]
-    events = pet.update(s.time, keys, v_in[zone], p_in[zone])
-    # SUMO's own contact reports, except its corner walking-area overlaps (geometry)
+    events = pet.update(st.time, keys, v_in[zone], p_in[zone])
+    # SUMO's own contact reports between actors in scope, except its corner walking-area
+    # overlaps (geometry)
     collisions = sim.sumo_contacts()
     if collisions:
-        lane = dict(zip(ids.tolist(), s.lane.tolist(), strict=True))
+        scope = np.concatenate([vin, pin])
+        lane = dict(zip(ids[scope].tolist(), st.lane[scope].tolist(), strict=True))
+        outside = {None, *walkingareas}  # not in scope, or on a walking area
         collisions = [
             (collider, victim)
             for collider, victim in collisions
-            if lane.get(victim) not in walkingareas and lane.get(collider) not in walkingareas
+            if lane.get(victim) not in outside and lane.get(collider) not in outside
         ]
-    detector.update(s, vi, pj, ttc, gap < -icfg.collision_depth, sct, events, collisions)
+    detector.update(st, vi, pj, ttc, gap < -icfg.collision_depth, sct, events, collisions)
     if controller is not None:
         # vehicles still in the simulation, for hand-backs (only controlled ones are handed back)
-        present = set(st.ids[st.cls != _PEDESTRIAN].tolist()) if controller.controlled else set()
+        present = set(ids[st.cls != _PEDESTRIAN].tolist()) if controller.controlled else set()
         controller.step(sim, view, present)
 
 

@@ -193,19 +193,21 @@ class IncidentDetector:
     ) -> None:
         if sct is None:
             sct = np.full(len(vi), np.inf)
-        keep = np.flatnonzero(np.isfinite(ttc) | np.isfinite(sct) | touching)
         ids = state.ids
         t = state.time
-        for k in keep.tolist():
-            v, p = int(vi[k]), int(pj[k])
+        # a few pairs per step: plain floats, no array passes
+        columns = (vi, pj, ttc, sct, touching)
+        for v, p, ttc_k, sct_k, hit in zip(*(c.tolist() for c in columns), strict=True):
+            if not (math.isfinite(ttc_k) or math.isfinite(sct_k) or hit):
+                continue  # not near each other: no encounter
             e = self._get(ids[v], ids[p], t)
-            if sct[k] < e.min_sct:
-                e.min_sct = float(sct[k])
-            if touching[k] and not e.collision:
+            if sct_k < e.min_sct:
+                e.min_sct = sct_k
+            if hit and not e.collision:
                 e.collision = True
                 e._snapshot(state, v, p)
-            if ttc[k] < e.min_ttc:
-                e.min_ttc = float(ttc[k])
+            if ttc_k < e.min_ttc:
+                e.min_ttc = ttc_k
                 if not e.collision:
                     e._snapshot(state, v, p)
 

@@ -75,11 +75,15 @@ def locate_xy(
     A point strictly between two consecutive vertex ordinates ``slab_y`` meets only the
     edges spanning that slab (``slab_edges[slab_start[s]:slab_start[s + 1]]``, indices into
     ``ring_xy`` of each edge's first vertex); a point at a vertex ordinate is counted over
-    every edge."""
+    every edge. A point equal to the one before takes its answer (tracks of pedestrians
+    standing still, or at speed factor 0, repeat one point)."""
     out = np.empty(len(points), np.int8)
     top = len(slab_y) - 1
     for i in range(len(points)):
         px, py = points[i, 0], points[i, 1]
+        if i and px == points[i - 1, 0] and py == points[i - 1, 1]:
+            out[i] = out[i - 1]
+            continue
         if not slab_y[0] <= py <= slab_y[top]:
             out[i] = 0  # above or below every edge
             continue
@@ -120,6 +124,11 @@ class AreaTest:
             start = np.cumsum([0] + [len(c) for c in coords])
             xy = np.ascontiguousarray(np.concatenate(coords))
             self._rings = (xy, start.astype(np.int64), *_slabs(xy, start))
+
+    @property
+    def rings(self) -> tuple[np.ndarray, ...] | None:
+        """locate_xy's ring and slab arguments, or None when it cannot count this area."""
+        return self._rings
 
     def contains(self, points: np.ndarray) -> np.ndarray:
         """(...) bool: the ``points`` (..., 2) m strictly inside the area."""

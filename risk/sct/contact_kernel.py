@@ -35,38 +35,58 @@ def _first_contacts(
     t_idx: np.ndarray,
     times: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
-    n, k_count = len(a_idx), len(times)
+    n = len(a_idx)
     first = np.full(n, np.inf)
     apart = np.zeros(n, np.bool_)
     for i in range(n):
-        a, t = a_idx[i], t_idx[i]
-        hx, hy = half_x[a], half_y[a]
-        g0 = np.inf
-        for k in range(k_count):
-            if exposed[t, k]:
-                dx = tracks[t, k, 0] - vxy[a, k, 0]
-                dy = tracks[t, k, 1] - vxy[a, k, 1]
-                c, s = vcos[a, k], vsin[a, k]
-                x = dx * c + dy * s
-                y = -dx * s + dy * c
-                lx = abs(x) - hx
-                ly = abs(y) - hy
-                g = math.hypot(max(lx, 0.0), max(ly, 0.0)) - radius
-            else:
-                g = np.inf
-            if k == 0:
-                apart[i] = g > 0.0
-            if g <= 0.0:
-                if k == 0:
-                    first[i] = times[0] + (times[0] - times[0]) * 0.0
-                else:
-                    # an infinite gap before (a protected position): contact starts at the sample
-                    frac = g0 / (g0 - g) if math.isfinite(g0) else 1.0
-                    frac = min(max(frac, 0.0), 1.0)
-                    first[i] = times[k - 1] + (times[k] - times[k - 1]) * frac
-                break
-            g0 = g
+        a = a_idx[i]
+        first[i], apart[i] = _first_contact(
+            vxy, vcos, vsin, a, half_x[a], half_y[a], radius, tracks, exposed, t_idx[i], times
+        )
     return first, apart
+
+
+@njit(cache=True)
+def _first_contact(
+    vxy: np.ndarray,
+    vcos: np.ndarray,
+    vsin: np.ndarray,
+    a: int,
+    hx: float,
+    hy: float,
+    radius: float,
+    tracks: np.ndarray,
+    exposed: np.ndarray,
+    t: int,
+    times: np.ndarray,
+) -> tuple[float, bool]:
+    """first_contacts of one pair: vehicle track ``a`` (half sizes ``hx``, ``hy`` m) and
+    pedestrian track ``t``."""
+    g0 = np.inf
+    apart = False
+    for k in range(len(times)):
+        if exposed[t, k]:
+            dx = tracks[t, k, 0] - vxy[a, k, 0]
+            dy = tracks[t, k, 1] - vxy[a, k, 1]
+            c, s = vcos[a, k], vsin[a, k]
+            x = dx * c + dy * s
+            y = -dx * s + dy * c
+            lx = abs(x) - hx
+            ly = abs(y) - hy
+            g = math.hypot(max(lx, 0.0), max(ly, 0.0)) - radius
+        else:
+            g = np.inf
+        if k == 0:
+            apart = g > 0.0
+        if g <= 0.0:
+            if k == 0:
+                return times[0] + (times[0] - times[0]) * 0.0, apart
+            # an infinite gap before (a protected position): contact starts at the sample
+            frac = g0 / (g0 - g) if math.isfinite(g0) else 1.0
+            frac = min(max(frac, 0.0), 1.0)
+            return times[k - 1] + (times[k] - times[k - 1]) * frac, apart
+        g0 = g
+    return np.inf, apart
 
 
 def first_contacts(
@@ -285,3 +305,41 @@ def within_reach(
                 out[i] = True
                 break
     return out
+
+
+@njit(cache=True)
+def within_reach_rows(
+    xyz: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    speed: np.ndarray,
+    veh_rows: np.ndarray,
+    ped_rows: np.ndarray,
+    ped_velocity: np.ndarray,
+    margin: float,
+    radius: float,
+    fastest: float,
+    horizon: float,
+    accel_travel: float,
+) -> np.ndarray:
+    """within_reach of the vehicles ``veh_rows`` (V,) and pedestrians ``ped_rows`` (P,) of a
+    state's columns (``xyz`` (N, 3) m, sizes (N,) m, ``speed`` (N,) m/s): each vehicle's
+    circumscribed reach is 0.5 hypot(length, width) + ``margin`` m, each pedestrian moves at
+    most |``ped_velocity``| (P, 2) m/s times ``fastest`` (SCTController._within_reach)."""
+    n_v, n_p = len(veh_rows), len(ped_rows)
+    vxy = np.empty((n_v, 2))
+    reach = np.empty(n_v)
+    v_speed = np.empty(n_v)
+    for i in range(n_v):
+        r = veh_rows[i]
+        vxy[i, 0], vxy[i, 1] = xyz[r, 0], xyz[r, 1]
+        reach[i] = 0.5 * math.hypot(length[r], width[r]) + margin
+        v_speed[i] = speed[r]
+    pxy = np.empty((n_p, 2))
+    p_speed = np.empty(n_p)
+    for j in range(n_p):
+        r = ped_rows[j]
+        pxy[j, 0], pxy[j, 1] = xyz[r, 0], xyz[r, 1]
+        vx, vy = ped_velocity[j, 0], ped_velocity[j, 1]
+        p_speed[j] = math.sqrt(vx * vx + vy * vy) * fastest  # numpy's norm: sqrt of the sum
+    return within_reach(vxy, pxy, reach, radius, v_speed, p_speed, horizon, accel_travel)

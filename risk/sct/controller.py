@@ -23,9 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from hiyari.errors import HiyariError
-from hiyari.risk.sct.contact_kernel import travel_rows, within_reach
+from hiyari.risk.sct.contact_kernel import travel_rows, within_reach_rows
 from hiyari.risk.sct.model import SCTModel, StepView
-from hiyari.risk.sct.plan_kernel import decide_speeds
+from hiyari.risk.sct.plan_kernel import decide_rows
 from hiyari.traffic.commands import Commands
 from hiyari.units import G
 
@@ -133,6 +133,16 @@ class SCTController:
         self.seed = seed
         self._targets = np.asarray(config.targets_g, float) * G
         self._order = np.argsort(-self._targets, kind="stable")  # mildest (least braking) first
+        # per-model constants of every step's planning: crossings, horizons, hypotheses
+        areas = model.geometry.crossings if model.geometry is not None else None
+        if areas is None or len(areas) == 0:
+            self._areas = (np.zeros(0), np.zeros((0, 2)), np.zeros((0, 4, 2)))
+        else:
+            reach = np.hypot(areas.half_length, areas.half_width)
+            self._areas = (reach, areas.centre, areas.corners)
+        times = model.times
+        self._upto = min(int(np.searchsorted(times, config.sct_safe)) + 1, len(times))
+        self._fastest = max(model.config.speed_factors)
         self._scope: dict[str, bool] = {}
         self._accel: dict[str, float] = {}
         self.controlled: set[str] = set()
@@ -168,36 +178,25 @@ class SCTController:
         vehicle's plan depends only on its own pedestrians, as if planned alone.
         """
         cfg, model = self.config, self.model
-        state, times = view.state, model.times
+        state = view.state
         if len(rows) == 0 or len(view.ped_rows) == 0:
             return np.full(len(rows), np.nan)
-        v0 = state.speed[rows]
         table, seg = view.table, view.table.seg
-        contact = model.config.contact
-        margin, radius = contact.vehicle_margin, contact.pedestrian_radius
-        length, width = state.length[rows], state.width[rows]
-        half_x, half_y = 0.5 * length + margin, 0.5 * width + margin
-        # the near test's reach: circumscribed circle, disc and slack
-        reach = np.hypot(half_x, half_y) + radius + 1e-6
-        areas = model.geometry.crossings if model.geometry is not None else None
-        if areas is None or len(areas) == 0:
-            areas_reach, centre, corners = np.zeros(0), np.zeros((0, 2)), np.zeros((0, 4, 2))
-        else:
-            areas_reach = np.hypot(areas.half_length, areas.half_width)
-            centre, corners = areas.centre, areas.corners
-        return decide_speeds(
-            v0,
-            state.accel[rows],
-            np.maximum(v_max, v0),
+        contact = model.contact
+        return decide_rows(
+            rows,
+            state.speed,
+            state.accel,
+            state.length,
+            state.width,
+            state.xyz,
+            np.asarray(v_max, float),
             np.asarray(a_free, float),
             engaged,
-            view.veh_slot[rows],
-            length,
-            width,
-            reach * reach,
-            half_x,
-            half_y,
-            radius,
+            view.veh_slot,
+            view.ped_rows,
+            contact.vehicle_margin,
+            contact.pedestrian_radius,
             view.s0,
             table.cum,
             table.count,
@@ -207,21 +206,17 @@ class SCTController:
             seg.cum_start,
             seg.cos,
             seg.sin,
-            np.ascontiguousarray(state.xyz[view.ped_rows, :2]),
             view.tracks,
             view.exposed,
-            times,
+            model.times,
             cfg.act_distance**2,
-            min(int(np.searchsorted(times, cfg.sct_safe)) + 1, len(times)),
+            self._upto,
             cfg.sct_safe,
             self._targets,
             self._order,
             cfg.jerk_limit,
             cfg.stop_speed,
-            0.5 * np.hypot(length, width),
-            areas_reach,
-            centre,
-            corners,
+            *self._areas,
         )
 
     def step(self, sim: Commands, view: StepView, present: set[str] | None = None) -> None:
@@ -231,7 +226,7 @@ class SCTController:
         state, cfg = view.state, self.config
         decided: set[str] = set()
         if len(view.ped_rows):
-            reach = self._within_reach(view)
+            reach = self._within_reach(view).tolist()
             rows, ids, v_max, a_free = [], [], [], []
             for k, r in enumerate(view.veh_rows.tolist()):
                 vid = state.ids[r]
@@ -266,19 +261,19 @@ class SCTController:
         A bound, so the others need no planning: the vehicle at most accelerates at
         ``max_accel`` from its speed, the pedestrian moves at most at the fastest hypothesis.
         """
-        cfg, state = self.config, view.state
-        v, p = view.veh_rows, view.ped_rows
-        sc = self.model.config
-        reach = 0.5 * np.hypot(state.length[v], state.width[v]) + sc.vehicle_margin
-        ped_speed = np.linalg.norm(view.ped_velocity, axis=1) * max(sc.speed_factors)
+        cfg, state, sc = self.config, view.state, self.model.config
         t = cfg.sct_safe
-        return within_reach(
-            np.ascontiguousarray(state.xyz[v, :2]),
-            np.ascontiguousarray(state.xyz[p, :2]),
-            reach,
+        return within_reach_rows(
+            state.xyz,
+            state.length,
+            state.width,
+            state.speed,
+            view.veh_rows,
+            view.ped_rows,
+            view.ped_velocity,
+            sc.vehicle_margin,
             sc.pedestrian_radius,
-            state.speed[v],
-            ped_speed,
+            self._fastest,
             t,
             0.5 * cfg.max_accel * t * t,
         )

@@ -5,7 +5,7 @@ vehicle's route path (registered by the caller, who knows the routes) and turns 
 state into predicted vehicle poses and pedestrian velocities.
 
 Every step's work is batched over all vehicles and pedestrians in the view (a few compiled
-passes per step, whatever the number of pairs: pair_kernel, plan_kernel, area_kernel): the
+passes per step, whatever the number of pairs: track_kernel, pair_kernel, plan_kernel): the
 vehicles' paths are sampled from one table of their segments (per-segment values, headings'
 cosine and sine included, computed once per route), and the pedestrians' predicted tracks and
 whether each track point is on the carriageway are computed once per step and shared by the
@@ -16,23 +16,18 @@ same operands), so batching changes no result.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
 
-from hiyari.kinematics import heading_vector
-from hiyari.risk.metrics.contact import (
-    ContactGeometry,
-    Path,
-    SCTConfig,
-    pedestrian_tracks,
-    pedestrian_velocity,
-)
-from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
+from hiyari.risk.metrics.contact import ContactGeometry, Path, SCTConfig
+from hiyari.risk.metrics.pedestrian_geometry import KerbSegments, NetGeometry
 from hiyari.risk.sct.area_kernel import AreaTest
-from hiyari.risk.sct.contact_kernel import _first_contacts, path_at, project_rows
-from hiyari.risk.sct.pair_kernel import crossing_zones, pair_screen
+from hiyari.risk.sct.contact_kernel import path_at, project_rows
+from hiyari.risk.sct.pair_kernel import crossing_pairs, pair_pass
+from hiyari.risk.sct.track_kernel import ASK_ALL, EVERYWHERE, RINGS, predict_tracks, row_slots
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
@@ -155,6 +150,7 @@ class SCTModel:
     def __init__(self, geometry: NetGeometry | None, config: SCTConfig | None = None) -> None:
         self.geometry = geometry
         self.config = config = config or SCTConfig()
+        self.contact = config.contact  # the SCT shapes (the config builds one per access)
         self.times = config.times
         self._paths: dict[str, Path] = {}
         self._route_paths: dict[tuple[str, ...], Path] = {}
@@ -163,6 +159,17 @@ class SCTModel:
         self._crossing_index = geometry.crossings.index() if geometry is not None else {}
         road = self.carriageway
         self._road = AreaTest(road) if road is not None and not road.is_empty else None
+        # the pedestrians' prediction pass: kerbs, the facing bound, the carriageway's rings
+        self._kerbs = geometry.kerbs if geometry is not None else _NO_KERBS
+        self._cos_max = math.cos(math.radians(config.dart_out_max_angle_deg))
+        self._no_facing = np.zeros((0, len(self._kerbs)), bool)
+        self._factors = np.asarray(config.speed_factors, float)
+        if self._road is None:
+            self._area, self._rings = EVERYWHERE, _NO_RINGS
+        elif self._road.rings is None:
+            self._area, self._rings = ASK_ALL, _NO_RINGS
+        else:
+            self._area, self._rings = RINGS, self._road.rings
 
     def set_route(self, vehicle: str, edges: tuple[str, ...]) -> None:
         """Register the route (edge ids) ``vehicle`` follows; its path is built from the net."""
@@ -207,48 +214,32 @@ class SCTModel:
         state: WorldState,
         open_crossings: np.ndarray | None = None,
         predict_pedestrians: bool = True,
+        rows: tuple[np.ndarray, np.ndarray] | None = None,
     ) -> StepView:
         """Everything per actor that several metrics of this step share (pedestrian velocity
         predictions and tracks only when ``predict_pedestrians``: SCT and the controller need
-        them)."""
-        is_ped = state.cls == _PEDESTRIAN
-        ped = np.flatnonzero(is_ped)
+        them), for the (vehicle rows, pedestrian rows) ``rows`` of ``state`` (default: all)."""
+        if rows is None:
+            is_ped = state.cls == _PEDESTRIAN
+            veh, ped = np.flatnonzero(~is_ped), np.flatnonzero(is_ped)
+        else:
+            veh, ped = rows
         lanes = state.lane[ped].tolist()
         if self.geometry is None:
-            on_kerb = np.zeros(len(ped), bool)
-            kerbs = None
+            kerb = _NO_ROWS
             crossing = np.full(len(ped), -1)
         else:
-            g = self.geometry
-            on_kerb = np.array([ln in g.footway_lanes for ln in lanes], bool)
-            kerbs = g.kerbs
+            footway = self.geometry.footway_lanes
+            kerb = np.array([i for i, ln in enumerate(lanes) if ln in footway], np.int64)
             index = self._crossing_index
             crossing = np.array([index.get(ln, -1) for ln in lanes], int)
-        if predict_pedestrians:
-            vel, dart = pedestrian_velocity(
-                state.xyz[ped, :2],
-                state.heading[ped],
-                state.speed[ped],
-                on_kerb,
-                kerbs,
-                self.config,
-                open_crossings,
-            )
-            tracks = pedestrian_tracks(
-                state.xyz[ped, :2], vel, self.config.speed_factors, self.times
-            )
-            exposed = self._exposed(tracks)
-        else:
-            vel, dart = np.full((len(ped), 2), np.nan), np.zeros(len(ped), bool)
-            tracks = exposed = None
-        veh = np.flatnonzero(~is_ped)
+        vel, dart, tracks, cv, exposed, cv_exposed = self._predict(
+            state, ped, kerb, open_crossings, predict_pedestrians
+        )
         paths = [self.path_of(state, r) for r in veh.tolist()]
         table = self._path_table(paths)
         s0 = table.project(state.xyz[veh, :2])
-        ped_slot = np.full(len(state), -1)
-        ped_slot[ped] = np.arange(len(ped))
-        veh_slot = np.full(len(state), -1)
-        veh_slot[veh] = np.arange(len(veh))
+        veh_slot, ped_slot = row_slots(len(state), veh, ped)
         return StepView(
             state,
             veh,
@@ -261,8 +252,10 @@ class SCTModel:
             crossing,
             ped_slot,
             table,
-            tracks,
-            exposed,
+            tracks if predict_pedestrians else None,
+            exposed if predict_pedestrians else None,
+            cv,
+            cv_exposed,
         )
 
     def vehicle_poses(
@@ -285,39 +278,53 @@ class SCTModel:
         """Where pedestrians are exposed (NetGeometry.carriageway), or None: everywhere."""
         return self.geometry.carriageway if self.geometry is not None else None
 
-    def exposed(self, view: StepView, slots: np.ndarray) -> np.ndarray:
-        """(n, H, K) bool: the predicted track points of pedestrian slots ``slots`` (n,) that
-        lie on the carriageway (all True without one)."""
-        return view.exposed[slots]
-
-    def _exposed(self, tracks: np.ndarray) -> np.ndarray:
-        """(P, H, K) bool: the track points (P, H, K, 2) on the carriageway (all True without
-        one), once per step for every pedestrian of the view."""
-        if self._road is None:
-            return np.ones(tracks.shape[:3], bool)
-        return self._road.contains(tracks)
-
-    def _cv_protected(self, view: StepView, prows: np.ndarray, ped_cv: np.ndarray) -> np.ndarray:
-        """(n, K) bool: constant-velocity track points ``ped_cv`` (n, K, 2) of pedestrian rows
-        ``prows`` (n,) off the carriageway. A pedestrian without a dart-out prediction walks on at
-        its own velocity, so its track is the speed-factor 1 hypothesis: read from
-        ``exposed``."""
-        road = self.carriageway
-        if road is None or road.is_empty:
-            return np.zeros(ped_cv.shape[:2], bool)
-        factors = list(self.config.speed_factors)
-        slots = view.ped_slot[prows]
-        if view.tracks is None or 1.0 not in factors:
-            reuse = np.zeros(len(prows), bool)
-        else:
-            reuse = ~view.dart_out[slots]
-        out = np.empty(ped_cv.shape[:2], bool)
-        if reuse.any():
-            out[reuse] = ~self.exposed(view, slots[reuse])[:, factors.index(1.0)]
-        if not reuse.all():
-            pts = ped_cv[~reuse]
-            out[~reuse] = ~self._road.contains(pts)
-        return out
+    def _predict(
+        self,
+        state: WorldState,
+        ped: np.ndarray,
+        kerb: np.ndarray,
+        open_crossings: np.ndarray | None,
+        predict: bool,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """For the pedestrian rows ``ped`` of ``state`` (``kerb``: indices into ``ped`` of
+        those on a footway), in one pass (track_kernel): predicted velocities (P, 2) m/s and
+        dart-out flags (P,) (contact.pedestrian_velocity) with their tracks (P, H, K, 2) m
+        (contact.pedestrian_tracks) when ``predict`` (else NaN, False and no tracks), the
+        constant-velocity tracks (P, K, 2) m, and whether each point of both track sets is on
+        the carriageway (all True without one)."""
+        u = _unit(state.heading[ped])
+        rows = kerb if predict else _NO_ROWS
+        kerbs = self._kerbs
+        facing = u[rows] @ kerbs.inward.T >= self._cos_max if len(rows) else self._no_facing
+        cfg = self.config
+        vel, dart, tracks, cv, exposed, cv_exposed, ask = predict_tracks(
+            state.xyz,
+            state.speed,
+            ped,
+            u,
+            predict,
+            rows,
+            facing,
+            kerbs.a,
+            kerbs.b,
+            kerbs.inward,
+            kerbs.crossing,
+            _ALL_OPEN if open_crossings is None else np.asarray(open_crossings, bool),
+            self._cos_max,
+            float(cfg.dart_out_distance),
+            float(cfg.dart_out_speed),
+            self._factors,
+            self.times,
+            self._area,
+            *self._rings,
+        )
+        if len(ask):  # on (or within rounding of) the carriageway's boundary: GEOS decides
+            points = np.concatenate([tracks.reshape(-1, 2), cv.reshape(-1, 2)])[ask]
+            on = shapely.contains_xy(self._road.area, points[:, 0], points[:, 1])
+            n = exposed.size
+            exposed.reshape(-1)[ask[ask < n]] = on[ask < n]
+            cv_exposed.reshape(-1)[ask[ask >= n] - n] = on[ask >= n]
+        return vel, dart, tracks, cv, exposed, cv_exposed
 
     def pair_metrics(
         self,
@@ -339,22 +346,16 @@ class SCTModel:
         Pairs whose tracks never come near enough to touch (pair_kernel's near test) are inf without
         further work.
         """
-        n = len(vi)
-        if n == 0:
+        if len(vi) == 0:
             return np.zeros(0), np.zeros(0), np.zeros(0)
         ttc_contact = ttc_contact or ContactGeometry()
-        state, table, t = view.state, view.table, self.times
-        seg = table.seg
-        prows, pinv = _distinct(pj, len(state))
-        vslot = view.veh_slot[vi]
-        # shapes per vehicle of the view: half sizes and the near-test reach, for both shapes
-        length, width = state.length[view.veh_rows], state.width[view.veh_rows]
-        ttc_x, ttc_y, ttc_reach2 = _grown(length, width, ttc_contact)
-        contact = self.config.contact
-        sct_x, sct_y, sct_reach2 = _grown(length, width, contact)
-        slot = view.ped_slot[pj]
-        xy, vcos, vsin, ped_cv, gap, near, near_sct = pair_screen(
-            state.speed[view.veh_rows],
+        state, table, seg = view.state, view.table, view.table.seg
+        veh = view.veh_rows
+        contact = self.contact
+        return pair_pass(
+            state.speed[veh],
+            state.length[veh],
+            state.width[veh],
             view.s0,
             table.cum,
             table.count,
@@ -364,62 +365,19 @@ class SCTModel:
             seg.cum_start,
             seg.cos,
             seg.sin,
-            t,
-            np.ascontiguousarray(state.xyz[prows, :2]),
-            heading_vector(state.heading[prows]),
-            state.speed[prows],
-            vslot,
-            pinv,
-            ttc_x,
-            ttc_y,
+            self.times,
+            view.cv_tracks,
+            view.cv_exposed,
+            self._road is not None,
+            view.veh_slot[vi],
+            view.ped_slot[pj],
+            ttc_contact.vehicle_margin,
             ttc_contact.pedestrian_radius,
-            ttc_reach2,
+            contact.vehicle_margin,
+            contact.pedestrian_radius,
             view.tracks if with_sct else _NO_TRACKS,
-            slot,
-            sct_reach2,
+            view.exposed if with_sct else _NO_EXPOSED,
         )
-        if self._road is not None:
-            now = state.xyz[prows, :2]
-            on_road = self._road.contains(now)[pinv]
-            gap = np.where(on_road, gap, np.inf)
-        ttc = np.full(n, np.inf)
-        c = np.flatnonzero(near)
-        if len(c):
-            tracks = ped_cv[pinv[c]]
-            ttc[c], _ = _first_contacts(
-                xy,
-                vcos,
-                vsin,
-                ttc_x,
-                ttc_y,
-                ttc_contact.pedestrian_radius,
-                tracks,
-                ~self._cv_protected(view, pj[c], tracks),
-                vslot[c],
-                np.arange(len(c)),
-                t,
-            )
-        sct = np.full(n, np.inf)
-        if not with_sct:
-            return ttc, sct, gap
-        c = np.flatnonzero(near_sct)
-        if len(c):
-            h = view.tracks.shape[1]
-            first, _ = _first_contacts(
-                xy,
-                vcos,
-                vsin,
-                sct_x,
-                sct_y,
-                contact.pedestrian_radius,
-                view.tracks[slot[c]].reshape(len(c) * h, len(t), 2),
-                self.exposed(view, slot[c]).reshape(len(c) * h, len(t)),
-                np.repeat(vslot[c], h),
-                np.arange(len(c) * h),
-                t,
-            )
-            sct[c] = first.reshape(len(c), h).min(axis=-1)
-        return ttc, sct, gap
 
     def crossing_occupancy(
         self, view: StepView, vi: np.ndarray, pj: np.ndarray, ped_radius: float = 0.3
@@ -428,59 +386,54 @@ class SCTModel:
         vehicle in their conflict zone, pedestrian in it), each (len(vi),) bool; see
         hiyari.risk.metrics.contact.crossing_conflict."""
         n = len(vi)
-        has, vin, pin = np.zeros(n, bool), np.zeros(n, bool), np.zeros(n, bool)
         if self.geometry is None or n == 0:
-            return has, vin, pin
-        state, seg = view.state, view.table.seg
+            return np.zeros(n, bool), np.zeros(n, bool), np.zeros(n, bool)
+        state, table, seg = view.state, view.table, view.table.seg
         cr = self.geometry.crossings
-        k = view.crossing[view.ped_slot[pj]]
-        on = np.flatnonzero(k >= 0)
-        if len(on) == 0:
-            return has, vin, pin
-        r, kk = vi[on], k[on]
-        slot = view.veh_slot[r]
-        has[on], vin[on], pin[on] = crossing_zones(
-            slot,
-            view.s0[slot],
-            state.length[r],
-            state.width[r],
-            view.table.count,
-            view.table.first,
+        return crossing_pairs(
+            vi,
+            pj,
+            view.veh_slot,
+            view.ped_slot,
+            view.crossing,
+            view.s0,
+            state.length,
+            state.width,
+            state.xyz,
+            table.count,
+            table.first,
             seg.start,
             seg.vector,
             seg.cum_start,
-            np.ascontiguousarray(state.xyz[pj[on], :2]),
-            cr.direction[kk],
-            cr.centre[kk],
-            cr.half_length[kk],
+            cr.direction,
+            cr.centre,
+            cr.half_length,
             float(ped_radius),
         )
-        return has, vin, pin
 
 
-_NO_TRACKS = np.zeros((0, 1, 1, 2))  # pair_screen's tracks when SCT is not computed
+_NO_TRACKS = np.zeros((0, 1, 1, 2))  # pair_pass' tracks when SCT is not computed
+_NO_EXPOSED = np.zeros((0, 1, 1), bool)
+_NO_ROWS = np.zeros(0, np.int64)  # no pedestrian to predict at the kerb
+_ALL_OPEN = np.zeros(0, bool)  # predict_tracks' open crossings: no signals, all open
+_NO_KERBS = KerbSegments(np.zeros((0, 2)), np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0, int))
+# predict_tracks' rings when locate_xy is not used
+_NO_RINGS = (
+    np.zeros((0, 2)),
+    np.zeros(0, np.int64),
+    np.zeros(0),
+    np.zeros(0, np.int64),
+    np.zeros(0, np.int64),
+)
 
 
-def _grown(
-    length: np.ndarray, width: np.ndarray, contact: ContactGeometry
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Half length and width (m) of vehicle rectangles grown by the contact margin, and the
-    squared reach of the near test (circumscribed circle, disc and slack), as contact_gap and
-    pair_kernel compute them."""
-    half_x = 0.5 * length + contact.vehicle_margin
-    half_y = 0.5 * width + contact.vehicle_margin
-    reach = np.hypot(half_x, half_y) + contact.pedestrian_radius + 1e-6
-    return half_x, half_y, reach * reach
-
-
-def _distinct(rows: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """np.unique(rows, return_inverse=True) for row indices below ``n``, without sorting."""
-    used = np.zeros(n, bool)
-    used[rows] = True
-    distinct = np.flatnonzero(used)
-    index = np.empty(n, int)
-    index[distinct] = np.arange(len(distinct))
-    return distinct, index[rows]
+def _unit(heading: np.ndarray) -> np.ndarray:
+    """(N, 2) unit vectors along ``heading`` (N,) rad: kinematics.heading_vector's values
+    without np.stack's per-call overhead."""
+    u = np.empty((len(heading), 2))
+    u[:, 0] = np.cos(heading)
+    u[:, 1] = np.sin(heading)
+    return u
 
 
 @dataclass
@@ -488,8 +441,10 @@ class StepView:
     """Per-step shared values: vehicle rows with their paths, path table and arc lengths (m),
     pedestrian rows with predicted velocities (m/s), dart-out flags, crossing index (-1: not
     on a crossing), predicted tracks (P, H, K, 2) m and whether each track point is on the
-    carriageway (P, H, K) (both None when not predicted); ``*_slot`` map a state row to its
-    index in these lists."""
+    carriageway (P, H, K) (both None when not predicted), constant-velocity tracks (P, K, 2) m
+    (each pedestrian at its own velocity, for time to contact) and whether each of their
+    points is on the carriageway (P, K); ``*_slot`` map a state row to its index in these
+    lists."""
 
     state: WorldState
     veh_rows: np.ndarray
@@ -504,3 +459,5 @@ class StepView:
     table: PathTable
     tracks: np.ndarray | None
     exposed: np.ndarray | None
+    cv_tracks: np.ndarray
+    cv_exposed: np.ndarray

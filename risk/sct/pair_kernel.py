@@ -1,13 +1,14 @@
-"""The pair metrics' per-step geometry in one compiled pass (SCTModel.pair_metrics).
+"""The pair metrics of one step in one compiled pass (SCTModel.pair_metrics).
 
 For the logged vehicle–pedestrian pairs of a step: the vehicles' poses at their current speed
-along their routes, the pedestrians' constant-velocity tracks, the gap now, and which pairs
-can come near enough to touch within the horizon (for the TTC shapes, and for the SCT shapes
-under every speed hypothesis). The operations are those of SCTModel.vehicle_poses,
-contact.contact_gap and the near-pairs bound (tests/sct_reference.near_pairs) per scalar, in
-the same order, with headings entering as the cosine / sine numpy computed (per path segment,
-per pedestrian), so the values are the numpy code's bit for bit (tests/test_sct_vectorised.py
-and test_sct_contact_kernel.py).
+along their routes, the gap now, which pairs can come near enough to touch within the horizon
+(for the TTC shapes, and for the SCT shapes under every speed hypothesis), and for those their
+time to contact (the pedestrian's constant-velocity track) and SCT (the earliest contact over
+the speed hypotheses' tracks). The operations are those of SCTModel.vehicle_poses,
+contact.contact_gap, the near-pairs bound (tests/sct_reference.near_pairs) and
+contact_kernel's first contacts per scalar, in the same order, with headings entering as the
+cosine / sine numpy computed (per path segment, per pedestrian), so the values are the numpy
+code's bit for bit (tests/test_sct_vectorised.py and test_sct_contact_kernel.py).
 
 Frames and units: network coordinates in metres, speeds m/s, times s.
 """
@@ -19,12 +20,14 @@ import math
 import numpy as np
 from numba import njit
 
-from hiyari.risk.sct.contact_kernel import segment_at
+from hiyari.risk.sct.contact_kernel import _first_contact, segment_at
 
 
 @njit(cache=True)
-def pair_screen(
+def pair_pass(
     veh_speed: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
     s0: np.ndarray,
     cum: np.ndarray,
     count: np.ndarray,
@@ -35,28 +38,28 @@ def pair_screen(
     seg_cos: np.ndarray,
     seg_sin: np.ndarray,
     times: np.ndarray,
-    ped_xy: np.ndarray,
-    ped_dir: np.ndarray,
-    ped_speed: np.ndarray,
+    cv: np.ndarray,
+    cv_exposed: np.ndarray,
+    road: bool,
     vslot: np.ndarray,
     pslot: np.ndarray,
-    half_x: np.ndarray,
-    half_y: np.ndarray,
-    radius: float,
-    reach2: np.ndarray,
+    ttc_margin: float,
+    ttc_radius: float,
+    sct_margin: float,
+    sct_radius: float,
     tracks: np.ndarray,
-    track_slot: np.ndarray,
-    track_reach2: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Vehicles of the path table (rows 0 .. V-1, speeds ``veh_speed`` (V,), arc lengths
-    ``s0``) at ``times`` (K,): centres (V, K, 2), heading cos / sin (V, K). Pedestrians
-    (``ped_xy`` (P, 2), unit heading ``ped_dir`` (P, 2), ``ped_speed`` (P,)): constant
-    velocity tracks (P, K, 2). Pairs (vehicle ``vslot``, pedestrian ``pslot``) (n,): the gap
-    now (m) between the rectangle grown to half sizes ``half_x`` / ``half_y`` (V,) and the
-    disc of ``radius`` m; whether the track comes within sqrt(``reach2``) (V,) of the centre
-    at some sample; and whether some speed hypothesis track of ``tracks`` (P', H, K, 2),
-    pedestrian ``track_slot`` (n,), comes within sqrt(``track_reach2``) (V,) (all False when
-    ``tracks`` holds no pedestrian)."""
+    exposed: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Time to contact (s), SCT (s) and the gap now (m) of pairs (vehicle ``vslot``,
+    pedestrian ``pslot``) (n,), inf where they cannot touch within the horizon.
+
+    Vehicles of the path table (rows 0 .. V-1, speeds ``veh_speed`` (V,) m/s, sizes (V,) m,
+    arc lengths ``s0``) at their speed along their paths at ``times`` (K,). Pedestrians:
+    constant-velocity tracks ``cv`` (P, K, 2) m with their carriageway flags ``cv_exposed``
+    (P, K); speed-hypothesis ``tracks`` (P, H, K, 2) with ``exposed`` (P, H, K) (no SCT when
+    they hold no pedestrian). Shapes: the vehicle rectangle grown by ``*_margin`` m, the
+    pedestrian disc of ``*_radius`` m (TTC and gap: ttc; SCT: sct). With ``road``, the gap of
+    a pedestrian off the carriageway now is inf."""
     n_v, k_count = len(s0), len(times)
     xy = np.empty((n_v, k_count, 2))
     c = np.empty((n_v, k_count))
@@ -70,18 +73,13 @@ def pair_screen(
             xy[v, k, 1] = start[j, 1] + unit[j, 1] * d
             c[v, k] = seg_cos[j]
             sn[v, k] = seg_sin[j]
-    n_p = len(ped_xy)
-    cv = np.empty((n_p, k_count, 2))
-    for p in range(n_p):
-        vx = ped_dir[p, 0] * ped_speed[p]
-        vy = ped_dir[p, 1] * ped_speed[p]
-        for k in range(k_count):
-            cv[p, k, 0] = ped_xy[p, 0] + vx * times[k]
-            cv[p, k, 1] = ped_xy[p, 1] + vy * times[k]
+    # each shape's half sizes and near-test reach (circumscribed circle, disc and slack)
+    ttc_x, ttc_y, ttc_reach2 = _grown(length, width, ttc_margin, ttc_radius)
+    sct_x, sct_y, sct_reach2 = _grown(length, width, sct_margin, sct_radius)
     n = len(vslot)
+    ttc = np.full(n, np.inf)
+    sct = np.full(n, np.inf)
     gap = np.empty(n)
-    near = np.zeros(n, np.bool_)
-    near_track = np.zeros(n, np.bool_)
     n_h = tracks.shape[1]
     for i in range(n):
         a, p = vslot[i], pslot[i]
@@ -89,14 +87,42 @@ def pair_screen(
         dy = cv[p, 0, 1] - xy[a, 0, 1]
         x = dx * c[a, 0] + dy * sn[a, 0]
         y = -dx * sn[a, 0] + dy * c[a, 0]
-        gap[i] = math.hypot(max(abs(x) - half_x[a], 0.0), max(abs(y) - half_y[a], 0.0)) - radius
-        near[i] = _near(cv[p], xy[a], reach2[a])
-        if len(tracks):
+        g = math.hypot(max(abs(x) - ttc_x[a], 0.0), max(abs(y) - ttc_y[a], 0.0)) - ttc_radius
+        gap[i] = g if cv_exposed[p, 0] or not road else np.inf
+        if _near(cv[p], xy[a], ttc_reach2[a]):
+            ttc[i], _ = _first_contact(
+                xy, c, sn, a, ttc_x[a], ttc_y[a], ttc_radius, cv, cv_exposed, p, times
+            )
+        if len(tracks) == 0:
+            continue
+        near = False
+        for h in range(n_h):
+            if _near(tracks[p, h], xy[a], sct_reach2[a]):
+                near = True
+                break
+        if near:
             for h in range(n_h):
-                if _near(tracks[track_slot[i], h], xy[a], track_reach2[a]):
-                    near_track[i] = True
-                    break
-    return xy, c, sn, cv, gap, near, near_track
+                t, _ = _first_contact(
+                    xy, c, sn, a, sct_x[a], sct_y[a], sct_radius, tracks[p], exposed[p], h, times
+                )
+                sct[i] = min(sct[i], t)
+    return ttc, sct, gap
+
+
+@njit(cache=True)
+def _grown(
+    length: np.ndarray, width: np.ndarray, margin: float, radius: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Half length and width (m) of vehicle rectangles grown by ``margin`` m, and the squared
+    reach of the near test (circumscribed circle, a disc of ``radius`` m and slack), as
+    contact_gap and the near-pairs bound compute them."""
+    half_x = 0.5 * length + margin
+    half_y = 0.5 * width + margin
+    reach2 = np.empty(len(length))
+    for v in range(len(length)):
+        r = math.hypot(half_x[v], half_y[v]) + radius + 1e-6
+        reach2[v] = r * r
+    return half_x, half_y, reach2
 
 
 @njit(cache=True)
@@ -163,4 +189,55 @@ def crossing_zones(
                 veh_in[i] = abs(s_vehicle[i] - s_x) <= reach
                 ped_in[i] = abs(lam) <= (0.5 * veh_width[i] + ped_radius) / sin
                 break
+    return has, veh_in, ped_in
+
+
+@njit(cache=True)
+def crossing_pairs(
+    vi: np.ndarray,
+    pj: np.ndarray,
+    veh_slot: np.ndarray,
+    ped_slot: np.ndarray,
+    ped_crossing: np.ndarray,
+    s0: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    xyz: np.ndarray,
+    count: np.ndarray,
+    first: np.ndarray,
+    start: np.ndarray,
+    vector: np.ndarray,
+    cum_start: np.ndarray,
+    direction: np.ndarray,
+    centre: np.ndarray,
+    half_length: np.ndarray,
+    ped_radius: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """crossing_zones of pairs (vehicle rows ``vi``, pedestrian rows ``pj``) (n,) of a
+    state's columns (sizes m, ``xyz`` (N, 3) m): each vehicle's path-table row
+    (``veh_slot``) and arc length (``s0`` of the table rows), each pedestrian's crossing
+    (``ped_crossing`` of its ``ped_slot``, -1: on none, no zone) as rectangles (C,) along
+    ``direction``. Returns (has_zone, vehicle_in, pedestrian_in) (n,)."""
+    n = len(vi)
+    on = np.empty(n, np.int64)
+    m = 0
+    for i in range(n):
+        if ped_crossing[ped_slot[pj[i]]] >= 0:
+            on[m] = i
+            m += 1
+    on = on[:m]
+    rows, peds = vi[on], pj[on]
+    k = ped_crossing[ped_slot[peds]]
+    slot = veh_slot[rows]
+    ped_xy = np.empty((m, 2))
+    for i in range(m):
+        ped_xy[i, 0], ped_xy[i, 1] = xyz[peds[i], 0], xyz[peds[i], 1]
+    zone, v_in, p_in = crossing_zones(
+        slot, s0[slot], length[rows], width[rows], count, first, start, vector, cum_start,
+        ped_xy, direction[k], centre[k], half_length[k], ped_radius,
+    )  # fmt: skip
+    has = np.zeros(n, np.bool_)
+    veh_in = np.zeros(n, np.bool_)
+    ped_in = np.zeros(n, np.bool_)
+    has[on], veh_in[on], ped_in[on] = zone, v_in, p_in
     return has, veh_in, ped_in

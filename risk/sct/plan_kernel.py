@@ -437,3 +437,66 @@ def decide_speeds(
     for a in range(len(w)):
         out[k[a]] = v[a, pick[a], 1]
     return out
+
+
+@njit(cache=True)
+def decide_rows(
+    rows: np.ndarray,
+    speed: np.ndarray,
+    accel: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    xyz: np.ndarray,
+    v_max: np.ndarray,
+    a_free: np.ndarray,
+    engaged: np.ndarray,
+    veh_slot: np.ndarray,
+    ped_rows: np.ndarray,
+    margin: float,
+    radius: float,
+    s0: np.ndarray,
+    cum: np.ndarray,
+    count: np.ndarray,
+    first: np.ndarray,
+    start: np.ndarray,
+    unit: np.ndarray,
+    cum_start: np.ndarray,
+    seg_cos: np.ndarray,
+    seg_sin: np.ndarray,
+    tracks: np.ndarray,
+    exposed: np.ndarray,
+    times: np.ndarray,
+    act2: float,
+    upto: int,
+    sct_safe: float,
+    targets: np.ndarray,
+    order: np.ndarray,
+    jerk: float,
+    stop_speed: float,
+    area_reach: np.ndarray,
+    area_centre: np.ndarray,
+    area_corners: np.ndarray,
+) -> np.ndarray:
+    """decide_speeds for vehicle rows ``rows`` (V,) of a state's columns (speeds m/s,
+    accelerations m/s^2, sizes m, ``xyz`` (N, 3) m) and its pedestrian rows ``ped_rows``:
+    the vehicles' shapes are their rectangles grown by ``margin`` m, the pedestrians' discs of
+    ``radius`` m (the near test's reach: circumscribed circle, disc and slack), each vehicle's
+    allowed speed at least its own (SCTController.decide's arrays, built here)."""
+    v0 = speed[rows]
+    length_v, width_v = length[rows], width[rows]
+    half_x, half_y = 0.5 * length_v + margin, 0.5 * width_v + margin
+    reach2 = np.empty(len(rows))
+    veh_reach = np.empty(len(rows))
+    for i in range(len(rows)):
+        reach = math.hypot(half_x[i], half_y[i]) + radius + 1e-6
+        reach2[i] = reach * reach
+        veh_reach[i] = 0.5 * math.hypot(length_v[i], width_v[i])
+    ped_now = np.empty((len(ped_rows), 2))
+    for j in range(len(ped_rows)):
+        ped_now[j, 0], ped_now[j, 1] = xyz[ped_rows[j], 0], xyz[ped_rows[j], 1]
+    return decide_speeds(
+        v0, accel[rows], np.maximum(v_max, v0), a_free, engaged, veh_slot[rows], length_v,
+        width_v, reach2, half_x, half_y, radius, s0, cum, count, first, start, unit, cum_start,
+        seg_cos, seg_sin, ped_now, tracks, exposed, times, act2, upto, sct_safe, targets, order,
+        jerk, stop_speed, veh_reach, area_reach, area_centre, area_corners,
+    )  # fmt: skip
