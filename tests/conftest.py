@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 import os
 import shutil
 import tempfile
@@ -69,27 +68,10 @@ _TEMP_KEY = pytest.StashKey[tuple[Path, str | None]]()
 
 @pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> object | None:
-    """``-n 2`` (``make test``): each test goes to whichever worker is free, except that the
-    tests of a module with a module-scoped fixture (a reference sweep, a study, a recorded run,
-    a browser) go to one worker together, which builds the fixture once. Those groups are
-    handed out first, so that no long one is left for the end. (pytest-xdist's own ``--dist
-    loadgroup`` would do the grouping, but under pytest 9 its group suffix no longer reaches
-    the test ids.)"""
-    if config.getvalue("dist") != "load":
-        return None
-    from xdist.scheduler import LoadScopeScheduling
+    """``-n 2`` (``make test``): the suite's scheduler (tests/xdist_schedule.py)."""
+    from xdist_schedule import make_scheduler
 
-    class ModuleFixtureScheduling(LoadScopeScheduling):
-        def _split_scope(self, nodeid: str) -> str:
-            module = nodeid.split("::", 1)[0]
-            return module if _has_module_fixture(config.rootpath / module) else nodeid
-
-    return ModuleFixtureScheduling(config, log)
-
-
-@functools.cache
-def _has_module_fixture(path: Path) -> bool:
-    return 'scope="module"' in path.read_text()
+    return make_scheduler(config, log)
 
 
 @pytest.fixture(scope="session")
