@@ -389,15 +389,13 @@ class ScenarioEngine:
             bank.n_fired = n_fired
             if not n_fired:
                 if ended or not placed:  # the storyboard ends them, then the commands
-                    rows = self._advance_rows[1]
-                    road = self.table.road_ids[self.table.road_code[rows[0]]]
+                    rows = self._motion_rows()[0]
                     finish_pass(
-                        self.roads.odr, self._actor_list, rows, road, ended, missing,
-                        lat_ended, placed,
+                        self.roads.odr, self._actor_list, rows, self.table.road[rows[0]],
+                        ended, missing, lat_ended, placed,
                     )  # fmt: skip
-                    self._finish_actions(self.now)
-                    changed = command_step(*self._command_args())
-                return self._send(sim, changed, self._report())
+                    changed = None
+                return self._command_and_send(sim, changed)
             fired = bank.fired
         else:
             view = self._view()
@@ -424,7 +422,12 @@ class ScenarioEngine:
         # when no action can end (see _finish_actions), the commands are computed in the
         # motion pass's compiled call
         idle = (len(self.tree.log), self.table.motion_version) == self._idle[1]
-        changed = self._advance(self._command_args() if idle else None)
+        return self._command_and_send(sim, self._advance(self._command_args() if idle else None))
+
+    def _command_and_send(self, sim: Simulation, changed: np.ndarray | None) -> StepReport:
+        """Send the step's commands and return its report; ``changed``: the rows whose SUMO
+        lane is to be looked up again, from a motion pass that computed the commands (None:
+        it did not, as actions may have ended: they are ended first, then commanded)."""
         if changed is None:
             self._finish_actions(self.now)
             changed = command_step(*self._command_args())
@@ -462,8 +465,7 @@ class ScenarioEngine:
         view = self._view()
         if view.located:
             return None
-        self._advance(None, rows_only=True)
-        _, on_road, on_path = self._advance_rows
+        on_road, on_path = self._motion_rows()
         motion = None if on_path else quiet_motion(self.roads.odr, tb, on_road, self.dt)
         if motion is None:
             return None
@@ -574,19 +576,22 @@ class ScenarioEngine:
         self.instances.setdefault(ai, []).append(inst)
 
     # ------------------------------------------------------------------ motion
-    def _advance(self, command: tuple | None = None, rows_only: bool = False) -> np.ndarray | None:
-        """Move the driven actors to the next step; ``command``: the arguments of
-        ``command_step``, run in the same compiled call when the pass ends nothing (returns
-        its result; None: not run). ``rows_only``: only find the rows (``_advance_rows``)."""
-        nxt = self.now + self.dt
+    def _motion_rows(self) -> tuple[np.ndarray, list[int]]:
+        """The driven rows on roads and those following paths (kept for the view and motion
+        versions: free changes only with the motion version)."""
         view, tb = self._view(), self.table
-        key = (view.version, tb.motion_version)  # free changes only with the motion version
+        key = (view.version, tb.motion_version)
         if self._advance_rows is None or self._advance_rows[0] != key:
             on_road = np.flatnonzero(view.driven & ~tb.free)
             self._advance_rows = (key, on_road, np.flatnonzero(view.driven & tb.free).tolist())
-        if rows_only:
-            return None
-        _, on_road, on_path = self._advance_rows
+        return self._advance_rows[1], self._advance_rows[2]
+
+    def _advance(self, command: tuple | None = None) -> np.ndarray | None:
+        """Move the driven actors to the next step; ``command``: the arguments of
+        ``command_step``, run in the same compiled call when the pass ends nothing (returns
+        its result; None: not run)."""
+        nxt = self.now + self.dt
+        on_road, on_path = self._motion_rows()
         changed = advance_road_actors(
             self.roads.odr, self._actor_list, on_road, nxt, self.dt, None if on_path else command
         )

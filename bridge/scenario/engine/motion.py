@@ -386,9 +386,9 @@ def advance_road_actors(
         if all(odr.road(road).straight for road, _ in groups):
             tb.straight_groups = groups
     read_targets(tb)
-    one = groups[0][0] if len(groups) == 1 and groups[0][1] is rows else None
-    plan = odr.road(one).plan_view if one is not None else None
-    if plan is not None and not tb.lat_offsets:  # the whole step in one compiled call
+    one = _one_pass_road(odr, tb, rows, groups)
+    if one is not None:  # the whole step in one compiled call
+        road, plan = one
         args = (rows, now, *tb.pass_args(odr, rows, dt, plan))
         if command is None:
             ended, missing, lat_ended, placed = MK.advance_and_place(*args)
@@ -396,7 +396,7 @@ def advance_road_actors(
             ended, missing, lat_ended, placed, changed = CK.advance_and_command(*args, *command)
             if not ended and placed:
                 return changed
-        finish_pass(odr, actors, rows, one, ended, missing, lat_ended, placed)
+        finish_pass(odr, actors, rows, road, ended, missing, lat_ended, placed)
         return None
     ended = MK.advance_long(
         rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par, tb.long_done
@@ -434,16 +434,26 @@ def quiet_motion(odr: OpenDriveMap, table: ActorTable, rows: np.ndarray, dt: flo
     lines and arcs, no lateral offset following another entity (read in Python every step);
     else None. Goals following other entities are read by the caller before the call
     (``read_targets``)."""
-    if not len(rows) or table.lat_offsets:
+    if not len(rows):
         return None
     table.refresh(odr)
     groups = table.groups(rows)
-    if len(groups) != 1 or groups[0][1] is not rows or groups is not table.straight_groups:
+    one = _one_pass_road(odr, table, rows, groups)
+    if one is None or groups is not table.straight_groups:
+        return None
+    return (rows, *table.pass_args(odr, rows, dt, one[1]))
+
+
+def _one_pass_road(
+    odr: OpenDriveMap, table: ActorTable, rows: np.ndarray, groups: list[tuple[str, np.ndarray]]
+) -> tuple[str, PlanView] | None:
+    """The road of ``rows`` (grouped by road as ``groups``) and its PlanView when their step
+    runs in one compiled pass: all on one road of lines and arcs, and no lateral offset
+    following another entity (read in Python between the passes); else None."""
+    if table.lat_offsets or len(groups) != 1 or groups[0][1] is not rows:
         return None
     plan = odr.road(groups[0][0]).plan_view
-    if plan is None:
-        return None
-    return (rows, *table.pass_args(odr, rows, dt, plan))
+    return None if plan is None else (groups[0][0], plan)
 
 
 def read_targets(table: ActorTable) -> None:
