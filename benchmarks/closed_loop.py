@@ -28,11 +28,11 @@ from pathlib import Path
 
 from raw_cast import raw_cast_seconds, static_mesh
 
-from hiyari.bridge.scenario.engine import ScenarioEngine
-from hiyari.bridge.scenario.presets import build_scenario
-from hiyari.bridge.scenario.run import RunOptions, run_concrete
-from hiyari.bridge.scenario.toml_file import ConcreteScenario
-from hiyari.bridge.stack.interfaces import EgoStep
+from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.loop.stack.interfaces import EgoStep
+from hiyari.bridge.openscenario.engine import ScenarioEngine
+from hiyari.bridge.openscenario.presets.scenarios import build_scenario
+from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.sensors.rig import SensorRig
 from hiyari.traffic.commands import SPEED_MODE_DEFAULT
 from hiyari.traffic.simulation import SimConfig, Simulation

@@ -46,10 +46,10 @@ from pathlib import Path
 import numpy as np
 from raw_cast import RawCast, raw_cast_seconds, static_mesh
 
-from hiyari.bridge.campaign.r157_judge import JudgeOptions, JudgeReport, judge, point_scenario
-from hiyari.bridge.scenario.engine import ScenarioEngine
-from hiyari.bridge.scenario.presets import ScenarioConstants, build_scenario
-from hiyari.bridge.scenario.warm import WarmCache
+from hiyari.bridge.loop.warm import WarmCache
+from hiyari.bridge.openscenario.engine import ScenarioEngine
+from hiyari.bridge.openscenario.presets.scenarios import ScenarioConstants, build_scenario
+from hiyari.bridge.studies.r157_judge import JudgeOptions, JudgeReport, judge, point_scenario
 from hiyari.risk.cc.r157_points import R157Config, R157Point, generate_points
 from hiyari.traffic.simulation import SimConfig, Simulation
 from hiyari.units import G

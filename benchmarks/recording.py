@@ -35,13 +35,13 @@ from pathlib import Path
 import numpy as np
 from mcap.reader import make_reader
 
+from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.loop.traffic_recording import record_traffic
+from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.bridge.record import format as fmt
 from hiyari.bridge.record.reader import Recording
 from hiyari.bridge.record.recorder import Recorder, RecorderConfig
-from hiyari.bridge.record.traffic import record_traffic
 from hiyari.bridge.replay.export import export_html
-from hiyari.bridge.scenario.run import RunOptions, run_concrete
-from hiyari.bridge.scenario.toml_file import ConcreteScenario
 from hiyari.net.road.geometry import RoadGeometry
 from hiyari.net.sumo.build import CityGridParams, build_city_grid
 from hiyari.sensors.outputs import HIT_STATIC, PointCloud
@@ -183,7 +183,7 @@ def closed_loop_recording(d: Path, reps: int) -> str:
     for rep in range(reps):
         for k, (name, config) in enumerate(configs.items()):
             out = d / f"cl{k}_{rep}"
-            opts = RunOptions(out_dir=out, plot=False, record=config is not None, recorder=config)
+            opts = RunOptions(out_dir=out, record=config is not None, recorder=config)
             res = run_concrete(cs, opts)
             walls[name].append(res.wall_seconds)
             sim_s = res.sim_seconds

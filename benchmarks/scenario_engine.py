@@ -39,8 +39,8 @@ from pathlib import Path
 
 import numpy as np
 
-from hiyari.bridge.scenario.engine import ScenarioEngine
-from hiyari.bridge.scenario.model import (
+from hiyari.bridge.openscenario.engine import ScenarioEngine
+from hiyari.bridge.openscenario.model import (
     AbsoluteLane,
     AbsoluteSpeed,
     Act,

@@ -11,7 +11,7 @@ interleaved so that load changes hit both sides alike:
    incidents, controller) replaced by nothing, so SUMO is stepped, read and skipped as the
    study does, but nobody is commanded (SUMO's drivers throughout): the floor that faster
    metrics and control cannot go below;
-4. the SCT arm (hiyari.bridge.campaign.sct_study.run_arm): zone and pair bounds, metrics,
+4. the SCT arm (hiyari.bridge.studies.sct.study.run_arm): zone and pair bounds, metrics,
    incident detection and the SCT controller on every vehicle.
 
 A short SCT arm (two simulated minutes) runs first and is not timed: it loads every compiled
@@ -37,8 +37,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from hiyari.bridge.campaign import sct_study
-from hiyari.bridge.campaign.sct_study import StudyConfig, build_inputs, run_arm, run_bare
+from hiyari.bridge.studies.sct import study as sct_study
+from hiyari.bridge.studies.sct.study import StudyConfig, build_inputs, run_arm, run_bare
 
 TARGET = 3.0
 

@@ -1,6 +1,6 @@
 """Soak: memory of a 48-hour incident-study arm, sampled every simulated hour.
 
-Runs one arm of the SCT incident study (bridge/campaign/sct_study.py: the unsignalised
+Runs one arm of the SCT incident study (bridge/studies/sct/study.py: the unsignalised
 pedestrian intersection, 200 cars/h and 300 pedestrians/h, metrics, incident detection and, in
 the SCT arm, the controller) as a single 48-hour run, and reads the process's resident memory
 (RSS) at every simulated hour. Baseline, measured in the same invocation in a second worker
@@ -24,8 +24,8 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from hiyari.bridge.campaign.pool import PoolOptions, report_progress, run_all
-from hiyari.bridge.campaign.sct_study import ArmTask, StudyConfig, build_inputs, run_arm
+from hiyari.bridge.studies.pool import PoolOptions, report_progress, run_all
+from hiyari.bridge.studies.sct.study import ArmTask, StudyConfig, build_inputs, run_arm
 from hiyari.traffic.simulation import SimConfig, Simulation
 
 TARGET_MB_PER_HOUR = 1.0

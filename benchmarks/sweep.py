@@ -11,8 +11,8 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
-from hiyari.bridge.campaign.sweep import SweepOptions, run_sweep
-from hiyari.bridge.scenario.toml_file import load_scenario
+from hiyari.bridge.openscenario.presets.toml_file import load_scenario
+from hiyari.bridge.studies.sweep import SweepOptions, run_sweep
 
 GRID = """
 [scenario]

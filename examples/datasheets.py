@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from hiyari.risk.cc.datasheets import write_datasheets
+from hiyari.bridge.studies.report.datasheets import write_datasheets
 from hiyari.risk.cc.model import CCParams
 
 

@@ -16,9 +16,9 @@ import argparse
 import threading
 from pathlib import Path
 
+from hiyari.bridge.loop.traffic_recording import record_simulation
 from hiyari.bridge.record.reader import Recording
 from hiyari.bridge.record.recorder import Recorder
-from hiyari.bridge.record.traffic import record_simulation
 from hiyari.net.mesh.road_mesh import build_scene_mesh
 from hiyari.net.road.geometry import RoadGeometry
 from hiyari.net.sumo.build import CityGridParams, build_city_grid

@@ -100,8 +100,8 @@ def run_scenario(
     """Run the scenario in ``path`` on SUMO with the engine; the ego (stack-driven) is held at
     its Init speed by a stand-in. ``on_step(sim, world, report, engine)`` after every update.
     Returns (engine, last report)."""
-    from hiyari.bridge.scenario.engine import ScenarioEngine
-    from hiyari.bridge.scenario.openscenario.reader import read_scenario
+    from hiyari.bridge.openscenario.engine import ScenarioEngine
+    from hiyari.bridge.openscenario.xosc.reader import read_scenario
     from hiyari.net.road.opendrive_lanes import RoadLanes
     from hiyari.traffic.simulation import SimConfig, Simulation
 

@@ -8,6 +8,7 @@ import numpy as np
 import shapely
 from numba import njit
 
+from hiyari.bridge.loop.drivers.sct_controller import SCTController, ramp_profiles, travel
 from hiyari.risk.metrics.contact import (
     ContactGeometry,
     contact_gap,
@@ -16,7 +17,6 @@ from hiyari.risk.metrics.contact import (
     safety_cushion_time,
     unprotected,
 )
-from hiyari.risk.sct.controller import SCTController, ramp_profiles, travel
 from hiyari.risk.sct.model import SCTModel, StepView
 
 

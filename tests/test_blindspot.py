@@ -6,7 +6,7 @@ from collections import Counter
 
 import pytest
 
-from hiyari.bridge.perception.blindspot.catalogue import (
+from hiyari.bridge.studies.perception.blindspot.catalogue import (
     BLIND_BY_GEOMETRY,
     GRID,
     Geometry,
@@ -15,10 +15,10 @@ from hiyari.bridge.perception.blindspot.catalogue import (
     mirror,
     occluder_cases,
 )
-from hiyari.bridge.perception.blindspot.occlusion import HIDDEN_BELOW, OcclusionProbe
-from hiyari.bridge.perception.blindspot.road import pose
-from hiyari.bridge.perception.blindspot.run import check_occlusion
-from hiyari.bridge.perception.blindspot.scenarios import initial_world
+from hiyari.bridge.studies.perception.blindspot.occlusion import HIDDEN_BELOW, OcclusionProbe
+from hiyari.bridge.studies.perception.blindspot.road import pose
+from hiyari.bridge.studies.perception.blindspot.run import check_occlusion
+from hiyari.bridge.studies.perception.blindspot.scenarios import initial_world
 
 
 def test_grid_and_text_counts():
@@ -65,8 +65,8 @@ def test_truck_ahead_hides_the_cut_in_car_from_the_lidar():
 
 
 def test_one_case_in_closed_loop_on_sumo(tmp_path):
-    from hiyari.bridge.perception.blindspot.report import write_catalogue
-    from hiyari.bridge.perception.blindspot.run import run_catalogue
+    from hiyari.bridge.studies.perception.blindspot.run import run_catalogue
+    from hiyari.bridge.studies.report.blindspot import write_catalogue
 
     name = "occ1-hid11-cut-in-left"
     (res,) = run_catalogue(tmp_path, only=[name], progress=False)

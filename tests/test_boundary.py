@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
+from hiyari.bridge.studies.report.datasheets import plot_cut_in, plot_cut_out, plot_decel
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import (
     Grid,
@@ -19,7 +20,6 @@ from hiyari.risk.cc.boundary import (
     decel_boundary_gap,
     decel_datasheet,
 )
-from hiyari.risk.cc.datasheet_plot import plot_cut_in, plot_cut_out, plot_decel
 from hiyari.risk.cc.evaluator import evaluate_cut_in, evaluate_cut_out, evaluate_decel
 from hiyari.risk.cc.model import CCParams
 

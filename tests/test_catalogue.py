@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hiyari.bridge.catalogue.space.obstruction import expand
-from hiyari.bridge.catalogue.space.taxonomy import (
+from hiyari.bridge.studies.catalogue.space.obstruction import expand
+from hiyari.bridge.studies.catalogue.space.taxonomy import (
     EgoMotion,
     Geometry,
     Motion,
@@ -93,10 +93,10 @@ def test_generated_roads_have_the_extra_lane_where_stated(tmp_path: Path, geomet
 def test_exported_case_reads_back_as_the_same_scenario(tmp_path: Path) -> None:
     """.xosc + .xodr export: hiyari's XSD-validating reader gets the same entities, Init
     positions and speeds, and the surrounding vehicle's manoeuvre."""
-    from hiyari.bridge.catalogue.evaluation.campaign import case_by_id, catalogue_cells
-    from hiyari.bridge.catalogue.space.concrete import concrete_cases, to_scenario
-    from hiyari.bridge.catalogue.space.xosc_export import export_case
-    from hiyari.bridge.scenario.openscenario.reader import read_scenario
+    from hiyari.bridge.openscenario.xosc.reader import read_scenario
+    from hiyari.bridge.studies.catalogue.evaluation.campaign import case_by_id, catalogue_cells
+    from hiyari.bridge.studies.catalogue.space.concrete import concrete_cases, to_scenario
+    from hiyari.bridge.studies.catalogue.space.xosc_export import export_case
 
     case = case_by_id("M04-front-2L-003")
     cell = next(c for c in catalogue_cells("motorway") if c.key == "M04-front-2L")

@@ -10,18 +10,23 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hiyari.bridge.campaign.pool import PoolOptions
-from hiyari.bridge.catalogue.evaluation.campaign import (
+from hiyari.bridge.openscenario.engine import ScenarioEngine
+from hiyari.bridge.studies.catalogue.evaluation.campaign import (
     CatalogueOptions,
     catalogue_cells,
     read_results,
     run_catalogue,
     run_row,
 )
-from hiyari.bridge.catalogue.evaluation.runner import CatalogueHooks, RunConfig, _road, prepare_road
-from hiyari.bridge.catalogue.space.concrete import concrete_cases, to_scenario
-from hiyari.bridge.catalogue.space.taxonomy import Motion
-from hiyari.bridge.scenario.engine import ScenarioEngine
+from hiyari.bridge.studies.catalogue.evaluation.runner import (
+    CatalogueHooks,
+    RunConfig,
+    _road,
+    prepare_road,
+)
+from hiyari.bridge.studies.catalogue.space.concrete import concrete_cases, to_scenario
+from hiyari.bridge.studies.catalogue.space.taxonomy import Motion
+from hiyari.bridge.studies.pool import PoolOptions
 from hiyari.traffic.simulation import SimConfig, Simulation
 
 STEP = 0.1

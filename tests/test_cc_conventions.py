@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from hiyari.bridge.cli.main import main
+from hiyari.bridge.studies.report.datasheets import cut_in_figure, cut_out_figure, decel_figure
 from hiyari.risk.cc.boundary import Grid, cut_in_datasheet, cut_out_datasheet, decel_datasheet
-from hiyari.risk.cc.datasheet_plot import cut_in_figure, cut_out_figure, decel_figure
 from hiyari.risk.cc.evaluator import evaluate_cut_in, evaluate_cut_out, evaluate_decel
 from hiyari.risk.cc.model import CONVENTIONS, CCParams
 from hiyari.risk.cc.reference_sim import simulate_cut_in, simulate_cut_out, simulate_decel

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from hiyari.bridge.scenario.run import run_concrete
-from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.bridge.loop.run import run_concrete
+from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 
 
 def _cs(stype, params, perception="perfect", duration=15.0, **kw):

@@ -1,7 +1,7 @@
 """The 15 ALKS reference scenarios in closed loop with hiyari's default ego stack on real SUMO:
 each runs to its stop trigger with a verdict (perfect perception), and a cut-in with the full
 sensor stack runs its first seconds, recorded and read back. The full table (both perception modes, recordings,
-replays) comes from ``python -m hiyari.bridge.scenario.alks_results``."""
+replays) comes from ``python -m hiyari.bridge.studies.alks``."""
 
 from __future__ import annotations
 
@@ -10,10 +10,10 @@ from pathlib import Path
 import pytest
 from openscenario_files import ALKS
 
+from hiyari.bridge.loop.engine_run import EgoSetup
+from hiyari.bridge.loop.run import RunOptions
+from hiyari.bridge.loop.xosc_runs import load_plan, run_xosc
 from hiyari.bridge.record.reader import Recording
-from hiyari.bridge.scenario.engine_run import EgoSetup
-from hiyari.bridge.scenario.run import RunOptions
-from hiyari.bridge.scenario.xosc_runs import load_plan, run_xosc
 
 FILES = sorted(ALKS.glob("alks_scenario_*.xosc"))
 #: The two 5-minute free drives: capped at 20 s here (the table runs them whole).
@@ -46,7 +46,7 @@ def test_alks_cut_in_with_sensors_records_perceived_objects(tmp_path: Path) -> N
     README's table): the sensors see the cut-in car, the recording holds every step."""
     path = next(p for p in FILES if "4_4_1" in p.stem)
     (run,) = load_plan(path, EgoSetup(perception="sensors", max_duration=4.0)).expand()
-    res = run_xosc(run, RunOptions(out_dir=tmp_path, record=True, plot=False))
+    res = run_xosc(run, RunOptions(out_dir=tmp_path, record=True))
     assert not res.stop_trigger and not res.collision
     assert res.detection["fusion"].target_frames == 0  # no fixed target in a .xosc run
     assert res.detection["fusion"].true_positives > 0

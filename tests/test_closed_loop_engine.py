@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 from openscenario_files import ALKS, scenario_xml, story, teleport_speed, time_condition, write
 
+from hiyari.bridge.loop.engine_run import EgoSetup, StackContext, default_stack, run_scenario
+from hiyari.bridge.loop.run import RunOptions
+from hiyari.bridge.openscenario.xosc.reader import read_scenario
 from hiyari.bridge.record.reader import Recording
-from hiyari.bridge.scenario.engine_run import EgoSetup, StackContext, default_stack, run_scenario
-from hiyari.bridge.scenario.openscenario.reader import read_scenario
-from hiyari.bridge.scenario.run import RunOptions
 
 
 def test_stack_brakes_for_a_stopping_lead_and_the_gap_is_the_kernels(tmp_path: Path) -> None:
@@ -34,7 +34,7 @@ def test_stack_brakes_for_a_stopping_lead_and_the_gap_is_the_kernels(tmp_path: P
     seen = []
     res = run_scenario(
         sc,
-        RunOptions(out_dir=tmp_path / "out", plot=False),
+        RunOptions(out_dir=tmp_path / "out"),
         on_step=lambda w, s, c: seen.append(
             np.hypot(*(w.xyz[w.index("Lead"), :2] - w.xyz[w.index("Ego"), :2])) - 5.0
         ),
@@ -87,7 +87,7 @@ def test_alks_cut_in_recorded_and_replayed_with_a_user_stack(tmp_path: Path) -> 
 
     sc = read_scenario(next(ALKS.glob("alks_scenario_4_4_1_*.xosc")))
     out = tmp_path / "run"
-    res = run_scenario(sc, RunOptions(out_dir=out, record=True, plot=False), stack_factory=factory)
+    res = run_scenario(sc, RunOptions(out_dir=out, record=True), stack_factory=factory)
     assert len(made) == 1 and made[0].ego_id == "Ego"
     assert made[0].set_speed == pytest.approx(60 / 3.6)  # Ego_InitSpeed_Ve0_kph = 60
     assert res.stop_trigger and not res.collision

@@ -8,7 +8,7 @@ from collections import Counter
 
 import pytest
 
-from hiyari.bridge.perception.coverage_run import parse_sensors, write_coverage
+from hiyari.bridge.studies.perception.coverage_run import parse_sensors, write_coverage
 from hiyari.errors import HiyariError
 from hiyari.sensors.coverage.coverage import merged_list, principle_coverage
 from hiyari.sensors.coverage.disturbances import load_disturbances

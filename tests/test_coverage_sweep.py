@@ -4,8 +4,13 @@ from __future__ import annotations
 
 import pytest
 
-from hiyari.bridge.perception.sweep import SweepConfig, conditions, levels, sweep_disturbance
-from hiyari.bridge.perception.sweep_report import write_sweep
+from hiyari.bridge.studies.perception.sweep import (
+    SweepConfig,
+    conditions,
+    levels,
+    sweep_disturbance,
+)
+from hiyari.bridge.studies.report.perception_sweep import write_sweep
 from hiyari.errors import HiyariError
 from hiyari.sensors.coverage.disturbances import load_disturbances
 from hiyari.sensors.detection_range import RangeStudy

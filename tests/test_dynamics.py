@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from hiyari.bridge.studies.grip.road import MotionDisturbance, expressway_profile
 from hiyari.errors import HiyariError
 from hiyari.net.sumo.build import ExpresswayParams
 from hiyari.risk.dynamics.grip import band, quasi_static_grip_use
-from hiyari.risk.dynamics.road import MotionDisturbance, expressway_profile
 from hiyari.risk.dynamics.vehicle import VehicleParams, crosswind_force, simulate
 from hiyari.units import G
 

@@ -7,14 +7,14 @@ import math
 import numpy as np
 import pytest
 
-from hiyari.bridge.stack.aeb import (
+from hiyari.bridge.loop.stack.aeb import (
     AEBConfig,
     AEBPlanner,
     AEBStage,
     time_to_collision,
     track_extent,
 )
-from hiyari.bridge.stack.fusion import KalmanFusion
+from hiyari.bridge.loop.stack.fusion import KalmanFusion
 from hiyari.kinematics import Pose
 from hiyari.sensors.outputs import ObjectList
 

@@ -10,9 +10,9 @@ import pytest
 import shapely
 from openscenario_files import ALKS
 
-from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
-from hiyari.bridge.scenario.engine.kernels import motion_kernel as MK
-from hiyari.bridge.scenario.engine.kernels.snapshot import (
+from hiyari.bridge.openscenario.engine.conditions import ConditionBank, Snapshot
+from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
+from hiyari.bridge.openscenario.engine.kernels.snapshot import (
     F_ACCEL,
     F_HEADING,
     F_ROAD_DIR,
@@ -21,8 +21,8 @@ from hiyari.bridge.scenario.engine.kernels.snapshot import (
     F_SPEED,
     gather_entities,
 )
-from hiyari.bridge.scenario.engine.positions import Pose
-from hiyari.bridge.scenario.model import (
+from hiyari.bridge.openscenario.engine.positions import Pose
+from hiyari.bridge.openscenario.model import (
     Condition,
     CoordinateSystem,
     DistanceType,
@@ -33,7 +33,7 @@ from hiyari.bridge.scenario.model import (
     TimeHeadwayCondition,
     TimeToCollisionCondition,
 )
-from hiyari.bridge.scenario.model.conditions import (
+from hiyari.bridge.openscenario.model.conditions import (
     AccelerationCondition,
     DistanceCondition,
     ReachPositionCondition,
@@ -41,7 +41,7 @@ from hiyari.bridge.scenario.model.conditions import (
     SpeedCondition,
     StandStillCondition,
 )
-from hiyari.bridge.scenario.model.positions import WorldPosition
+from hiyari.bridge.openscenario.model.positions import WorldPosition
 from hiyari.kinematics import footprint_corners, footprint_distance
 from hiyari.net.road.opendrive_lanes import OpenDriveMap
 

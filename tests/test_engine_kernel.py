@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
-from hiyari.bridge.scenario.engine.kernels import measures as M
-from hiyari.bridge.scenario.engine.kernels.snapshot import F_HEADING, gather_entities
-from hiyari.bridge.scenario.model import (
+from hiyari.bridge.openscenario.engine.conditions import ConditionBank, Snapshot
+from hiyari.bridge.openscenario.engine.kernels import measures as M
+from hiyari.bridge.openscenario.engine.kernels.snapshot import F_HEADING, gather_entities
+from hiyari.bridge.openscenario.model import (
     Condition,
     CoordinateSystem,
     DistanceType,

@@ -11,14 +11,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hiyari.bridge.scenario.engine.kernels import motion_kernel as MK
-from hiyari.bridge.scenario.engine.kernels.command_kernel import (
+from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
+from hiyari.bridge.openscenario.engine.kernels.command_kernel import (
     advance_and_command,
     command_rows,
     command_step,
     lane_keys,
 )
-from hiyari.bridge.scenario.engine.kernels.shapes import CUBIC, LINEAR, SINUSOIDAL
+from hiyari.bridge.openscenario.engine.kernels.shapes import CUBIC, LINEAR, SINUSOIDAL
 from hiyari.kinematics import point_ahead, vehicle_to_world
 from hiyari.net.road.lane_profile import lane_profile
 from hiyari.net.road.opendrive_lanes import LaneSection, LaneSpec, OpenDriveMap, Poly3

@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hiyari.bridge.scenario.engine import ScenarioEngine
-from hiyari.bridge.scenario.engine import executor as executor_module
-from hiyari.bridge.scenario.model import (
+from hiyari.bridge.openscenario.engine import ScenarioEngine
+from hiyari.bridge.openscenario.engine import executor as executor_module
+from hiyari.bridge.openscenario.model import (
     AbsoluteLane,
     AbsoluteSpeed,
     Act,
@@ -43,7 +43,7 @@ from hiyari.bridge.scenario.model import (
     TimeToCollisionCondition,
     TransitionDynamics,
 )
-from hiyari.bridge.scenario.model.actions import RelativeSpeed
+from hiyari.bridge.openscenario.model.actions import RelativeSpeed
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.net.sumo.opendrive import import_opendrive
 from hiyari.traffic.actor_class import ActorClass

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from hiyari.bridge.scenario.result import RunResult
+from hiyari.bridge.loop.result import RunResult
 from hiyari.risk.metrics.false_braking import false_braking
 
 INF = math.inf

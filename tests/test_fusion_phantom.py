@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from hiyari.bridge.stack.aeb import ACCConfig, AEBPlanner
-from hiyari.bridge.stack.fusion import KalmanFusion
+from hiyari.bridge.loop.stack.aeb import ACCConfig, AEBPlanner
+from hiyari.bridge.loop.stack.fusion import KalmanFusion
 from hiyari.kinematics import Pose
 from hiyari.sensors.outputs import ObjectList
 

@@ -60,9 +60,9 @@ COMMAND_IMPORTS = (
     "hiyari.net.mesh.export",
     "hiyari.net.mesh.road_mesh",
     "hiyari.net.sumo.opendrive",
-    "hiyari.bridge.campaign.sweep",
-    "hiyari.bridge.scenario.run",
-    "hiyari.bridge.scenario.xosc_runs",
+    "hiyari.bridge.studies.sweep",
+    "hiyari.bridge.loop.run",
+    "hiyari.bridge.loop.xosc_runs",
     "hiyari.bridge.record.recover",
     "hiyari.bridge.replay.export",
 )
@@ -414,8 +414,8 @@ def _toml_run_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -
     for _ in range(50):
         toml, what = _mutant(rng.choice(corpus.tomls), mutate_toml, rng, work)
         try:
-            from hiyari.bridge.campaign.sweep import count_runs
-            from hiyari.bridge.scenario.toml_file import load_scenario
+            from hiyari.bridge.openscenario.presets.toml_file import load_scenario
+            from hiyari.bridge.studies.sweep import count_runs
 
             logical = load_scenario(toml)
             if count_runs(logical) <= 2 and logical.duration <= 10.0:
@@ -485,7 +485,7 @@ def _xosc_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -> li
 
 def _xosc_run_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -> list[Case]:
     """ALKS mutants that pass the reader, run on SUMO for 3 s of scenario time."""
-    from hiyari.bridge.scenario.xosc_runs import load_plan
+    from hiyari.bridge.loop.xosc_runs import load_plan
 
     for attempt in range(50):
         source = rng.choice(corpus.xosc)

@@ -9,10 +9,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from hiyari.bridge.campaign.r157_judge import JudgeOptions, judge
-from hiyari.bridge.scenario.decided import speed_envelope
-from hiyari.bridge.scenario.warm import ProcessCache
-from hiyari.bridge.stack.aeb import ACCConfig, AEBConfig, AEBPlanner
+from hiyari.bridge.loop.decided import speed_envelope
+from hiyari.bridge.loop.stack.aeb import ACCConfig, AEBConfig, AEBPlanner
+from hiyari.bridge.loop.warm import ProcessCache
+from hiyari.bridge.studies.r157_judge import JudgeOptions, judge
 from hiyari.kinematics import Pose
 from hiyari.net.sumo.build import R157RoadParams, build_r157_road
 from hiyari.risk.cc.boundary import Grid

@@ -9,6 +9,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 LAYER = {"hiyari": 0, "net": 1, "traffic": 2, "sensors": 3, "risk": 3, "bridge": 4}
+#: bridge's wings, bottom to top (equal numbers: side by side, neither imports the other)
+BRIDGE_LAYER = {"openscenario": 0, "record": 0, "loop": 1, "replay": 1, "studies": 2, "cli": 3}
 
 
 @functools.cache  # parsed once for the tests of this file (they only read the trees)
@@ -47,6 +49,33 @@ def test_packages_import_only_layers_below():
             if other is None or other == pkg:
                 continue
             if LAYER[other] >= LAYER[pkg]:
+                bad.append(f"{path.relative_to(ROOT)} imports {name}")
+    assert not bad, "\n".join(bad)
+
+
+def _wing_of(module: str) -> str | None:
+    parts = module.split(".")
+    if parts[:2] != ["hiyari", "bridge"] or len(parts) < 3:
+        return None
+    return parts[2]
+
+
+def test_bridge_wings_import_only_wings_below():
+    """Inside bridge/: openscenario and record at the bottom, then loop and replay, then
+    studies, then cli; a wing imports only wings below it (or itself)."""
+    wings = set(BRIDGE_LAYER)
+    found = {p.name for p in (ROOT / "bridge").iterdir() if (p / "__init__.py").is_file()}
+    assert found == wings, f"bridge wings {sorted(found)} are not the layered ones {sorted(wings)}"
+    bad = []
+    for pkg, path, tree in _modules():
+        if pkg != "bridge" or path.parent == ROOT / "bridge":
+            continue
+        wing = path.relative_to(ROOT / "bridge").parts[0]
+        for name in _imported(tree):
+            other = _wing_of(name)
+            if other is None or other == wing:
+                continue
+            if BRIDGE_LAYER[other] >= BRIDGE_LAYER[wing]:
                 bad.append(f"{path.relative_to(ROOT)} imports {name}")
     assert not bad, "\n".join(bad)
 

@@ -18,7 +18,7 @@ from openscenario_files import (
     write,
 )
 
-from hiyari.bridge.scenario.model import (
+from hiyari.bridge.openscenario.model import (
     AbsoluteSpeed,
     ActivateControllerAction,
     DistanceType,
@@ -31,9 +31,9 @@ from hiyari.bridge.scenario.model import (
     SpeedAction,
     TeleportAction,
 )
-from hiyari.bridge.scenario.openscenario.distributions import read_distribution
-from hiyari.bridge.scenario.openscenario.expressions import evaluate
-from hiyari.bridge.scenario.openscenario.reader import read_scenario
+from hiyari.bridge.openscenario.xosc.distributions import read_distribution
+from hiyari.bridge.openscenario.xosc.expressions import evaluate
+from hiyari.bridge.openscenario.xosc.reader import read_scenario
 from hiyari.errors import HiyariError
 from hiyari.traffic.actor_class import ActorClass
 

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-from hiyari.bridge.campaign.r157_judge import JudgeOptions, judge, judge_figure
 from hiyari.bridge.cli.main import main
+from hiyari.bridge.studies.r157_judge import JudgeOptions, judge, judge_figure
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import Grid
 from hiyari.risk.cc.evaluator import evaluate_cut_in

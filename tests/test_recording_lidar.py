@@ -16,12 +16,12 @@ from google.protobuf.message import Message
 from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
+from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.bridge.record import lidar_scan
 from hiyari.bridge.record.foxglove_convert import unpack_point_cloud
 from hiyari.bridge.record.reader import Recording
 from hiyari.bridge.record.recorder import Recorder, RecorderConfig
-from hiyari.bridge.scenario.run import RunOptions, run_concrete
-from hiyari.bridge.scenario.toml_file import ConcreteScenario
 from hiyari.errors import HiyariError
 from hiyari.sensors.environment.conditions import Environment
 from hiyari.sensors.frames import Mount
@@ -155,8 +155,8 @@ def test_recording_a_closed_loop_run_does_not_change_it(tmp_path: Path) -> None:
         {"ve0_kmh": 40.0, "ped_speed_kmh": 5.0, "impact_fraction": 0.5},
         perception="sensors",
     )
-    plain = run_concrete(cs, RunOptions(plot=False))
-    recorded = run_concrete(cs, RunOptions(out_dir=tmp_path, record=True, plot=False))
+    plain = run_concrete(cs, RunOptions())
+    recorded = run_concrete(cs, RunOptions(out_dir=tmp_path, record=True))
     rec = Recording.open(tmp_path / "run.mcap")
     assert rec.lidar_sensors and len(rec.point_cloud("lidar", len(rec) - 1)) > 1000
     a, b = plain.series.columns(), recorded.series.columns()

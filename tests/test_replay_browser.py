@@ -26,7 +26,7 @@ import pytest
 from test_recording_data import record_run
 
 from hiyari.bridge.cli.main import main
-from hiyari.bridge.replay.style import CLASS_COLORS, EGO_COLOR
+from hiyari.bridge.record.style import CLASS_COLORS, EGO_COLOR
 from hiyari.traffic import ActorClass
 
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"

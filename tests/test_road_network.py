@@ -6,9 +6,9 @@ from __future__ import annotations
 import pytest
 import sumolib
 
-from hiyari.bridge.scenario.presets import build_scenario
-from hiyari.bridge.scenario.run import build_stack
-from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.bridge.loop.run import build_stack
+from hiyari.bridge.openscenario.presets.scenarios import build_scenario
+from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.errors import HiyariError
 from hiyari.net.road import geometry as geometry_module
 from hiyari.net.road.network import RoadNetwork

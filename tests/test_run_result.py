@@ -7,10 +7,10 @@ import csv
 import json
 import math
 
-from hiyari.bridge.campaign.sweep import RESULT_KEYS as SWEEP_KEYS
-from hiyari.bridge.scenario.result import JUDGE_KEYS, RESULT_FIELDS, RESULT_KEYS, RunResult
-from hiyari.bridge.scenario.run import write_result
-from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.bridge.loop.result import JUDGE_KEYS, RESULT_FIELDS, RESULT_KEYS, RunResult
+from hiyari.bridge.loop.run import write_result
+from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
+from hiyari.bridge.studies.sweep import RESULT_KEYS as SWEEP_KEYS
 
 
 def _result() -> RunResult:
@@ -43,7 +43,7 @@ def test_one_list_of_result_fields():
 def test_result_files_round_trip(tmp_path):
     r = _result()
     cs = ConcreteScenario("cut-in", "x", 0, 1, 10.0, 0.05, {"ve0_kmh": 45.0})
-    write_result(r, cs, tmp_path, plot=False)
+    write_result(r, cs, tmp_path)
     doc = json.loads((tmp_path / "result.json").read_text())
     assert doc["result"]["collided_with"] == "other"
     with (tmp_path / "timeseries.csv").open() as f:

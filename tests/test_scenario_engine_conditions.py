@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from hiyari.bridge.scenario.engine.conditions import ConditionBank, Snapshot
-from hiyari.bridge.scenario.model import Condition, Edge, Rule, SimulationTimeCondition
+from hiyari.bridge.openscenario.engine.conditions import ConditionBank, Snapshot
+from hiyari.bridge.openscenario.model import Condition, Edge, Rule, SimulationTimeCondition
 
 DT = 0.1
 

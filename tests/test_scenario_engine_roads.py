@@ -74,8 +74,8 @@ def test_lane_positions_land_on_the_right_sumo_lane(work: Path, xodr: Path) -> N
 def test_teleported_actor_is_where_the_lane_position_says(work: Path) -> None:
     """An entity teleported to road 0 / lane -4 / s = 700 on the curved road appears in the
     WorldState with its box centre 1.4 m ahead of that point along the lane (within 0.1 m)."""
-    from hiyari.bridge.scenario.engine import ScenarioEngine
-    from hiyari.bridge.scenario.openscenario.reader import read_scenario
+    from hiyari.bridge.openscenario.engine import ScenarioEngine
+    from hiyari.bridge.openscenario.xosc.reader import read_scenario
 
     xml = scenario_xml(
         {"Ego": "", "Car": ""},

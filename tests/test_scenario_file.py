@@ -8,10 +8,10 @@ from pathlib import Path
 
 import pytest
 
-from hiyari.bridge.scenario.toml_file import load_scenario
+from hiyari.bridge.openscenario.presets.toml_file import load_scenario
 from hiyari.errors import HiyariError
 
-SCENARIOS = Path(__file__).resolve().parents[1] / "bridge" / "scenario" / "library"
+SCENARIOS = Path(__file__).resolve().parents[1] / "bridge" / "openscenario" / "presets" / "library"
 
 
 def _write(tmp_path, text: str) -> Path:

@@ -6,9 +6,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hiyari.bridge.scenario.engine import ScenarioEngine
-from hiyari.bridge.scenario.presets import PresetRun, ScenarioConstants, build_scenario
-from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.bridge.openscenario.engine import ScenarioEngine
+from hiyari.bridge.openscenario.presets.scenarios import (
+    PresetRun,
+    ScenarioConstants,
+    build_scenario,
+)
+from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.risk.cc.trajectory import cut_in_tracks, cut_out_tracks, decel_tracks
 from hiyari.traffic.simulation import SimConfig, Simulation
 from hiyari.units import G

@@ -9,7 +9,7 @@ from dataclasses import replace
 import pytest
 from lxml import etree
 
-from hiyari.bridge.campaign.sct_study import StudyConfig, build_inputs, run_arm
+from hiyari.bridge.studies.sct.study import StudyConfig, build_inputs, run_arm
 
 pytestmark = [pytest.mark.timeout(600), pytest.mark.slow]
 
@@ -53,7 +53,7 @@ def test_sensitivity_points_and_files(tmp_path):
 
     import matplotlib.image
 
-    from hiyari.bridge.campaign.sct_sensitivity import (
+    from hiyari.bridge.studies.sct.sensitivity import (
         SensitivityGrid,
         run_sensitivity,
         write_sensitivity,

@@ -9,7 +9,8 @@ import numpy as np
 import shapely
 from sct_reference import near_pairs
 
-from hiyari.bridge.campaign.sct_scan import zone_scan
+from hiyari.bridge.loop.drivers.sct_controller import ramp_profiles, travel
+from hiyari.bridge.studies.sct.scan import zone_scan
 from hiyari.kinematics import footprint_corners, overlap_depth
 from hiyari.risk.metrics.contact import (
     ContactGeometry,
@@ -27,7 +28,6 @@ from hiyari.risk.sct.contact_kernel import (
     pair_time_bounds,
     within_reach,
 )
-from hiyari.risk.sct.controller import ramp_profiles, travel
 from hiyari.risk.sct.model import PathTable, Segments
 from hiyari.risk.sct.pair_kernel import crossing_zones
 from hiyari.risk.sct.plan_kernel import _ramps, stops_on_crossing

@@ -8,16 +8,16 @@ from multiprocessing import get_context
 import numpy as np
 import pytest
 
-from hiyari.errors import HiyariError
-from hiyari.net.sumo.build import IntersectionParams, build_intersection
-from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
-from hiyari.risk.sct.controller import (
+from hiyari.bridge.loop.drivers.sct_controller import (
     G,
     SCTController,
     SCTControllerConfig,
     ramp_profiles,
     travel,
 )
+from hiyari.errors import HiyariError
+from hiyari.net.sumo.build import IntersectionParams, build_intersection
+from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
 from hiyari.risk.sct.model import SCTModel
 from hiyari.traffic import SimConfig, Simulation
 

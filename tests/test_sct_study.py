@@ -9,9 +9,9 @@ import matplotlib.image
 import numpy as np
 import pytest
 
-from hiyari.bridge.campaign.sct_report import summarise, write_report
-from hiyari.bridge.campaign.sct_study import StudyConfig, build_inputs, run_tasks
 from hiyari.bridge.cli.main import main
+from hiyari.bridge.studies.report.sct import summarise, write_report
+from hiyari.bridge.studies.sct.study import StudyConfig, build_inputs, run_tasks
 from hiyari.risk.metrics.incidents import write_encounters_csv
 
 pytestmark = pytest.mark.timeout(300)

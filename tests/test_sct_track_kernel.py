@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 import shapely
 
+from hiyari.bridge.loop.drivers.sct_controller import SCTController
 from hiyari.kinematics import heading_vector
 from hiyari.net.sumo.build import IntersectionParams, build_intersection
 from hiyari.risk.metrics.contact import (
@@ -21,7 +22,6 @@ from hiyari.risk.metrics.contact import (
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
 from hiyari.risk.sct.area_kernel import AreaTest, locate_xy
 from hiyari.risk.sct.contact_kernel import within_reach
-from hiyari.risk.sct.controller import SCTController
 from hiyari.risk.sct.model import SCTModel
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState

@@ -16,11 +16,11 @@ import numpy as np
 import pytest
 from sct_reference import reference_decide, reference_pair_metrics
 
-from hiyari.bridge.campaign.sct_study import StudyConfig, build_inputs, run_arm
+from hiyari.bridge.loop.drivers.sct_controller import SCTController
+from hiyari.bridge.studies.sct.study import StudyConfig, build_inputs, run_arm
 from hiyari.net.sumo.build import IntersectionParams, build_intersection
 from hiyari.risk.metrics.incidents import write_encounters_csv
 from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
-from hiyari.risk.sct.controller import SCTController
 from hiyari.risk.sct.model import SCTModel, StepView
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.commands import Commands

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from hiyari.bridge.campaign.sweep import SweepOptions, read_table, run_sweep
-from hiyari.bridge.scenario.toml_file import load_scenario
+from hiyari.bridge.openscenario.presets.toml_file import load_scenario
+from hiyari.bridge.studies.sweep import SweepOptions, read_table, run_sweep
 from hiyari.errors import HiyariError
 
 GRID = """
@@ -114,7 +114,7 @@ def test_killed_sweep_resumes_only_missing_rows(reference, tmp_path):
 def test_failing_run_is_recorded(tmp_path, monkeypatch):
     mod = tmp_path / "exploding_stack.py"
     mod.write_text(
-        "from hiyari.bridge.scenario.run import build_stack\n"
+        "from hiyari.bridge.loop.run import build_stack\n"
         "from dataclasses import replace\n"
         "def Exploding(cs, net):\n"
         "    if cs.params['ve0_kmh'] == 24:\n"

@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.patches import Rectangle
 
-from hiyari.bridge.scenario.result import RunResult
-from hiyari.bridge.scenario.run import plot_timeseries, timeseries_figure
+from hiyari.bridge.loop.result import RunResult
+from hiyari.bridge.studies.report.timeseries import plot_timeseries, timeseries_figure
 from hiyari.units import G
 
 

@@ -28,8 +28,8 @@ from foxglove_schemas_protobuf.SceneEntity_pb2 import SceneEntity
 from foxglove_schemas_protobuf.SceneUpdate_pb2 import SceneUpdate
 
 from hiyari.bridge.record.format import WORLD_FRAME
+from hiyari.bridge.record.style import EGO_COLOR, class_colors, material_color, source_color
 from hiyari.bridge.record.wire import FixedLayout, key, varint
-from hiyari.bridge.replay.style import EGO_COLOR, class_colors, material_color, source_color
 from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.sensors.outputs import CameraFrame, PointCloud, RadarDetections
 from hiyari.traffic.world_state import WorldState

@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 import viser
 
+from hiyari.bridge.record import style as style
 from hiyari.bridge.record.foxglove_convert import yaw_quats
 from hiyari.bridge.record.reader import Recording
-from hiyari.bridge.replay import style as style
 from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
 from hiyari.traffic.world_state import WorldState
 

@@ -196,7 +196,7 @@ def travel_rows(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Speeds and distances (n, K) of acceleration profiles ``accel`` (n, K) m/s^2 from
     speeds ``v0`` (n,) m/s within 0 .. ``v_max`` (n,) m/s, sampled every ``dt`` s, braking
-    profiles stopping below ``stop_speed``: hiyari.risk.sct.controller.travel per row."""
+    profiles stopping below ``stop_speed``: hiyari.bridge.loop.drivers.sct_controller.travel per row."""
     n, k_count = accel.shape
     v = np.empty((n, k_count))
     s = np.empty((n, k_count))
@@ -265,7 +265,7 @@ def pair_time_bounds(
     """(V, P) lower bounds (s) on when vehicles (centres ``vxy`` (V, 2) m, circumscribed
     ``reach`` (V,) m, speeds (V,) m/s) and pedestrians (``pxy`` (P, 2) m, disc ``radius`` m,
     at most ``ped_speed`` m/s) could touch: at their current speeds, and with the vehicle
-    accelerating at ``accel`` m/s^2 (hiyari.bridge.campaign.sct_study's bound, per scalar)."""
+    accelerating at ``accel`` m/s^2 (hiyari.bridge.studies.sct.study's bound, per scalar)."""
     n_v, n_p = len(vxy), len(pxy)
     tau_now = np.empty((n_v, n_p))
     tau_acc = np.empty((n_v, n_p))

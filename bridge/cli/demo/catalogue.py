@@ -4,14 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from hiyari.bridge.campaign.pool import PoolOptions
-from hiyari.bridge.catalogue.evaluation.campaign import (
+from hiyari.bridge.studies.catalogue.evaluation.campaign import (
     CatalogueOptions,
     catalogue_cells,
     run_catalogue,
 )
-from hiyari.bridge.catalogue.evaluation.runner import RunConfig
-from hiyari.bridge.catalogue.report import write_report
+from hiyari.bridge.studies.catalogue.evaluation.runner import RunConfig
+from hiyari.bridge.studies.pool import PoolOptions
+from hiyari.bridge.studies.report.catalogue import write_report
 
 
 def run_catalogue_demo(out: Path, runs_per_cell: int, workers: int) -> dict:

@@ -5,13 +5,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from hiyari.bridge.campaign.r157_judge import JudgeOptions, judge, write_report
+from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.bridge.record.reader import Recording
 from hiyari.bridge.replay.export import export_html
-from hiyari.bridge.scenario.run import RunOptions, run_concrete
-from hiyari.bridge.scenario.toml_file import ConcreteScenario
+from hiyari.bridge.studies.r157_judge import JudgeOptions, judge, write_report
+from hiyari.bridge.studies.report.datasheets import write_datasheets
+from hiyari.bridge.studies.report.timeseries import plot_timeseries
 from hiyari.risk.cc.boundary import Grid
-from hiyari.risk.cc.datasheets import write_datasheets
 from hiyari.risk.cc.r157_points import R157Config, generate_points, write_points_csv
 
 CUT_IN = {"ve0_kmh": 60.0, "vo0_kmh": 30.0, "dx0_m": 25.0, "vy_ms": 1.0}
@@ -48,7 +49,9 @@ def run_sensor_scenario(
         perception="sensors",
         environment=environment,
     )
-    res = run_concrete(cs, RunOptions(out_dir=out_dir, progress=True, record=True))
+    res = run_concrete(
+        cs, RunOptions(out_dir=out_dir, progress=True, record=True, plot=plot_timeseries)
+    )
     return res.as_dict()
 
 

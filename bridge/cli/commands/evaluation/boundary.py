@@ -91,7 +91,7 @@ def _grid(text: str, name: str) -> Grid:
 
 def run(args: argparse.Namespace) -> int:
     # matplotlib is loaded when a datasheet is drawn, not for the other commands
-    from hiyari.risk.cc.datasheet_plot import plot_cut_in, plot_cut_out, plot_decel
+    from hiyari.bridge.studies.report.datasheets import plot_cut_in, plot_cut_out, plot_decel
 
     params = model_params(args)
     out = Path(args.out)

@@ -34,19 +34,19 @@ def evaluate(args: argparse.Namespace) -> int:
 
     from tqdm import tqdm
 
-    from hiyari.bridge.campaign.pool import PoolOptions
-    from hiyari.bridge.catalogue.evaluation.campaign import (
+    from hiyari.bridge.studies.catalogue.evaluation.campaign import (
         CatalogueOptions,
         catalogue_cells,
         run_catalogue,
     )
-    from hiyari.bridge.catalogue.evaluation.runner import RunConfig
-    from hiyari.bridge.catalogue.report import write_report
+    from hiyari.bridge.studies.catalogue.evaluation.runner import RunConfig
+    from hiyari.bridge.studies.pool import PoolOptions
+    from hiyari.bridge.studies.report.catalogue import write_report
 
     out = Path(args.out)
     if args.export:
-        from hiyari.bridge.catalogue.evaluation.campaign import case_by_id
-        from hiyari.bridge.catalogue.space.xosc_export import export_case
+        from hiyari.bridge.studies.catalogue.evaluation.campaign import case_by_id
+        from hiyari.bridge.studies.catalogue.space.xosc_export import export_case
 
         for run_id in args.export.split(","):
             case = case_by_id(run_id, args.catalogue, args.seed)
@@ -93,7 +93,7 @@ def evaluate(args: argparse.Namespace) -> int:
     cells = catalogue_cells(args.catalogue, options.ranges)
     structures = Path(args.structures) if args.structures else out / "structures"
     if not (structures / "coverage.md").is_file():  # seconds: always part of the argument
-        from hiyari.bridge.perception.coverage_run import parse_sensors, write_coverage
+        from hiyari.bridge.studies.perception.coverage_run import parse_sensors, write_coverage
 
         write_coverage(parse_sensors("camera,radar,lidar"), structures)
     run_conf["structures folder"] = str(structures)

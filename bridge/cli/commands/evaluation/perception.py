@@ -10,7 +10,7 @@ from hiyari.bridge.cli import numbers
 
 
 def _coverage(args: argparse.Namespace) -> int:
-    from hiyari.bridge.perception.coverage_run import parse_sensors, write_coverage
+    from hiyari.bridge.studies.perception.coverage_run import parse_sensors, write_coverage
 
     text, paths = write_coverage(parse_sensors(args.sensors), Path(args.out))
     print(text)
@@ -20,8 +20,8 @@ def _coverage(args: argparse.Namespace) -> int:
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from hiyari.bridge.perception.sweep import SweepConfig
-    from hiyari.bridge.perception.sweep_run import run_sweep
+    from hiyari.bridge.studies.perception.sweep import SweepConfig
+    from hiyari.bridge.studies.perception.sweep_run import run_sweep
 
     cfg = SweepConfig(levels=args.levels, frames=args.frames, seed=args.seed)
     rows, paths = run_sweep(args.disturbances, cfg, Path(args.out))
@@ -32,8 +32,8 @@ def _sweep(args: argparse.Namespace) -> int:
 
 
 def _grip(args: argparse.Namespace) -> int:
-    from hiyari.risk.dynamics.report import write_grip_report
-    from hiyari.risk.dynamics.study import GripStudy, run_study
+    from hiyari.bridge.studies.grip.study import GripStudy, run_study
+    from hiyari.bridge.studies.report.grip import write_grip_report
 
     study = GripStudy()
     paths = write_grip_report(run_study(study, progress=True), study, Path(args.out))
@@ -44,8 +44,8 @@ def _grip(args: argparse.Namespace) -> int:
 
 
 def _blindspots(args: argparse.Namespace) -> int:
-    from hiyari.bridge.perception.blindspot.report import write_catalogue
-    from hiyari.bridge.perception.blindspot.run import run_catalogue
+    from hiyari.bridge.studies.perception.blindspot.run import run_catalogue
+    from hiyari.bridge.studies.report.blindspot import write_catalogue
 
     out = Path(args.out)
     results = run_catalogue(out / "blindspot_roads", not args.no_run, args.cases or None)

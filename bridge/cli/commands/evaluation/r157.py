@@ -70,7 +70,7 @@ def add_points(sub: argparse._SubParsersAction) -> None:
 
 
 def run_judge(args: argparse.Namespace) -> int:
-    from hiyari.bridge.campaign.r157_judge import JudgeOptions, judge, write_report
+    from hiyari.bridge.studies.r157_judge import JudgeOptions, judge, write_report
     from hiyari.risk.cc.r157_points import load_point_params, load_points
 
     points = load_points(args.points)

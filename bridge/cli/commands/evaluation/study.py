@@ -11,15 +11,15 @@ from hiyari.bridge.cli import numbers
 from hiyari.errors import HiyariError
 
 if TYPE_CHECKING:
-    from hiyari.bridge.campaign.sct_study import StudyConfig
+    from hiyari.bridge.studies.sct.study import StudyConfig
 
 
 def study_config(args: argparse.Namespace) -> StudyConfig:
     """The StudyConfig the command line asks for (validated)."""
     # the study loads SUMO and the SCT model: imported when it runs, not for `hiyari --help`
-    from hiyari.bridge.campaign.sct_study import VARIANTS, StudyConfig
+    from hiyari.bridge.loop.drivers.sct_controller import SCTControllerConfig
+    from hiyari.bridge.studies.sct.study import VARIANTS, StudyConfig
     from hiyari.risk.metrics.incidents import IncidentConfig
-    from hiyari.risk.sct.controller import SCTControllerConfig
 
     variants = tuple(v.strip() for v in args.variants.split(",") if v.strip())
     if args.variants == "both":
@@ -45,13 +45,13 @@ def study_config(args: argparse.Namespace) -> StudyConfig:
 
 
 def run_sct(args: argparse.Namespace) -> int:
-    from hiyari.bridge.campaign.sct_report import (
+    from hiyari.bridge.studies.report.sct import (
         SEED_REDUCTION,
         reduction,
         summarise,
         write_report,
     )
-    from hiyari.bridge.campaign.sct_study import run_study
+    from hiyari.bridge.studies.sct.study import run_study
 
     config = study_config(args)
     if args.jobs is not None and args.jobs < 1:
@@ -60,7 +60,7 @@ def run_sct(args: argparse.Namespace) -> int:
     results, wall = run_study(config, out, args.jobs, progress=not args.quiet)
     sensitivity = None
     if args.sensitivity:
-        from hiyari.bridge.campaign.sct_sensitivity import run_sensitivity
+        from hiyari.bridge.studies.sct.sensitivity import run_sensitivity
 
         sensitivity = (
             args.sensitivity,
@@ -99,7 +99,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _sct_arguments(s: argparse.ArgumentParser) -> None:
-    from hiyari.bridge.campaign.sct_study import StudyConfig
+    from hiyari.bridge.studies.sct.study import StudyConfig
 
     d = StudyConfig()
     s.add_argument("--out", "-o", default="out/study_sct", help="report folder")

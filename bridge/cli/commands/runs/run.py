@@ -14,9 +14,9 @@ from hiyari.bridge.cli import numbers
 from hiyari.errors import HiyariError, about
 
 if TYPE_CHECKING:
-    from hiyari.bridge.scenario.engine_run import EgoSetup
-    from hiyari.bridge.scenario.result import RunResult
-    from hiyari.bridge.scenario.run import RunOptions
+    from hiyari.bridge.loop.engine_run import EgoSetup
+    from hiyari.bridge.loop.result import RunResult
+    from hiyari.bridge.loop.run import RunOptions
 
 
 def run(args: argparse.Namespace) -> int:
@@ -29,7 +29,7 @@ def run(args: argparse.Namespace) -> int:
 
 def ego_setup(args: argparse.Namespace) -> EgoSetup:
     """The EgoSetup the command line asks for (OpenSCENARIO runs)."""
-    from hiyari.bridge.scenario.engine_run import EgoSetup
+    from hiyari.bridge.loop.engine_run import EgoSetup
 
     return EgoSetup(
         perception=args.perception or "perfect",
@@ -43,7 +43,7 @@ def ego_setup(args: argparse.Namespace) -> EgoSetup:
 def _run_xosc(args: argparse.Namespace) -> int:
     import tempfile
 
-    from hiyari.bridge.scenario.xosc_runs import load_plan, run_xosc
+    from hiyari.bridge.loop.xosc_runs import load_plan, run_xosc
 
     plan = load_plan(args.scenario, ego_setup(args))
     if plan.count() > args.max_runs:
@@ -74,14 +74,20 @@ def _run_each(
 ) -> None:
     """Run every concrete run (a ConcreteScenario or an .xosc run: ``index``, ``seed``,
     ``params``, ``label()``) into its folder, print each verdict and write results.csv."""
-    from hiyari.bridge.scenario.run import RunOptions
+    from hiyari.bridge.loop.run import RunOptions
+    from hiyari.bridge.studies.report.timeseries import plot_timeseries
 
     out = Path(args.out)
     record = len(runs) == 1 if args.record is None else args.record
     rows = []
     for run in runs:
         folder = out / f"run{run.index:04d}" if len(runs) > 1 else out
-        res = run_one(run, RunOptions(out_dir=folder, progress=not args.quiet, record=record))
+        res = run_one(
+            run,
+            RunOptions(
+                out_dir=folder, progress=not args.quiet, record=record, plot=plot_timeseries
+            ),
+        )
         rows.append({"index": run.index, "seed": run.seed, **run.params, **res.row()})
         _print_run(run.label(), res, folder, record)
     _write_table(out, rows)
@@ -114,9 +120,9 @@ def _write_table(out: Path, rows: list[dict]) -> None:
 def _run(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
-    from hiyari.bridge.campaign.sweep import count_runs
-    from hiyari.bridge.scenario.run import run_concrete
-    from hiyari.bridge.scenario.toml_file import load_scenario
+    from hiyari.bridge.loop.run import run_concrete
+    from hiyari.bridge.openscenario.presets.toml_file import load_scenario
+    from hiyari.bridge.studies.sweep import count_runs
 
     logical = load_scenario(args.scenario)
     n = count_runs(logical)

@@ -13,10 +13,10 @@ from hiyari.errors import HiyariError, about
 
 
 def run(args: argparse.Namespace) -> int:
-    from hiyari.bridge.campaign.sweep import SweepOptions, count_runs, run_sweep
     from hiyari.bridge.cli.commands.runs.run import ego_setup
-    from hiyari.bridge.scenario.toml_file import load_scenario
-    from hiyari.bridge.scenario.xosc_runs import is_openscenario, load_plan
+    from hiyari.bridge.loop.xosc_runs import is_openscenario, load_plan
+    from hiyari.bridge.openscenario.presets.toml_file import load_scenario
+    from hiyari.bridge.studies.sweep import SweepOptions, count_runs, run_sweep
 
     with about(args.scenario, Path(args.scenario).resolve()):
         if is_openscenario(args.scenario):

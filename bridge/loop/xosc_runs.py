@@ -1,0 +1,144 @@
+"""OpenSCENARIO files as runs: a scenario file is one run, a ParameterValueDistribution file
+the runs of its parameter sets; each run reads its scenario with its parameter values and goes
+through :func:`~hiyari.bridge.loop.engine_run.run_scenario`.
+
+The plan reads and checks the scenario with the first run's values before anything runs (a bad
+file, parameter, catalog or road is one line naming the file and element, and nothing is
+written); run ``k`` is seeded ``seed + k`` as TOML runs are.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from hiyari.bridge.loop.engine_run import EgoSetup, import_road, run_scenario
+from hiyari.bridge.loop.result import RunResult
+from hiyari.bridge.loop.run import RunOptions
+from hiyari.bridge.openscenario.model.storyboard import Scenario
+from hiyari.bridge.openscenario.xosc import document
+from hiyari.bridge.openscenario.xosc.distributions import read_distribution
+from hiyari.bridge.openscenario.xosc.reader import read_scenario
+from hiyari.errors import HiyariError
+
+
+@dataclass(frozen=True)
+class XoscRun:
+    """One concrete run: the scenario file, its parameter values (file text) and the ego setup
+    (``setup.seed`` is this run's seed). ``road_net``: an OpenDRIVE file and the SUMO net
+    already imported from it (used when the scenario's road is that file)."""
+
+    scenario: Path
+    name: str
+    index: int
+    params: dict[str, str]
+    setup: EgoSetup
+    road_net: tuple[Path, Path] | None = None
+    type: str = "openscenario"
+
+    @property
+    def seed(self) -> int:
+        """The run's seed (SUMO and sensors)."""
+        return self.setup.seed
+
+    def label(self) -> str:
+        """Short id, e.g. 'cut_in#3 Ego_InitSpeed_Ve0_kph=60.0'."""
+        vals = " ".join(f"{k}={v}" for k, v in self.params.items())
+        return f"{self.name}#{self.index}" + (f" {vals}" if vals else "")
+
+    def load(self) -> Scenario:
+        """The scenario with this run's parameter values."""
+        return read_scenario(self.scenario, self.params)
+
+
+@dataclass(frozen=True)
+class XoscPlan:
+    """The runs of an OpenSCENARIO scenario or distribution file (``path``, as given)."""
+
+    path: str
+    name: str
+    scenario: Path
+    param_sets: tuple[dict[str, str], ...]
+    setup: EgoSetup
+    road: Path
+    road_net: tuple[Path, Path] | None = None
+
+    @property
+    def parameter_names(self) -> list[str]:
+        """Every parameter any run sets, in first-seen order."""
+        names: dict[str, None] = {}
+        for p in self.param_sets:
+            names.update(dict.fromkeys(p))
+        return list(names)
+
+    @property
+    def varied(self) -> list[str]:
+        """Numeric parameters whose value differs between runs (the sweep plot's axes)."""
+        out = []
+        for k in self.parameter_names:
+            vals = {p.get(k) for p in self.param_sets}
+            if len(vals) > 1 and all(_is_number(v) for v in vals):
+                out.append(k)
+        return out
+
+    def count(self) -> int:
+        """Number of runs."""
+        return len(self.param_sets)
+
+    def expand(self) -> list[XoscRun]:
+        """The concrete runs, run ``k`` seeded ``setup.seed + k``."""
+        return [
+            XoscRun(
+                self.scenario,
+                self.name,
+                k,
+                dict(p),
+                replace(self.setup, seed=self.setup.seed + k),
+                self.road_net,
+            )
+            for k, p in enumerate(self.param_sets)
+        ]
+
+    def with_road_imported(self, folder: Path) -> XoscPlan:
+        """This plan with its road imported once into ``folder`` for every run (sweeps)."""
+        sc = read_scenario(self.scenario, self.param_sets[0])
+        return replace(self, road_net=(self.road, import_road(sc, folder)))
+
+
+def _is_number(v: str | None) -> bool:
+    try:
+        float(v)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
+def is_openscenario(path: str | Path) -> bool:
+    """Whether ``path`` names an OpenSCENARIO file (by its extension)."""
+    return Path(path).suffix.lower() == ".xosc"
+
+
+def load_plan(path: str | Path, setup: EgoSetup | None = None) -> XoscPlan:
+    """The runs of the scenario or distribution file ``path``, checked (see module)."""
+    setup = setup or EgoSetup()
+    root = document.load(path)
+    if root.find("ParameterValueDistribution") is not None:
+        dist = read_distribution(path, setup.seed)
+        scenario, sets = dist.scenario, dist.runs
+    else:
+        scenario, sets = Path(path).resolve(), ({},)
+    if not sets:
+        raise HiyariError(f"{path}: the distribution gives no run")
+    first = read_scenario(scenario, sets[0])
+    if first.road_network is None:
+        raise HiyariError(f"{scenario}: <RoadNetwork> names no <LogicFile> (OpenDRIVE road)")
+    return XoscPlan(str(path), scenario.stem, scenario, tuple(sets), setup, first.road_network)
+
+
+def run_xosc(run: XoscRun, options: RunOptions | None = None) -> RunResult:
+    """Run one concrete OpenSCENARIO run in this process."""
+    sc = run.load()
+    net = None
+    if run.road_net is not None and sc.road_network == run.road_net[0]:
+        net = run.road_net[1] if run.road_net[1].is_file() else None
+    return run_scenario(sc, options, run.setup, net=net)

@@ -1,0 +1,360 @@
+"""Starting, finishing and cancelling storyboard actions on actors.
+
+Each started action is an Instance on one actor. Motion actions claim the actor's
+longitudinal and / or lateral domain; a new claim stops the action holding it (OpenSCENARIO:
+a new action of the same kind overrides the running one).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from hiyari.bridge.openscenario.engine.kernels.shapes import lateral_duration, span
+from hiyari.bridge.openscenario.engine.motion import (
+    Actor,
+    LateralTransition,
+    PathMotion,
+    SpeedTransition,
+    forward,
+    place_actor,
+)
+from hiyari.bridge.openscenario.engine.positions import Pose, lane_shift
+from hiyari.bridge.openscenario.model.actions import (
+    AbsoluteLane,
+    AbsoluteOffset,
+    AbsoluteSpeed,
+    AcquirePositionAction,
+    Action,
+    ActivateControllerAction,
+    AssignControllerAction,
+    AssignRouteAction,
+    Dimension,
+    FollowTrajectoryAction,
+    LaneChangeAction,
+    LaneOffsetAction,
+    LongitudinalDistanceAction,
+    Shape,
+    SpeedAction,
+    TeleportAction,
+)
+from hiyari.bridge.openscenario.model.entities import EntityKind
+from hiyari.bridge.openscenario.model.positions import Position
+from hiyari.errors import HiyariError
+
+if TYPE_CHECKING:
+    from hiyari.bridge.openscenario.engine.executor import ScenarioEngine
+
+_MOTION = (
+    SpeedAction,
+    LongitudinalDistanceAction,
+    LaneChangeAction,
+    LaneOffsetAction,
+    TeleportAction,
+    FollowTrajectoryAction,
+    AssignRouteAction,
+    AcquirePositionAction,
+)
+#: Sample spacing of route paths along a lane, m.
+ROUTE_STEP = 1.0
+
+
+@dataclass
+class Instance:
+    """One action running on one actor; ``obj`` is the transition or path it installed."""
+
+    element: int
+    actor: str
+    domains: tuple[str, ...]
+    obj: object = None
+    finished: bool = False
+
+
+class ActionStarter:
+    """Applies actions to the engine's actors."""
+
+    def __init__(self, engine: ScenarioEngine) -> None:
+        self.e = engine
+
+    # ------------------------------------------------------------------ lifecycle
+    def start(self, element: int, action: Action, actor: str, now: float, init: bool) -> Instance:
+        """Start ``action`` on ``actor`` at scenario time ``now``."""
+        body = action.body
+        eng = self.e
+        if isinstance(body, AssignControllerAction | ActivateControllerAction):
+            self._controller(actor, body)
+            return Instance(element, actor, (), finished=True)
+        initial_pose = init and isinstance(body, TeleportAction | SpeedAction) and _instant(body)
+        if isinstance(body, _MOTION) and not eng.storyboard_drives(actor) and not initial_pose:
+            eng._ego_requests.append(action.name)
+            return Instance(element, actor, (), finished=True)
+        a = eng.actors[actor]
+        try:
+            return self._motion(element, a, body, now)
+        except HiyariError as exc:
+            raise HiyariError(f"{action.source or action.name}: {exc}") from None
+
+    def done(self, inst: Instance) -> bool:
+        """Whether the instance has finished (its transition or path is over)."""
+        if inst.finished:
+            return True
+        a = self.e.actors[inst.actor]
+        if inst.obj is not None and inst.obj not in (a.long, a.lat, a.path):
+            inst.finished = True
+        return inst.finished
+
+    def cancel(self, inst: Instance) -> None:
+        """Stop the instance: remove what it installed from its actor."""
+        a = self.e.actors[inst.actor]
+        if inst.obj is a.long:
+            a.long = None
+        if inst.obj is a.lat:
+            a.lat = None
+        if inst.obj is a.path:
+            a.path = None
+        for d in inst.domains:
+            self.e.owner.pop((inst.actor, d), None)
+        inst.finished = True
+
+    def _claim(self, element: int, actor: str, domains: tuple[str, ...]) -> None:
+        for d in domains:
+            holder = self.e.owner.get((actor, d))
+            if holder is not None and holder != element and holder in self.e.instances:
+                self.e._stop(holder)
+            self.e.owner[(actor, d)] = element
+
+    def _controller(
+        self, actor: str, body: AssignControllerAction | ActivateControllerAction
+    ) -> None:
+        doms = self.e.active_domains[actor]
+        if isinstance(body, AssignControllerAction):
+            self.e.controller[actor] = body.controller
+        if body.lateral is not None:
+            doms["lateral"] = body.lateral
+        if body.longitudinal is not None:
+            doms["longitudinal"] = body.longitudinal
+
+    # ------------------------------------------------------------------ motion actions
+    def _motion(self, element: int, a: Actor, body: object, now: float) -> Instance:
+        if isinstance(body, TeleportAction):
+            self._teleport(a, self.e.resolver.resolve(body.position))
+            return Instance(element, a.name, (), finished=True)
+        if isinstance(body, SpeedAction):
+            return self._speed(element, a, body, now)
+        if isinstance(body, LongitudinalDistanceAction):
+            self._claim(element, a.name, ("longitudinal",))
+            self._gap(a, body)
+            return Instance(element, a.name, ("longitudinal",), finished=True)
+        if isinstance(body, LaneChangeAction):
+            return self._lane_change(element, a, body, now)
+        if isinstance(body, LaneOffsetAction):
+            return self._lane_offset(element, a, body, now)
+        if isinstance(body, FollowTrajectoryAction):
+            return self._trajectory(element, a, body, now)
+        waypoints = body.waypoints if isinstance(body, AssignRouteAction) else (body.position,)
+        return self._route(element, a, waypoints)
+
+    def _teleport(self, a: Actor, p: Pose) -> None:
+        a.x, a.y, a.z, a.h = p.x, p.y, p.z, p.h
+        a.path, a.lat = None, None
+        if p.road:
+            a.road, a.lane, a.s, a.t, a.free = p.road, p.lane, p.s, p.t, False
+            base = self._lane_heading(a)
+            a.h_rel = math.remainder(p.h - base, 2 * math.pi)
+        else:
+            a.free = True
+
+    def _lane_heading(self, a: Actor) -> float:
+        odr = self.e.roads.odr
+        h = float(odr.road(a.road).reference(np.array([a.s]))[2][0])
+        return h if forward(odr, a.road, a.lane) > 0 else h + math.pi
+
+    def _speed(self, element: int, a: Actor, body: SpeedAction, now: float) -> Instance:
+        tgt = body.target
+        follow: Callable[[], float] | None = None
+        if isinstance(tgt, AbsoluteSpeed):
+            goal = tgt.value
+        else:
+            ref, value, factor = tgt.entity, tgt.value, tgt.kind == "factor"
+            at_start = self.e.speed_of(ref)
+            goal = at_start * value if factor else at_start + value
+            if tgt.continuous:
+
+                def follow() -> float:
+                    base = self.e.speed_of(ref)
+                    return base * value if factor else base + value
+
+        dyn = body.dynamics
+        continuous = follow is not None
+        change = goal - a.v
+        length = span(dyn.shape, dyn.dimension, dyn.value, change, "SpeedAction")
+        self._claim(element, a.name, ("longitudinal",))
+        if length == 0.0 and not continuous:
+            a.v, a.long = goal, None
+            return Instance(element, a.name, ("longitudinal",), finished=True)
+        tr = SpeedTransition(
+            a.v, goal, follow, dyn.shape, length, dyn.dimension == Dimension.DISTANCE,
+            continuous, now,
+        )  # fmt: skip
+        a.long, a.long_travelled = tr, 0.0
+        return Instance(element, a.name, ("longitudinal",), tr)
+
+    def _gap(self, a: Actor, body: LongitudinalDistanceAction) -> None:
+        ref = self.e.pose_of(body.entity)
+        if not ref.road or not a.road:
+            raise HiyariError("LongitudinalDistanceAction needs both entities on a road")
+        gap = (
+            body.distance
+            if body.distance is not None
+            else body.time_gap * self.e.speed_of(body.entity)
+        )
+        ent_ref = self.e.actors[body.entity].entity
+        direction = forward(self.e.roads.odr, ref.road, ref.lane)
+        cx_r, cx_a = ent_ref.centre[0], a.entity.centre[0]
+        if body.displacement == "trailingReferencedEntity":
+            lead = (
+                -(gap + (cx_a + a.entity.length / 2) - (cx_r - ent_ref.length / 2))
+                if body.freespace
+                else -gap
+            )
+        else:
+            lead = (
+                (gap + (cx_r + ent_ref.length / 2) - (cx_a - a.entity.length / 2))
+                if body.freespace
+                else gap
+            )
+        a.road, a.s = ref.road, ref.s + direction * lead
+        place_actor(self.e.roads.odr, a)
+
+    def _lane_change(self, element: int, a: Actor, body: LaneChangeAction, now: float) -> Instance:
+        if isinstance(body.target, AbsoluteLane):
+            lane = body.target.lane
+        else:
+            ref = self.e.pose_of(body.target.entity)
+            direction = forward(self.e.roads.odr, ref.road, ref.lane)
+            lane = lane_shift(ref.lane, int(direction) * body.target.value)
+        dyn = body.dynamics
+        return self._lateral(
+            element, a, lane, body.target_offset, None, dyn.shape, dyn.dimension, dyn.value, now,
+            False,
+        )  # fmt: skip
+
+    def _lane_offset(self, element: int, a: Actor, body: LaneOffsetAction, now: float) -> Instance:
+        tgt = body.target
+
+        def offset() -> float:
+            if isinstance(tgt, AbsoluteOffset):
+                return tgt.value
+            ref = self.e.pose_of(tgt.entity)
+            return ref.t - self.e.roads.odr.road(ref.road).lane_t(ref.lane, ref.s) + tgt.value
+
+        fixed = offset()
+        follow = offset if body.continuous else None
+        change = self._lane_t(a.road, a.lane, a.s) + fixed - a.t
+        duration = lateral_duration(body.shape, body.max_lateral_acc, change)
+        return self._lateral(
+            element, a, a.lane, fixed, follow, body.shape, Dimension.TIME, duration, now,
+            body.continuous,
+        )  # fmt: skip
+
+    def _lane_t(self, road: str, lane: int, s: float) -> float:
+        return self.e.roads.odr.road(road).lane_t(lane, s)
+
+    def _lateral(
+        self,
+        element: int,
+        a: Actor,
+        lane: int,
+        offset: float,
+        follow: Callable[[], float] | None,
+        shape: Shape,
+        dimension: Dimension,
+        value: float,
+        now: float,
+        continuous: bool,
+    ) -> Instance:
+        if a.free or not a.road:
+            raise HiyariError(f"lateral action on {a.name!r}, which is not on a road")
+        goal = self._lane_t(a.road, lane, a.s) + offset
+        length = (
+            value
+            if dimension == Dimension.TIME and shape != Shape.STEP
+            else span(shape, dimension, value, goal - a.t, "lateral action")
+        )
+        self._claim(element, a.name, ("lateral",))
+        tr = LateralTransition(
+            a.t, a.road, lane, offset, follow, shape, length, dimension == Dimension.DISTANCE,
+            continuous, now,
+        )  # fmt: skip
+        a.lat, a.lat_travelled = tr, 0.0
+        if length == 0.0 and not continuous:
+            a.t, a.lane, a.lat = goal, lane, None
+            place_actor(self.e.roads.odr, a)
+            return Instance(element, a.name, ("lateral",), finished=True)
+        return Instance(element, a.name, ("lateral",), tr)
+
+    # ------------------------------------------------------------------ paths
+    def _trajectory(
+        self, element: int, a: Actor, body: FollowTrajectoryAction, now: float
+    ) -> Instance:
+        poses = [self.e.resolver.resolve(v.position) for v in body.trajectory.vertices]
+        pts = np.array([[p.x, p.y] for p in poses])
+        times = None
+        vt = [v.time for v in body.trajectory.vertices]
+        if body.timing is not None and all(t is not None for t in vt):
+            tm = body.timing
+            base = 0.0 if tm.absolute else now
+            times = base + tm.scale * np.array(vt, dtype=float) + tm.offset
+        headings = np.array([p.h for p in poses])
+        path = PathMotion(pts, times, headings, stop_at_end=times is not None)
+        return self._follow(element, a, path)
+
+    def _route(self, element: int, a: Actor, waypoints: tuple[Position, ...]) -> Instance:
+        start = Pose(a.x, a.y, a.z, a.h, "" if a.free else a.road, a.lane, a.s, a.t)
+        poses = [start, *(self.e.resolver.resolve(w) for w in waypoints)]
+        pts = [np.array([[start.x, start.y]])]
+        for p0, p1 in zip(poses[:-1], poses[1:], strict=True):
+            pts.append(self._leg(p0, p1))
+        path = PathMotion(
+            np.concatenate(pts), None, None, stop_at_end=a.entity.kind == EntityKind.PEDESTRIAN
+        )
+        return self._follow(element, a, path)
+
+    def _leg(self, p0: Pose, p1: Pose) -> np.ndarray:
+        """Points after ``p0`` up to ``p1``: along the lane on one road and lane, else straight."""
+        if p0.road and p0.road == p1.road and p0.lane == p1.lane:
+            n = max(2, int(abs(p1.s - p0.s) / ROUTE_STEP) + 1)
+            s = np.linspace(p0.s, p1.s, n)[1:]
+            t = np.linspace(p0.t, p1.t, n)[1:]
+            x, y, _, _ = self.e.roads.odr.road_pose(p0.road, s, t)
+            return np.column_stack([x, y])
+        return np.array([[p1.x, p1.y]])
+
+    def _follow(self, element: int, a: Actor, path: PathMotion) -> Instance:
+        self._claim(element, a.name, ("longitudinal", "lateral"))
+        a.long, a.lat, a.path, a.free = None, None, path, True
+        return Instance(element, a.name, ("longitudinal", "lateral"), path)
+
+    def follow_path(self, a: Actor, now: float) -> None:
+        """Advance a free actor along its path to scenario time ``now``."""
+        path = a.path
+        x, y, h, v, done = path.advance(now, a.v, self.e.dt)
+        a.accel = (v - a.v) / self.e.dt
+        a.x, a.y, a.h, a.v = x, y, h, v
+        if not done:
+            return
+        a.path = None
+        if path.stop_at_end:
+            a.accel, a.v = 0.0, 0.0
+            return
+        p = self.e.resolver.at_xy(a.x, a.y, a.h)
+        if p.road:
+            self._teleport(a, p)
+
+
+def _instant(body: object) -> bool:
+    return isinstance(body, TeleportAction) or body.dynamics.shape == Shape.STEP

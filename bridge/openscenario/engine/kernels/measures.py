@@ -1,0 +1,364 @@
+"""What entity conditions measure at one step, one condition row at a time, compiled.
+
+A row is one (condition, triggering entity) pair. Rows are compiled into one table
+(:class:`EntityRows`) and measured by :mod:`trigger_kernel` in one compiled loop, each row by
+the scalar functions here: pair measures (relative distance, headway, TTC to an entity),
+single-entity measures (speed, acceleration, relative speed), durations (standstill, end of
+road) and point measures (distance, reach, TTC to a position). The geometry is the
+kinematics kernel's (:mod:`hiyari.kinematics`), written out per scalar with the same operations
+in the same order, so the values are the kernel's bit for bit (tests/test_engine_kernel.py).
+Rows whose entities are absent measure NaN, which no rule holds for.
+
+Frames and units: world x, y in metres, headings in radians from world +x, speeds m/s, times
+s. An entity's ``centre`` is its bounding-box centre, ``ref`` its reference point.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from hiyari.bridge.openscenario.model.positions import LanePosition, RoadPosition, WorldPosition
+
+#: Speed below which an actor stands still, m/s.
+STANDSTILL_SPEED = 0.01
+#: Row kinds, by the group that measures them.
+REL_DIST, HEADWAY, TTC = 0, 1, 2
+SPEED, ACCEL, REL_SPEED = 3, 4, 5
+STANDSTILL, END_OF_ROAD = 6, 7
+DISTANCE, REACH, TTC_POINT = 8, 9, 10
+COLLISION = 11
+DURATION_KINDS = (STANDSTILL, END_OF_ROAD)
+POINT_KINDS = (DISTANCE, REACH, TTC_POINT)
+#: Positions that do not depend on where the entities are: resolved once.
+FIXED_POSITIONS = (WorldPosition, LanePosition, RoadPosition)
+
+
+@njit(cache=True, inline="always")
+def holds(measured: float, value: float, rule: int) -> bool:
+    """Whether ``measured`` satisfies rule code ``rule`` (index into Rule: greaterThan,
+    lessThan, equalTo, greaterOrEqual, lessOrEqual, notEqualTo) against ``value``; never for
+    a NaN measure."""
+    if measured != measured:
+        return False
+    if rule == 0:
+        return measured > value
+    if rule == 1:
+        return measured < value
+    if rule == 2:
+        return measured == value
+    if rule == 3:
+        return measured >= value
+    if rule == 4:
+        return measured <= value
+    return measured != value
+
+
+@dataclass
+class EntityRows:
+    """Every entity-condition row: owning condition, triggering entity ``a``, reference entity
+    ``b`` (-1: none), value and rule code, kind, freespace, distance type (0 euclidean,
+    1 longitudinal, 2 lateral), road coordinates (else entity) and the condition body."""
+
+    owner: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    value: np.ndarray
+    rule: np.ndarray
+    kind: np.ndarray
+    freespace: np.ndarray
+    dtype: np.ndarray
+    road: np.ndarray
+    body: list[object]
+
+    def __len__(self) -> int:
+        return len(self.owner)
+
+
+# ---------------------------------------------------------------------------------- geometry
+@njit(cache=True, inline="always")
+def _unrotate(x: float, y: float, c: float, s: float) -> tuple[float, float]:
+    """kinematics.unrotate_xy for one vector, with the cos ``c`` and sin ``s`` of the
+    heading."""
+    return x * c + y * s, -x * s + y * c
+
+
+@njit(cache=True, inline="always")
+def _max0(x: float) -> float:
+    """np.maximum(0.0, x): NaN stays NaN."""
+    return x if (x > 0.0 or x != x) else 0.0
+
+
+@njit(cache=True, inline="always")
+def _outside(x: float, y: float, half_x: float, half_y: float) -> float:
+    """kinematics._outside for one point."""
+    lx, ly = _max0(abs(x) - half_x), _max0(abs(y) - half_y)
+    if ly == 0.0:  # C99 F.9.4.3: hypot(x, 0) is fabs(x), exactly; saves the call
+        return lx
+    if lx == 0.0:
+        return ly
+    return math.hypot(lx, ly)
+
+
+@njit(cache=True, inline="always")
+def footprint_distance(
+    ax_: float,
+    ay_: float,
+    ha: float,
+    length_a: float,
+    width_a: float,
+    bx_: float,
+    by_: float,
+    hb: float,
+    length_b: float,
+    width_b: float,
+) -> float:
+    """kinematics.footprint_distance for one pair of rectangles (centres m, headings rad)."""
+    return _footprint_distance(
+        ax_, ay_, ha, math.cos(ha), math.sin(ha), length_a, width_a,
+        bx_, by_, hb, math.cos(hb), math.sin(hb), length_b, width_b,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always")
+def _footprint_distance(
+    ax_: float,
+    ay_: float,
+    ha: float,
+    cha: float,
+    sha: float,
+    length_a: float,
+    width_a: float,
+    bx_: float,
+    by_: float,
+    hb: float,
+    chb: float,
+    shb: float,
+    length_b: float,
+    width_b: float,
+) -> float:
+    """footprint_distance with the cos and sin of both headings given."""
+    dx, dy = bx_ - ax_, by_ - ay_
+    la, wa, lb, wb = 0.5 * length_a, 0.5 * width_a, 0.5 * length_b, 0.5 * width_b
+    c, s = math.cos(hb - ha), math.sin(hb - ha)
+    bx, by = _unrotate(dx, dy, cha, sha)
+    ax, ay = _unrotate(-dx, -dy, chb, shb)
+    lbc, lbs, wbc, wbs = lb * c, lb * s, wb * c, wb * s
+    lac, las, wac, was = la * c, la * s, wa * c, wa * s
+    ac, as_ = abs(c), abs(s)
+    apart = (abs(bx) > la + lb * ac + wb * as_) or (abs(by) > wa + lb * as_ + wb * ac)
+    apart = apart or (abs(ax) > lb + la * ac + wa * as_) or (abs(ay) > wb + la * as_ + wa * ac)
+    if not apart:
+        return 0.0
+    b_in_a, a_in_b = math.inf, math.inf
+    for sx, sy in ((1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)):
+        xb, yb = bx + sx * lbc - sy * wbs, by + sx * lbs + sy * wbc
+        xa, ya = ax + sx * lac + sy * was, ay - sx * las + sy * wac
+        b_in_a = min(b_in_a, _outside(xb, yb, la, wa))
+        a_in_b = min(a_in_b, _outside(xa, ya, lb, wb))
+    return min(b_in_a, a_in_b)
+
+
+# ---------------------------------------------------------------------------------- entities
+#: Fields of an entity's scalars (the tuple :func:`entity_scalars` returns): box centre x, y
+#: and reference point x, y (m), heading (rad) with its cos and sin, length and width (m),
+#: speed (m/s), acceleration (m/s^2), road s and t (m) and road direction (+1 / -1).
+E_X, E_Y, E_RX, E_RY, E_H, E_COS, E_SIN, E_LEN, E_WID, E_V, E_ACC, E_S, E_T, E_DIR = range(14)
+N_FIELDS = 14
+
+
+@njit(cache=True)
+def pack_entities(
+    centre: np.ndarray,
+    ref: np.ndarray,
+    heading: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    speed: np.ndarray,
+    accel: np.ndarray,
+    road_s: np.ndarray,
+    road_t: np.ndarray,
+    road_dir: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """Into ``out`` (E, N_FIELDS): each entity's fields (columns ``E_X`` ...), cos and sin of the
+    heading computed here. The measures read their scalars from it: a compiled function that
+    is handed many arrays per row pays a reference count per array and call (about 0.1
+    microseconds each, more than the measure itself)."""
+    for k in range(len(heading)):
+        h = heading[k]
+        out[k, E_X], out[k, E_Y], out[k, E_RX], out[k, E_RY] = (
+            centre[k, 0], centre[k, 1], ref[k, 0], ref[k, 1]
+        )  # fmt: skip
+        out[k, E_H], out[k, E_COS], out[k, E_SIN] = h, math.cos(h), math.sin(h)
+        out[k, E_LEN], out[k, E_WID], out[k, E_V], out[k, E_ACC] = (
+            length[k], width[k], speed[k], accel[k]
+        )  # fmt: skip
+        out[k, E_S], out[k, E_T], out[k, E_DIR] = road_s[k], road_t[k], road_dir[k]
+
+
+@njit(cache=True, inline="always")
+def entity_scalars(k: int, packed: np.ndarray) -> tuple:
+    """Entity ``k``'s fields (see ``E_X`` ...) from :func:`pack_entities`'s array, as one
+    tuple of floats."""
+    return (
+        packed[k, E_X], packed[k, E_Y], packed[k, E_RX], packed[k, E_RY], packed[k, E_H],
+        packed[k, E_COS], packed[k, E_SIN], packed[k, E_LEN], packed[k, E_WID],
+        packed[k, E_V], packed[k, E_ACC], packed[k, E_S], packed[k, E_T], packed[k, E_DIR],
+    )  # fmt: skip
+
+
+# ---------------------------------------------------------------------------------- pairs
+@njit(cache=True, inline="always")
+def _entity_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
+    """Distance (m) of B from A in A's frame, by distance type: between the reference points,
+    or the boxes' gap with ``fs`` (freespace)."""
+    ha, la, wa, ca, sa = ea[E_H], ea[E_LEN], ea[E_WID], ea[E_COS], ea[E_SIN]
+    if dtype == 0 and fs:
+        return _footprint_distance(
+            ea[E_X], ea[E_Y], ha, ca, sa, la, wa,
+            eb[E_X], eb[E_Y], eb[E_H], eb[E_COS], eb[E_SIN], eb[E_LEN], eb[E_WID],
+        )  # fmt: skip
+    if not fs:
+        rx, ry = _unrotate(eb[E_RX] - ea[E_RX], eb[E_RY] - ea[E_RY], ca, sa)
+        return math.hypot(rx, ry) if dtype == 0 else (abs(rx) if dtype == 1 else abs(ry))
+    bx, by = _unrotate(eb[E_X] - ea[E_X], eb[E_Y] - ea[E_Y], ca, sa)
+    # footprint_extent of B in A's frame
+    c, s = abs(math.cos(eb[E_H] - ha)), abs(math.sin(eb[E_H] - ha))
+    if dtype == 1:
+        return _max0(abs(bx) - 0.5 * la - (eb[E_LEN] * c + eb[E_WID] * s) / 2)
+    return _max0(abs(by) - 0.5 * wa - (eb[E_LEN] * s + eb[E_WID] * c) / 2)
+
+
+@njit(cache=True, inline="always")
+def _road_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
+    """Distance (m) of B from A in road coordinates, by distance type."""
+    ds = (eb[E_S] - ea[E_S]) * ea[E_DIR]
+    dt = eb[E_T] - ea[E_T]
+    lon, lat = abs(ds), abs(dt)
+    if fs:
+        lon = _max0(abs(ds) - 0.5 * (ea[E_LEN] + eb[E_LEN]))
+        lat = _max0(abs(dt) - 0.5 * (ea[E_WID] + eb[E_WID]))
+    if dtype == 1:
+        return lon
+    if dtype == 2:
+        return lat
+    return math.hypot(lon, lat)
+
+
+@njit(cache=True, inline="always")
+def _sign(x: float) -> float:
+    if x > 0.0:
+        return 1.0
+    if x < 0.0:
+        return -1.0
+    return x  # 0 or NaN, as np.sign
+
+
+@njit(cache=True, inline="always")
+def _closing(dtype: int, ea: tuple, eb: tuple) -> float:
+    """Closing speed (m/s) of A and B along the measuring direction: A's axis (longitudinal /
+    lateral) or the line between the centres (euclidean)."""
+    ca, sa, va, vb = ea[E_COS], ea[E_SIN], ea[E_V], eb[E_V]
+    dvx, dvy = va * ca - vb * eb[E_COS], va * sa - vb * eb[E_SIN]  # relative velocity
+    rx, ry = eb[E_X] - ea[E_X], eb[E_Y] - ea[E_Y]
+    n = max(math.hypot(rx, ry), 1e-9)
+    if dtype == 1:
+        dx, dy = ca, sa
+    elif dtype == 2:
+        dx, dy = -sa, ca
+    else:
+        dx, dy = rx / n, ry / n
+    return (dvx * dx + dvy * dy) * _sign(rx * dx + ry * dy)
+
+
+@njit(cache=True, inline="always")
+def pair_measure(kind: int, fs: bool, dtype: int, road: bool, ea: tuple, eb: tuple) -> float:
+    """Relative distance (m), time headway (s) or TTC (s) of present entity A to present
+    entity B (their :func:`entity_scalars`). The distance is measured only when the headway or
+    TTC needs it (B ahead and A moving; closing)."""
+    closing = 0.0
+    if kind == HEADWAY:
+        if road:
+            ahead = (eb[E_S] - ea[E_S]) * ea[E_DIR]
+        else:  # B's centre along A's axis, as _unrotate
+            ahead = (eb[E_X] - ea[E_X]) * ea[E_COS] + (eb[E_Y] - ea[E_Y]) * ea[E_SIN]
+        if not (ahead > 0 and ea[E_V] > 1e-6):
+            return math.inf
+    elif kind == TTC:
+        closing = _closing(dtype, ea, eb)
+        if not closing > 1e-9:
+            return math.inf
+    if road:
+        dist = _road_distance(fs, dtype, ea, eb)
+    else:
+        dist = _entity_distance(fs, dtype, ea, eb)
+    if kind == HEADWAY:
+        return dist / max(ea[E_V], 1e-6)
+    if kind == TTC:
+        return dist / max(closing, 1e-9)
+    return dist
+
+
+@njit(cache=True, inline="always")
+def ttc_above(value: float, ea: tuple, eb: tuple) -> bool:
+    """Whether the freespace euclidean TTC of present A to present B (``pair_measure``) is
+    certainly infinite (not closing) or above ``value`` (s, below infinity), found without
+    the footprint distance: the boxes' gap is at least the centres' distance less both
+    half-diagonals (less a micrometre per metre, far above the rounding of either)."""
+    closing = _closing(0, ea, eb)
+    if not closing > 1e-9:
+        return True
+    apart = math.hypot(eb[E_X] - ea[E_X], eb[E_Y] - ea[E_Y])
+    gap = apart - 0.5 * (math.hypot(ea[E_LEN], ea[E_WID]) + math.hypot(eb[E_LEN], eb[E_WID]))
+    margin = 1e-6 * (1.0 + apart)
+    return gap - margin > 0.0 and gap - margin > value * closing * (1.0 + 1e-9)
+
+
+# ---------------------------------------------------------------------------------- one entity
+@njit(cache=True, inline="always")
+def single_measure(kind: int, ea: tuple, speed_b: float) -> float:
+    """Speed (m/s), acceleration (m/s^2) of present entity A, or its speed relative to
+    entity B (``speed_b``; NaN: B absent)."""
+    if kind == SPEED:
+        return ea[E_V]
+    if kind == ACCEL:
+        return ea[E_ACC]
+    return ea[E_V] - speed_b
+
+
+@njit(cache=True, inline="always")
+def duration_measure(
+    kind: int, now: float, present: bool, speed: float, on_net: bool, since: float
+) -> tuple[float, float]:
+    """How long (s) an entity's state (standing still / off the road network) has lasted at
+    ``now`` (NaN: absent), and the state's start time (s; NaN: not in the state) to keep,
+    given the one kept so far (``since``)."""
+    state = speed < STANDSTILL_SPEED if kind == STANDSTILL else not on_net
+    if state and present:
+        if since != since:
+            since = now
+    else:
+        since = math.nan
+    return (now - since if present else math.nan), since
+
+
+@njit(cache=True, inline="always")
+def point_measure(kind: int, ea: tuple, px: float, py: float, fs: bool) -> float:
+    """Distance (m), reach distance (m) or TTC (s) of A to the point (``px``, ``py``) (NaN:
+    no point, i.e. A absent)."""
+    if px != px:
+        return math.nan
+    dx, dy = px - ea[E_RX], py - ea[E_RY]
+    dist = math.hypot(dx, dy)
+    if fs and kind != REACH:  # kinematics.rectangle_point_distance
+        x, y = _unrotate(px - ea[E_X], py - ea[E_Y], ea[E_COS], ea[E_SIN])
+        dist = _outside(x, y, 0.5 * ea[E_LEN], 0.5 * ea[E_WID])
+    if kind == TTC_POINT:
+        n = max(math.hypot(dx, dy), 1e-9)
+        closing = ea[E_V] * (ea[E_COS] * dx + ea[E_SIN] * dy) / n
+        return dist / max(closing, 1e-9) if closing > 1e-9 else math.inf
+    return dist

@@ -1,0 +1,277 @@
+"""One compiled pass per step over the scripted actors on roads: the running longitudinal and
+lateral transitions (stored as rows of parameters in the ActorTable) and the integration of
+s, t and v.
+
+Longitudinal: the speed goes from ``v0`` to the goal with the transition's shape over its
+span (seconds, or metres travelled); within the step the actor ramps linearly from the old to
+the new speed (up to the transition's end when it ended inside the step), and s advances by
+the distance travelled divided by (1 - curvature * t). Lateral: t goes from ``t0`` to the
+target lane's centre line (from the LaneProfile, at the new s) plus an offset. Units: s, t in
+metres, v in m/s, times in seconds of scenario time.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from hiyari.bridge.openscenario.engine.kernels.shapes import shape_progress
+from hiyari.net.road.lane_profile import lane_centre_at
+from hiyari.net.road.plan_view import road_pose_at
+
+#: The ActorTable's float columns, rows of its ``state`` matrix (one column per actor): road
+#: s and t (m), speed (m/s), acceleration (m/s^2), lateral speed (m/s), heading relative to
+#: the lane (rad), world x, y, z (m) and heading (rad), metres travelled since the running
+#: longitudinal / lateral transition started. One matrix: a kernel takes one argument for
+#: all (numba's dispatch costs about as much per argument as the kernel's work per actor).
+STATE = ("s", "t", "v", "accel", "v_lat", "h_rel", "x", "y", "z", "h",
+         "long_travelled", "lat_travelled")  # fmt: skip
+S, T, V, ACCEL, V_LAT, H_REL, X, Y, Z, H, LONG_TRAV, LAT_TRAV = range(len(STATE))
+#: Columns of the longitudinal parameter rows: start speed (m/s), goal speed (m/s; refreshed
+#: each step for targets that follow another entity), shape code, span (s or m), by distance
+#: (0 / 1), continuous (0 / 1), start time (s), goal reached (0 / 1).
+L_V0, L_GOAL, L_SHAPE, L_SPAN, L_BY_DIST, L_CONT, L_T0, L_REACHED = range(8)
+#: Columns of the lateral parameter rows: start t (m), offset from the target lane's centre
+#: (m; refreshed for continuous relative offsets), shape code, span (s or m), by distance,
+#: continuous, start time (s), target lane id, road index in the table's LaneProfile.
+T_T0, T_OFFSET, T_SHAPE, T_SPAN, T_BY_DIST, T_CONT, T_START, T_LANE, T_ROAD = range(9)
+#: Progress at or beyond which a transition has arrived.
+_ARRIVED = 1.0 - 1e-9
+
+
+@njit(cache=True)
+def _speed(p: np.ndarray, now: float, travelled: float) -> tuple[float, bool]:
+    """(speed at ``now``, done) of longitudinal parameter row ``p`` after ``travelled`` m."""
+    goal, span = p[L_GOAL], p[L_SPAN]
+    if span <= 0:
+        x = 1.0
+    else:
+        x = (travelled if p[L_BY_DIST] != 0.0 else now - p[L_T0]) / span
+    if p[L_REACHED] != 0.0 or x >= _ARRIVED:
+        p[L_REACHED] = 1.0
+        return goal, p[L_CONT] == 0.0
+    return p[L_V0] + (goal - p[L_V0]) * shape_progress(int(p[L_SHAPE]), x), False
+
+
+@njit(cache=True)
+def _lateral(p: np.ndarray, goal: float, now: float, travelled: float) -> tuple[float, bool]:
+    """(t at ``now``, done) of lateral parameter row ``p`` towards ``goal`` (m)."""
+    span = p[T_SPAN]
+    if span <= 0:
+        x = 1.0
+    else:
+        x = (travelled if p[T_BY_DIST] != 0.0 else now - p[T_START]) / span
+    if x >= _ARRIVED:
+        return goal, p[T_CONT] == 0.0
+    return p[T_T0] + (goal - p[T_T0]) * shape_progress(int(p[T_SHAPE]), x), False
+
+
+@njit(cache=True)
+def advance_long(
+    rows: np.ndarray,
+    now: float,
+    dt: float,
+    kappa: np.ndarray,
+    direction: np.ndarray,
+    st: np.ndarray,
+    has_long: np.ndarray,
+    long_par: np.ndarray,
+    long_done: np.ndarray,
+) -> int:
+    """Speeds and s of table ``rows`` one step on, at scenario time ``now`` (``kappa``:
+    reference-line curvature at each row's s before the step, 1/m, per table row); lateral
+    speeds reset to 0. Marks ``long_done`` for the transitions that ended and returns their
+    number."""
+    n_done = 0
+    for i in range(len(rows)):
+        k = rows[i]
+        v_old = st[V, k]
+        v_new = v_old
+        ramp = dt  # s of this step spent ramping from v_old to v_new
+        long_done[k] = False
+        if has_long[k]:
+            p = long_par[k]
+            v_new, done = _speed(p, now, st[LONG_TRAV, k] + v_old * dt)
+            if done:
+                long_done[k] = True
+                n_done += 1
+                if p[L_BY_DIST] == 0.0:  # ended within the step: at v_new since then
+                    ramp = min(dt, max(0.0, p[L_T0] + p[L_SPAN] - (now - dt)))
+        ds_path = 0.5 * (v_old + v_new) * ramp + v_new * (dt - ramp)
+        st[S, k] = st[S, k] + direction[k] * ds_path / max(1e-3, 1.0 - kappa[k] * st[T, k])
+        st[V, k] = v_new
+        st[ACCEL, k] = (v_new - v_old) / dt
+        st[LONG_TRAV, k] += ds_path
+        st[LAT_TRAV, k] += ds_path
+        st[V_LAT, k] = 0.0
+    return n_done
+
+
+@njit(cache=True)
+def advance_lat(
+    rows: np.ndarray,
+    now: float,
+    dt: float,
+    st: np.ndarray,
+    has_lat: np.ndarray,
+    lat_par: np.ndarray,
+    lat_done: np.ndarray,
+    rec_s0: np.ndarray,
+    rec_c: np.ndarray,
+    off_first: np.ndarray,
+    off_count: np.ndarray,
+    sec_first: np.ndarray,
+    sec_count: np.ndarray,
+    sec_s0: np.ndarray,
+    w_first: np.ndarray,
+    w_count: np.ndarray,
+    max_lane: int,
+) -> tuple[int, int]:
+    """Lateral positions (and speeds) of table ``rows`` with a running lateral transition at
+    scenario time ``now``, towards their target lane's centre at their (new) s plus the
+    offset (the last arguments: the LaneProfile's arrays, passed one by one as numba
+    dispatches a tuple of mixed arrays slowly). Marks ``lat_done`` for the transitions that
+    ended. Returns (the first row whose
+    target lane is missing at its s or -1, the number ended)."""
+    missing, n_done = -1, 0
+    for i in range(len(rows)):
+        k = rows[i]
+        lat_done[k] = False
+        if not has_lat[k]:
+            continue
+        p = lat_par[k]
+        centre, _, bad = lane_centre_at(
+            rec_s0, rec_c, off_first, off_count, sec_first, sec_count, sec_s0, w_first,
+            w_count, max_lane, int(p[T_ROAD]), int(p[T_LANE]), st[S, k],
+        )  # fmt: skip
+        if bad >= 0:
+            if missing < 0:
+                missing = k
+            continue
+        t_new, done = _lateral(p, centre + p[T_OFFSET], now, st[LAT_TRAV, k])
+        st[V_LAT, k] = (t_new - st[T, k]) / dt
+        st[T, k] = t_new
+        lat_done[k] = done
+        n_done += done
+    return missing, n_done
+
+
+@njit(cache=True)
+def advance_and_place(
+    rows: np.ndarray,
+    now: float,
+    dt: float,
+    kappa: np.ndarray,
+    direction: np.ndarray,
+    st: np.ndarray,
+    has_long: np.ndarray,
+    long_par: np.ndarray,
+    long_done: np.ndarray,
+    has_lat: np.ndarray,
+    lat_par: np.ndarray,
+    lat_done: np.ndarray,
+    lateral: bool,
+    rec_s0: np.ndarray,
+    rec_c: np.ndarray,
+    off_first: np.ndarray,
+    off_count: np.ndarray,
+    sec_first: np.ndarray,
+    sec_count: np.ndarray,
+    sec_s0: np.ndarray,
+    w_first: np.ndarray,
+    w_count: np.ndarray,
+    max_lane: int,
+    length: float,
+    geom: np.ndarray,
+    elev_s0: np.ndarray,
+    elev_c: np.ndarray,
+) -> tuple[int, int, int, bool]:
+    """One call for a step of table ``rows`` all on one road: :func:`advance_long`, then
+    (``lateral``: some row has a lateral transition) :func:`advance_lat`, then
+    :func:`place_rows` on the road of PlanView arrays ``length`` ... ``elev_c``, unless a
+    lateral transition ended or missed its lane (the caller then puts the rows on their lanes
+    and places them). Returns (longitudinal transitions ended, first row whose target lane is
+    missing or -1, lateral transitions ended, placed)."""
+    n_long = advance_long(rows, now, dt, kappa, direction, st, has_long, long_par, long_done)
+    missing, n_lat = -1, 0
+    if lateral:
+        missing, n_lat = advance_lat(
+            rows, now, dt, st, has_lat, lat_par, lat_done, rec_s0, rec_c, off_first,
+            off_count, sec_first, sec_count, sec_s0, w_first, w_count, max_lane,
+        )  # fmt: skip
+    if missing >= 0 or n_lat > 0:
+        return n_long, missing, n_lat, False
+    place_rows(rows, length, geom, elev_s0, elev_c, direction, st)
+    return n_long, missing, n_lat, True
+
+
+@njit(cache=True)
+def _remainder(a: float, b: float) -> float:
+    """numpy's float remainder (the sign of ``b``), as ``np.remainder`` computes it."""
+    mod = np.fmod(a, b)
+    if mod != 0.0:
+        if (b < 0) != (mod < 0):
+            mod += b
+    else:
+        mod = math.copysign(0.0, b)
+    return mod
+
+
+@njit(cache=True)
+def _set_pose(
+    k: int,
+    px: float,
+    py: float,
+    pz: float,
+    h_ref: float,
+    direction: np.ndarray,
+    st: np.ndarray,
+) -> None:
+    """World pose of row ``k`` at road point (``px``, ``py``, ``pz``) where the reference line
+    heads ``h_ref``: the lane's driving direction, the slip of the lateral motion and the
+    heading relative to the lane, wrapped into [-pi, pi)."""
+    v = st[V, k]
+    slip = 0.0
+    if abs(v) > 1e-6:
+        lat = direction[k] * st[V_LAT, k]
+        # atan2(+-0, v > 0) is +-0 exactly (C99 F.9.4.4): saves the call when not sliding
+        slip = math.copysign(0.0, lat) if lat == 0.0 and v > 0 else math.atan2(lat, v)
+    hh = h_ref + (0.0 if direction[k] > 0 else math.pi) + slip + st[H_REL, k]
+    st[X, k], st[Y, k], st[Z, k] = px, py, pz
+    st[H, k] = _remainder(hh + math.pi, 2 * math.pi) - math.pi
+
+
+@njit(cache=True)
+def place_rows(
+    rows: np.ndarray,
+    length: float,
+    geom: np.ndarray,
+    elev_s0: np.ndarray,
+    elev_c: np.ndarray,
+    direction: np.ndarray,
+    st: np.ndarray,
+) -> None:
+    """World poses (x, y, z, heading) of table ``rows`` from their road coordinates on the
+    road of PlanView arrays ``length``, ``geom``, ``elev_s0``, ``elev_c``."""
+    for i in range(len(rows)):
+        k = rows[i]
+        px, py, pz, h_ref = road_pose_at(length, geom, elev_s0, elev_c, st[S, k], st[T, k])
+        _set_pose(k, px, py, pz, h_ref, direction, st)
+
+
+@njit(cache=True)
+def place_posed(
+    rows: np.ndarray,
+    px: np.ndarray,
+    py: np.ndarray,
+    pz: np.ndarray,
+    h_ref: np.ndarray,
+    direction: np.ndarray,
+    st: np.ndarray,
+) -> None:
+    """As :func:`place_rows` from road points and reference headings already evaluated (one
+    per row of ``rows``)."""
+    for i in range(len(rows)):
+        _set_pose(rows[i], px[i], py[i], pz[i], h_ref[i], direction, st)

@@ -1,0 +1,356 @@
+"""One compiled pass per step over every condition of the storyboard: measure the entity rows
+of the triggers being evaluated (and the duration rows, always tracked), compare, reduce rows
+to conditions ("any" / "all"), apply edges and delays, and reduce conditions to triggers (OR
+of AND groups).
+
+The tables are built by :class:`conditions.ConditionBank`. Columns of ``cond`` (one row per
+condition): kind (``STATIC``, ``TIME``, ``STATE``, ``ENTITY``), trigger, element, state code,
+rule ("all" 0 / "any" 1 for entity conditions, the rule code for time conditions), edge
+(0 none, 1 rising, 2 falling, 3 both) and delay in steps. Columns of ``rows`` (one row per
+entity-condition row): owner condition, entity a, entity b (-1 none), rule, kind, freespace,
+distance type, road coordinates, always measured.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from hiyari.bridge.openscenario.engine.kernels.measures import (
+    COLLISION,
+    DISTANCE,
+    E_V,
+    END_OF_ROAD,
+    REL_SPEED,
+    SPEED,
+    STANDSTILL,
+    TTC,
+    TTC_POINT,
+    duration_measure,
+    entity_scalars,
+    holds,
+    pack_entities,
+    pair_measure,
+    point_measure,
+    single_measure,
+    ttc_above,
+)
+from hiyari.bridge.openscenario.engine.kernels.snapshot import (
+    F_ACCEL,
+    F_HEADING,
+    F_ROAD_DIR,
+    F_ROAD_S,
+    F_ROAD_T,
+    F_SPEED,
+    gather_entities,
+)
+
+#: Condition kinds (column 0 of the condition table).
+STATIC, TIME, STATE, ENTITY = 0, 1, 2, 3
+#: Columns of the condition table.
+C_KIND, C_TRIGGER, C_ELEMENT, C_CODE, C_RULE, C_EDGE, C_DELAY = range(7)
+#: Columns of the entity-row table.
+R_OWNER, R_A, R_B, R_RULE, R_KIND, R_FS, R_DTYPE, R_ROAD, R_ALWAYS = range(9)
+#: Element state codes below this are states; the others transitions.
+FIRST_TRANSITION = 3
+
+
+@njit(cache=True, inline="always")
+def _row_holds(
+    kind: int,
+    rule: int,
+    value: float,
+    now: float,
+    fs: bool,
+    dtype: int,
+    road: bool,
+    present_a: bool,
+    present_b: bool,
+    ea: tuple,
+    eb: tuple,
+    on_net_a: bool,
+    since: float,
+    px: float,
+    py: float,
+) -> tuple[bool, float]:
+    """Whether an entity row (not a collision row) of ``kind`` holds against ``value`` now,
+    and its duration state's start time to keep (``since``, see measures.duration_measure),
+    given its entities' presence and fields (``ea``, ``eb``: measures.entity_scalars; ``eb``
+    is any entity's when the row has none) and its point (``px``, ``py``). An absent entity
+    measures NaN, which no rule holds for. Scalars only: a compiled helper inlined with
+    array arguments pays a reference count per array and row."""
+    if STANDSTILL <= kind <= END_OF_ROAD:
+        m, since = duration_measure(kind, now, present_a, ea[E_V], on_net_a, since)
+        return holds(m, value, rule), since
+    if not present_a or ((kind < SPEED or kind == REL_SPEED) and not present_b):
+        return False, since
+    if kind < SPEED:
+        if (
+            kind == TTC
+            and fs
+            and dtype == 0
+            and not road
+            and value < math.inf
+            and ttc_above(value, ea, eb)
+        ):  # certainly above the value: every rule decides as for an infinite TTC
+            return holds(math.inf, value, rule), since
+        return holds(pair_measure(kind, fs, dtype, road, ea, eb), value, rule), since
+    if kind <= REL_SPEED:
+        return holds(single_measure(kind, ea, eb[E_V]), value, rule), since
+    if DISTANCE <= kind <= TTC_POINT:
+        return holds(point_measure(kind, ea, px, py, fs), value, rule), since
+    return False, since
+
+
+@njit(cache=True)
+def _condition_values(
+    now: float,
+    active: np.ndarray,
+    cond: np.ndarray,
+    time_value: np.ndarray,
+    static: np.ndarray,
+    rows: np.ndarray,
+    row_value: np.ndarray,
+    points: np.ndarray,
+    since: np.ndarray,
+    present: np.ndarray,
+    centre: np.ndarray,
+    ref: np.ndarray,
+    heading: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    speed: np.ndarray,
+    accel: np.ndarray,
+    on_net: np.ndarray,
+    road_s: np.ndarray,
+    road_t: np.ndarray,
+    road_dir: np.ndarray,
+    contact: np.ndarray,
+    contact_any: np.ndarray,
+    states: np.ndarray,
+    transitions: np.ndarray,
+    work: np.ndarray,
+    counts: np.ndarray,
+    raw: np.ndarray,
+) -> None:
+    """Into ``raw`` (C,): whether each condition holds now, before edges and delays
+    (conditions of inactive triggers: False; their duration rows are still tracked).
+    ``work`` (E, N_FIELDS) and ``counts`` (2, C): work arrays (the entities' fields packed, see
+    measures.pack_entities; rows holding and rows evaluated per condition)."""
+    pack_entities(
+        centre, ref, heading, length, width, speed, accel, road_s, road_t, road_dir, work
+    )  # fmt: skip
+    n = len(cond)
+    hits, count = counts[0], counts[1]
+    hits[:] = 0
+    count[:] = 0
+    for r in range(len(rows)):
+        owner = rows[r, R_OWNER]
+        on = active[cond[owner, C_TRIGGER]]
+        if not (on or rows[r, R_ALWAYS]):
+            continue
+        if rows[r, R_KIND] == COLLISION:
+            a, b = rows[r, R_A], rows[r, R_B]
+            res = contact[a, b] if b >= 0 else contact_any[a]
+        else:
+            a, b = rows[r, R_A], rows[r, R_B]
+            res, since[r] = _row_holds(
+                rows[r, R_KIND], rows[r, R_RULE], row_value[r], now, rows[r, R_FS] != 0,
+                rows[r, R_DTYPE], rows[r, R_ROAD] != 0, present[a], b >= 0 and present[b],
+                entity_scalars(a, work), entity_scalars(max(b, 0), work), on_net[a], since[r],
+                points[r, 0], points[r, 1],
+            )  # fmt: skip
+        if on:
+            count[owner] += 1
+            hits[owner] += res
+    for c in range(n):
+        raw[c] = False
+        kind = cond[c, C_KIND]
+        if kind == STATIC:
+            raw[c] = static[c]
+        elif kind == TIME:
+            raw[c] = holds(now, time_value[c], cond[c, C_RULE])
+        elif kind == STATE:
+            el, code = cond[c, C_ELEMENT], cond[c, C_CODE]
+            raw[c] = (states[el] if code < FIRST_TRANSITION else transitions[el]) == code
+        elif count[c] > 0:
+            raw[c] = hits[c] > 0 if cond[c, C_RULE] == 1 else hits[c] == count[c]
+
+
+@njit(cache=True)
+def _edges_and_delays(
+    raw: np.ndarray,
+    active: np.ndarray,
+    cond: np.ndarray,
+    prev: np.ndarray,
+    history: np.ndarray,
+    step_no: int,
+    out: np.ndarray,
+) -> None:
+    """Into ``out`` (C,): each condition's value after its edge and delay. ``prev`` (value at
+    the previous evaluation, -1: not evaluated since its trigger became active) and the ring
+    buffer ``history`` (C, H) of edged values are updated for step ``step_no``."""
+    n, size = len(cond), history.shape[1]
+    k = step_no % size
+    for c in range(n):
+        on = active[cond[c, C_TRIGGER]]
+        edge, value = cond[c, C_EDGE], raw[c]
+        if edge == 0:
+            edged = value
+        else:
+            rising = prev[c] == 0 and value and (edge == 1 or edge == 3)
+            falling = prev[c] == 1 and not value and (edge == 2 or edge == 3)
+            edged = rising or falling
+        edged = edged and on
+        prev[c] = (1 if value else 0) if on else -1
+        if size == 1:
+            out[c] = edged
+            continue
+        history[c, k] = edged
+        delay = cond[c, C_DELAY]
+        out[c] = history[c, (step_no - delay) % size] and delay <= step_no
+
+
+@njit(cache=True)
+def evaluate_triggers(
+    now: float,
+    step_no: int,
+    active: np.ndarray,
+    cond: np.ndarray,
+    time_value: np.ndarray,
+    static: np.ndarray,
+    group_start: np.ndarray,
+    trigger_group: np.ndarray,
+    prev: np.ndarray,
+    history: np.ndarray,
+    rows: np.ndarray,
+    row_value: np.ndarray,
+    points: np.ndarray,
+    since: np.ndarray,
+    present: np.ndarray,
+    centre: np.ndarray,
+    ref: np.ndarray,
+    heading: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    speed: np.ndarray,
+    accel: np.ndarray,
+    on_net: np.ndarray,
+    road_s: np.ndarray,
+    road_t: np.ndarray,
+    road_dir: np.ndarray,
+    contact: np.ndarray,
+    contact_any: np.ndarray,
+    states: np.ndarray,
+    transitions: np.ndarray,
+    work: np.ndarray,
+    counts: np.ndarray,
+    flags: np.ndarray,
+    fired: np.ndarray,
+) -> int:
+    """Into ``fired`` (T,), returning how many: the fired triggers at scenario time ``now``
+    (s), step ``step_no`` since the bank was built, given which triggers are ``active``. ``group_start`` (G + 1,):
+    first condition of each AND group (last: C); ``trigger_group`` (T + 1,): first group of
+    each trigger (last: G). Entity arrays are per entity (see measures.Snapshot);
+    ``contact`` (E, E) bool. Work arrays (reused, so a step allocates nothing): ``work``
+    (E, 14) float, ``counts`` (2, C) int64, ``flags`` (2, C) bool."""
+    raw, value = flags[0], flags[1]
+    _condition_values(
+        now, active, cond, time_value, static, rows, row_value, points, since, present,
+        centre, ref, heading, length, width, speed, accel, on_net, road_s, road_t, road_dir,
+        contact, contact_any, states, transitions, work, counts, raw,
+    )  # fmt: skip
+    _edges_and_delays(raw, active, cond, prev, history, step_no, value)
+    n_trig, n_fired = len(trigger_group) - 1, 0
+    for t in range(n_trig):
+        fired[t] = False
+        if not active[t]:
+            continue
+        for g in range(trigger_group[t], trigger_group[t + 1]):
+            all_hold = True
+            for c in range(group_start[g], group_start[g + 1]):
+                all_hold = all_hold and value[c]
+            if all_hold:
+                fired[t] = True
+                n_fired += 1
+                break
+    return n_fired
+
+
+@njit(cache=True)
+def gather_and_evaluate(
+    rows: np.ndarray,
+    xyz: np.ndarray,
+    w_heading: np.ndarray,
+    w_speed: np.ndarray,
+    w_accel: np.ndarray,
+    centre_offset: np.ndarray,
+    own: np.ndarray,
+    road_code: np.ndarray,
+    table: np.ndarray,
+    direction: np.ndarray,
+    present: np.ndarray,
+    centre: np.ndarray,
+    ref: np.ndarray,
+    ent: np.ndarray,
+    now: float,
+    step_no: int,
+    active: np.ndarray,
+    cond: np.ndarray,
+    time_value: np.ndarray,
+    static: np.ndarray,
+    group_start: np.ndarray,
+    trigger_group: np.ndarray,
+    prev: np.ndarray,
+    history: np.ndarray,
+    row_table: np.ndarray,
+    row_value: np.ndarray,
+    points: np.ndarray,
+    since: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    on_net: np.ndarray,
+    contact: np.ndarray,
+    contact_any: np.ndarray,
+    states: np.ndarray,
+    transitions: np.ndarray,
+    work: np.ndarray,
+    counts: np.ndarray,
+    flags: np.ndarray,
+    fired: np.ndarray,
+) -> int:
+    """:func:`snapshot.gather_entities` (its arguments first; ``ent``: its ``out``) and then
+    :func:`evaluate_triggers` on what it gathered, in one call (a step's snapshot and
+    triggers when no entity's road coordinates are located in Python)."""
+    gather_entities(
+        rows, xyz, w_heading, w_speed, w_accel, centre_offset, own, road_code, table,
+        direction, present, centre, ref, ent,
+    )  # fmt: skip
+    return evaluate_triggers(
+        now, step_no, active, cond, time_value, static, group_start, trigger_group, prev,
+        history, row_table, row_value, points, since, present, centre, ref, ent[F_HEADING],
+        length, width, ent[F_SPEED], ent[F_ACCEL], on_net, ent[F_ROAD_S], ent[F_ROAD_T],
+        ent[F_ROAD_DIR], contact, contact_any, states, transitions, work, counts, flags, fired,
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def road_entities(
+    active: np.ndarray,
+    row_trigger: np.ndarray,
+    road: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    n_entities: int,
+) -> np.ndarray:
+    """(E,) the entities (``a`` and ``b``, -1: none) of the entity rows in road coordinates
+    (``road``) whose trigger (``row_trigger``) is ``active``."""
+    need = np.zeros(n_entities, dtype=np.bool_)
+    for r in range(len(row_trigger)):
+        if road[r] and active[row_trigger[r]]:
+            need[a[r]] = True
+            if b[r] >= 0:
+                need[b[r]] = True
+    return need

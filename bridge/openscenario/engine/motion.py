@@ -1,0 +1,518 @@
+"""Kinematic motion of scripted actors: exact road-coordinate state advanced every step by
+the storyboard's longitudinal and lateral transitions, or moved along a path.
+
+An actor on a road holds its reference point in road coordinates (road, lane, s, t) and its
+speed v along the lane; s advances by the distance travelled divided by (1 - curvature * t),
+so the speed is the speed along the actor's own curve. t is the lateral position from the
+reference line (left positive). The state of all actors lives in one ActorTable (arrays, a
+column per entity; an Actor's attributes read and write its column), and so do the running
+transitions' parameters: a step advances every actor on a road, its transitions included, in
+compiled passes (``motion_kernel``), and places it in the world from the OpenDRIVE geometry
+(compiled for lines and arcs, else the numpy road pose). Goals that follow another entity are
+read in Python before each pass, while such a transition runs. Off-road motion (trajectories,
+routes) follows a polyline in the plane.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from hiyari.bridge.openscenario.engine.kernels import command_kernel as CK
+from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
+from hiyari.bridge.openscenario.engine.kernels.shapes import SHAPE_CODE
+from hiyari.bridge.openscenario.model.actions import Shape
+from hiyari.bridge.openscenario.model.entities import Entity
+from hiyari.net.road.lane_profile import LaneProfile, lane_profile
+from hiyari.net.road.opendrive_lanes import OpenDriveMap
+from hiyari.net.road.plan_view import PlanView
+
+
+@dataclass(eq=False)
+class SpeedTransition:
+    """Longitudinal: speed from ``v0`` to ``goal`` (m/s) with ``shape`` over ``span`` seconds
+    (``by_distance``: metres travelled) from scenario time ``t0``. ``target``: for a goal
+    that follows another entity, returns it each step. ``continuous``: keeps tracking the
+    goal after."""
+
+    v0: float
+    goal: float
+    target: Callable[[], float] | None
+    shape: Shape
+    span: float
+    by_distance: bool
+    continuous: bool
+    t0: float
+
+    def row(self) -> list[float]:
+        """Parameter row for the motion kernel (columns ``motion_kernel.L_*``)."""
+        return [self.v0, self.goal, SHAPE_CODE[self.shape], self.span, self.by_distance,
+                self.continuous, self.t0, 0.0]  # fmt: skip
+
+
+@dataclass(eq=False)
+class LateralTransition:
+    """Lateral: t from ``t0`` to the centre line of ``lane`` of road ``road`` plus ``offset``
+    (m) with ``shape`` over ``span`` seconds (or metres travelled) from scenario time
+    ``t_start``; at the end the actor is on ``lane``. ``offset_of``: for an offset that follows
+    another entity, returns it each step. ``continuous``: holds the (possibly moving) target
+    afterwards."""
+
+    t0: float
+    road: str
+    lane: int
+    offset: float
+    offset_of: Callable[[], float] | None
+    shape: Shape
+    span: float
+    by_distance: bool
+    continuous: bool
+    t_start: float
+
+    def row(self, road_code: int) -> list[float]:
+        """Parameter row for the motion kernel (columns ``motion_kernel.T_*``)."""
+        return [self.t0, self.offset, SHAPE_CODE[self.shape], self.span, self.by_distance,
+                self.continuous, self.t_start, self.lane, road_code]  # fmt: skip
+
+
+@dataclass
+class PathMotion:
+    """Motion along a polyline (x, y per vertex): by vertex times (``times``, s of scenario
+    time) or at the actor's speed; ``headings`` (rad) per vertex or None (motion direction).
+    ``stop_at_end``: the actor stands at the last vertex afterwards."""
+
+    points: np.ndarray  # (n, 2)
+    times: np.ndarray | None
+    headings: np.ndarray | None
+    stop_at_end: bool
+    travelled: float = 0.0
+
+    def __post_init__(self) -> None:
+        seg = np.linalg.norm(np.diff(self.points, axis=0), axis=1)
+        self.cum = np.concatenate([[0.0], np.cumsum(seg)])
+
+    def advance(self, now: float, v: float, dt: float) -> tuple[float, float, float, float, bool]:
+        """(x, y, heading, speed, done) at ``now`` after a step of ``dt`` at speed ``v``."""
+        if self.times is not None:
+            tt = self.times
+            d = float(np.interp(now, tt, self.cum))
+            k = int(np.clip(np.searchsorted(tt, now, side="right") - 1, 0, len(tt) - 2))
+            dur = tt[k + 1] - tt[k]
+            speed = (self.cum[k + 1] - self.cum[k]) / dur if dur > 0 and now < tt[-1] else 0.0
+            done = now >= tt[-1] - 1e-9
+        else:
+            self.travelled = min(self.cum[-1], self.travelled + v * dt)
+            d, speed = self.travelled, v
+            done = self.travelled >= self.cum[-1] - 1e-9
+        x = float(np.interp(d, self.cum, self.points[:, 0]))
+        y = float(np.interp(d, self.cum, self.points[:, 1]))
+        k = int(np.clip(np.searchsorted(self.cum, d, side="right") - 1, 0, len(self.cum) - 2))
+        if self.headings is not None:
+            frac = (d - self.cum[k]) / max(self.cum[k + 1] - self.cum[k], 1e-12)
+            h0, h1 = self.headings[k], self.headings[k + 1]
+            h = h0 + frac * math.remainder(h1 - h0, 2 * math.pi)
+        else:
+            seg = self.points[k + 1] - self.points[k]
+            h = math.atan2(seg[1], seg[0])
+        return x, y, h, speed, done
+
+
+class ActorTable:
+    """Every actor's kinematic state and running transitions as arrays, one entry per entity
+    (scenario order), so that a step advances, places and commands all scripted actors in a
+    few compiled passes. Road ids are kept as a list and as codes (index into ``road_ids``);
+    ``direction`` (+1 / -1 along s) is recomputed for rows whose road or lane changed
+    (``stale``)."""
+
+    FLOATS = MK.STATE
+
+    def __init__(self, n: int) -> None:
+        #: The float columns as one matrix (row i: column FLOATS[i]); the attributes of the
+        #: same names are views of its rows.
+        self.state = np.zeros((len(self.FLOATS), n))
+        for i, name in enumerate(self.FLOATS):
+            setattr(self, name, self.state[i])
+        self.lane = np.zeros(n, dtype=np.int64)
+        self.free = np.zeros(n, dtype=bool)
+        self.inserted = np.zeros(n, dtype=bool)
+        self.has_long = np.zeros(n, dtype=bool)
+        self.has_lat = np.zeros(n, dtype=bool)
+        self.n_lat = 0  # rows with a running lateral transition
+        self.road: list[str] = [""] * n
+        self.road_ids: list[str] = []
+        self.road_code = np.full(n, -1, dtype=np.intp)
+        self.direction = np.ones(n)
+        self.stale = np.zeros(n, dtype=bool)
+        self.any_stale = False
+        self.long_par = np.zeros((n, 8))  # running transitions' parameters (motion_kernel)
+        self.lat_par = np.zeros((n, 9))
+        self.long_done = np.zeros(n, dtype=bool)
+        self.lat_done = np.zeros(n, dtype=bool)
+        self.kappa = np.zeros(n)  # reference-line curvature at s before the step, 1/m
+        #: The latest ``groups`` all on straight roads, their rows' kappa set to 0.
+        self.straight_groups: list[tuple[str, np.ndarray]] | None = None
+        #: Goals / offsets that follow another entity, by row: refreshed every step.
+        self.long_targets: dict[int, Callable[[], float]] = {}
+        self.lat_offsets: dict[int, Callable[[], float]] = {}
+        self._profile: LaneProfile | None = None
+        #: Counts road changes of rows: the grouping of rows by road holds until it moves.
+        self.road_version = 0
+        self._groups: tuple[np.ndarray, int, list[tuple[str, np.ndarray]]] | None = None
+        #: Counts installs and removals of transitions and paths: the running actions can
+        #: only have finished when it moved.
+        self.motion_version = 0
+        self._pass: tuple[tuple, tuple] | None = None  # see pass_args
+
+    def set_road(self, k: int, road: str) -> None:
+        """Row ``k`` is on ``road`` ('' for none)."""
+        self.road[k] = road
+        self.road_code[k] = self.code_of(road) if road else -1
+        self.mark_stale(k)
+        self.road_version += 1
+
+    def code_of(self, road: str) -> int:
+        """Index of ``road`` in ``road_ids`` (added when new)."""
+        if road not in self.road_ids:
+            self.road_ids.append(road)
+        return self.road_ids.index(road)
+
+    def groups(self, rows: np.ndarray) -> list[tuple[str, np.ndarray]]:
+        """``by_road`` of ``rows``, kept while ``rows`` is the same array and no road changed."""
+        g = self._groups
+        if g is None or g[0] is not rows or g[1] != self.road_version:
+            self._groups = g = (rows, self.road_version, by_road(self, rows))
+        return g[2]
+
+    def lane_profile(self, odr: OpenDriveMap) -> LaneProfile:
+        """The LaneProfile of the roads in ``road_ids`` (in that order)."""
+        if self._profile is None or len(self._profile.sec_first) != len(self.road_ids):
+            self._profile = lane_profile([odr.road(r) for r in self.road_ids])
+        return self._profile
+
+    def pass_args(self, odr: OpenDriveMap, rows: np.ndarray, dt: float, plan: PlanView) -> tuple:
+        """The arguments of ``motion_kernel.advance_and_place`` after ``rows`` and the time,
+        for ``rows`` all on the road of ``plan``, with steps of ``dt`` s; kept while none of
+        these, the lane profile or whether a lateral transition runs changes (its arrays are
+        updated in place), as building them costs more than the pass itself."""
+        prof, lateral = self.lane_profile(odr), self.n_lat > 0
+        key = self._pass[0] if self._pass is not None else None
+        if key is None or not (
+            key[0] is rows and key[1] == dt and key[2] == lateral and key[3] is prof
+            and key[4] is plan
+        ):  # fmt: skip
+            tail = (
+                dt, self.kappa, self.direction, self.state, self.has_long, self.long_par,
+                self.long_done, self.has_lat, self.lat_par, self.lat_done, lateral,
+                *prof.arrays(), *plan.arrays(),
+            )  # fmt: skip
+            self._pass = ((rows, dt, lateral, prof, plan), tail)
+        return self._pass[1]
+
+    def mark_stale(self, k: int) -> None:
+        """Row ``k``'s road or lane changed: its direction is recomputed at the next refresh."""
+        self.stale[k] = True
+        self.any_stale = True
+
+    def refresh(self, odr: OpenDriveMap) -> None:
+        """Driving directions of rows whose road or lane changed."""
+        if not self.any_stale:
+            return
+        for k in np.flatnonzero(self.stale).tolist():
+            road = self.road[k]
+            self.direction[k] = forward(odr, road, int(self.lane[k])) if road else 1.0
+        self.stale[:] = False
+        self.any_stale = False
+
+
+class _Column:
+    """An Actor attribute stored in its row of the ActorTable column of the same name."""
+
+    def __init__(self, cast: type, marks_stale: bool = False) -> None:
+        self.cast, self.marks_stale = cast, marks_stale
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    def __get__(self, obj: Actor | None, owner: type | None = None) -> object:
+        if obj is None:
+            return self
+        return self.cast(getattr(obj.table, self.name)[obj.k])
+
+    def __set__(self, obj: Actor, value: object) -> None:
+        getattr(obj.table, self.name)[obj.k] = value
+        if self.marks_stale:
+            obj.table.mark_stale(obj.k)
+
+
+class Actor:
+    """A scripted actor: its kinematic state (reference point in road coordinates (road, lane,
+    s, t) or as a free pose x, y, z, h; speed v, acceleration, lateral speed v_lat (road t
+    direction), heading relative to the lane h_rel) lives in row ``k`` of the ActorTable; its
+    running transitions and path are attributes."""
+
+    s = _Column(float)
+    t = _Column(float)
+    v = _Column(float)
+    accel = _Column(float)
+    v_lat = _Column(float)
+    h_rel = _Column(float)
+    x = _Column(float)
+    y = _Column(float)
+    z = _Column(float)
+    h = _Column(float)
+    long_travelled = _Column(float)
+    lat_travelled = _Column(float)
+    lane = _Column(int, marks_stale=True)
+    free = _Column(bool)
+    inserted = _Column(bool)
+
+    def __init__(self, name: str, entity: Entity, table: ActorTable, k: int) -> None:
+        self.name, self.entity, self.table, self.k = name, entity, table, k
+        self._long: SpeedTransition | None = None
+        self._lat: LateralTransition | None = None
+        self._path: PathMotion | None = None
+
+    @property
+    def road(self) -> str:
+        """OpenDRIVE road id ('' when off every road)."""
+        return self.table.road[self.k]
+
+    @road.setter
+    def road(self, value: str) -> None:
+        self.table.set_road(self.k, value)
+
+    @property
+    def long(self) -> SpeedTransition | None:
+        """The running longitudinal transition."""
+        return self._long
+
+    @long.setter
+    def long(self, value: SpeedTransition | None) -> None:
+        tb, k = self.table, self.k
+        self._long = value
+        tb.has_long[k] = value is not None
+        tb.long_targets.pop(k, None)
+        if value is not None:
+            tb.long_par[k] = value.row()
+            if value.target is not None:
+                tb.long_targets[k] = value.target
+        tb.motion_version += 1
+
+    @property
+    def lat(self) -> LateralTransition | None:
+        """The running lateral transition."""
+        return self._lat
+
+    @lat.setter
+    def lat(self, value: LateralTransition | None) -> None:
+        tb, k = self.table, self.k
+        self._lat = value
+        tb.n_lat += (value is not None) - bool(tb.has_lat[k])
+        tb.has_lat[k] = value is not None
+        tb.lat_offsets.pop(k, None)
+        if value is not None:
+            tb.lat_par[k] = value.row(tb.code_of(value.road))
+            if value.offset_of is not None:
+                tb.lat_offsets[k] = value.offset_of
+        tb.motion_version += 1
+
+    @property
+    def path(self) -> PathMotion | None:
+        """The path being followed."""
+        return self._path
+
+    @path.setter
+    def path(self, value: PathMotion | None) -> None:
+        self._path = value
+        self.table.motion_version += 1
+
+    def centre(self) -> tuple[float, float]:
+        """Bounding-box centre in network x, y (m)."""
+        cx, cy, _ = self.entity.centre
+        c, s = math.cos(self.h), math.sin(self.h)
+        return self.x + cx * c - cy * s, self.y + cx * s + cy * c
+
+
+def forward(odr: OpenDriveMap, road: str, lane: int) -> float:
+    """+1 when ``lane`` of ``road`` drives towards increasing s, else -1."""
+    return 1.0 if odr.roads[road].drives_forward(lane) else -1.0
+
+
+def curvature(odr: OpenDriveMap, road: str, s: np.ndarray) -> np.ndarray:
+    """Reference-line curvature at road ``s`` (1/m), from the heading 0.5 m either side."""
+    rd = odr.road(road)
+    if rd.straight:
+        return np.zeros_like(s)
+    lo, hi = np.clip(s - 0.5, 0, rd.length), np.clip(s + 0.5, 0, rd.length)
+    h_lo, h_hi = rd.reference(lo)[2], rd.reference(hi)[2]
+    return np.where(hi > lo, (h_hi - h_lo) / np.maximum(hi - lo, 1e-9), 0.0)
+
+
+def by_road(table: ActorTable, rows: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """``rows`` grouped by their road: (road id, rows on it)."""
+    codes = table.road_code[rows]
+    first = codes[0] if len(codes) else -1
+    if len(codes) and (codes == first).all():
+        return [(table.road_ids[first], rows)] if first >= 0 else []
+    return [(table.road_ids[c], rows[codes == c]) for c in np.unique(codes).tolist() if c >= 0]
+
+
+def advance_road_actors(
+    odr: OpenDriveMap,
+    actors: list[Actor],
+    rows: np.ndarray,
+    now: float,
+    dt: float,
+    command: tuple | None = None,
+) -> np.ndarray | None:
+    """Advance the road actors in table ``rows`` (indices into ``actors``, which share one
+    table) by one step to scenario time ``now``: speeds and s, then lateral positions, in one
+    compiled pass each; goals that follow other entities are read before each pass.
+    ``command``: the arguments of ``command_kernel.command_step``, run in the same compiled
+    call when the rows are on one road and the pass ends no transition; returns its result
+    (None: not run)."""
+    if not len(rows):
+        return None
+    tb = actors[0].table
+    tb.refresh(odr)
+    groups = tb.groups(rows)
+    if groups is not tb.straight_groups:  # on straight roads only: kappa already 0
+        for road, r in groups:
+            # straight: 0 (rows may come from a curved road)
+            tb.kappa[r] = 0.0 if odr.road(road).straight else curvature(odr, road, tb.s[r])
+        if all(odr.road(road).straight for road, _ in groups):
+            tb.straight_groups = groups
+    read_targets(tb)
+    one = _one_pass_road(odr, tb, rows, groups)
+    if one is not None:  # the whole step in one compiled call
+        road, plan = one
+        args = (rows, now, *tb.pass_args(odr, rows, dt, plan))
+        if command is None:
+            ended, missing, lat_ended, placed = MK.advance_and_place(*args)
+        else:
+            ended, missing, lat_ended, placed, changed = CK.advance_and_command(*args, *command)
+            if not ended and placed:
+                return changed
+        finish_pass(odr, actors, rows, road, ended, missing, lat_ended, placed)
+        return None
+    ended = MK.advance_long(
+        rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par, tb.long_done
+    )
+    _end_long(actors, rows, ended)
+    if tb.n_lat:
+        _advance_lateral(odr, actors, rows, now, dt)
+    for road, r in groups:
+        place_on_road(odr, road, tb, r)
+    return None
+
+
+def finish_pass(
+    odr: OpenDriveMap,
+    actors: list[Actor],
+    rows: np.ndarray,
+    road: str,
+    ended: int,
+    missing: int,
+    lat_ended: int,
+    placed: bool,
+) -> None:
+    """After ``motion_kernel.advance_and_place`` of ``rows`` on ``road`` (its results): remove
+    the ended transitions, and when it did not place the rows (a lateral transition ended or
+    missed its lane), put them on their lanes and place them."""
+    _end_long(actors, rows, ended)
+    if not placed:
+        _end_lateral(odr, actors, rows, missing, lat_ended)
+        place_on_road(odr, road, actors[0].table, rows)
+
+
+def quiet_motion(odr: OpenDriveMap, table: ActorTable, rows: np.ndarray, dt: float) -> tuple | None:
+    """The arguments of ``motion_kernel.advance_and_place`` after the time for ``rows``, when
+    their step can run inside the quiet step's compiled call: all on one straight road of
+    lines and arcs, no lateral offset following another entity (read in Python every step);
+    else None. Goals following other entities are read by the caller before the call
+    (``read_targets``)."""
+    if not len(rows):
+        return None
+    table.refresh(odr)
+    groups = table.groups(rows)
+    one = _one_pass_road(odr, table, rows, groups)
+    if one is None or groups is not table.straight_groups:
+        return None
+    return (rows, *table.pass_args(odr, rows, dt, one[1]))
+
+
+def _one_pass_road(
+    odr: OpenDriveMap, table: ActorTable, rows: np.ndarray, groups: list[tuple[str, np.ndarray]]
+) -> tuple[str, PlanView] | None:
+    """The road of ``rows`` (grouped by road as ``groups``) and its PlanView when their step
+    runs in one compiled pass: all on one road of lines and arcs, and no lateral offset
+    following another entity (read in Python between the passes); else None."""
+    if table.lat_offsets or len(groups) != 1 or groups[0][1] is not rows:
+        return None
+    plan = odr.road(groups[0][0]).plan_view
+    return None if plan is None else (groups[0][0], plan)
+
+
+def read_targets(table: ActorTable) -> None:
+    """Read the goals of the running speed transitions that follow other entities."""
+    for k, target in table.long_targets.items():
+        table.long_par[k, MK.L_GOAL] = target()
+
+
+def _end_long(actors: list[Actor], rows: np.ndarray, ended: int) -> None:
+    """Remove the ``ended`` longitudinal transitions the pass marked done."""
+    if ended:
+        tb = actors[0].table
+        for k in rows[tb.long_done[rows]].tolist():
+            actors[k].long = None
+
+
+def _advance_lateral(
+    odr: OpenDriveMap, actors: list[Actor], rows: np.ndarray, now: float, dt: float
+) -> None:
+    """The lateral pass of ``advance_road_actors``; the rows whose transition ended are put
+    on their target lane."""
+    tb = actors[0].table
+    for k, offset in tb.lat_offsets.items():
+        tb.lat_par[k, MK.T_OFFSET] = offset()
+    missing, ended = MK.advance_lat(
+        rows, now, dt, tb.state, tb.has_lat, tb.lat_par, tb.lat_done,
+        *tb.lane_profile(odr).arrays(),
+    )  # fmt: skip
+    _end_lateral(odr, actors, rows, missing, ended)
+
+
+def _end_lateral(
+    odr: OpenDriveMap, actors: list[Actor], rows: np.ndarray, missing: int, ended: int
+) -> None:
+    """After the lateral pass: the error of a ``missing`` target lane (its row, -1: none);
+    the rows whose transition ended are put on their target lane."""
+    tb = actors[0].table
+    if missing >= 0:
+        a = actors[missing]
+        odr.road(a.lat.road).lane_t(a.lat.lane, a.s)  # raises: no such lane here
+    if ended:
+        for k in rows[tb.lat_done[rows]].tolist():
+            a = actors[k]
+            a.lane, a.lat = a.lat.lane, None
+
+
+def place_on_road(odr: OpenDriveMap, road: str, table: ActorTable, rows: np.ndarray) -> None:
+    """World pose (x, y, z, heading) of table ``rows`` on ``road`` from their road
+    coordinates (compiled for roads of lines and arcs, else from the numpy road pose)."""
+    table.refresh(odr)
+    tb = table
+    rd = odr.road(road)
+    if rd.plan_view is not None:
+        MK.place_rows(rows, *rd.plan_view.arrays(), tb.direction, tb.state)
+        return
+    x, y, z, h_ref = odr.road_pose(road, tb.s[rows], tb.t[rows])
+    MK.place_posed(rows, x, y, z, h_ref, tb.direction, tb.state)
+
+
+def place_actor(odr: OpenDriveMap, a: Actor) -> None:
+    """World pose of one road actor from its road coordinates."""
+    place_on_road(odr, a.road, a.table, np.array([a.k]))

@@ -1,0 +1,257 @@
+"""Storyboard actions on entities. SI units: m, s, m/s, m/s^2, rad."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import StrEnum
+
+from hiyari.bridge.openscenario.model.entities import ControllerSpec
+from hiyari.bridge.openscenario.model.positions import Position
+
+__all__ = [
+    "AbsoluteLane",
+    "AbsoluteOffset",
+    "AbsoluteSpeed",
+    "AcquirePositionAction",
+    "Action",
+    "ActionBody",
+    "ActivateControllerAction",
+    "AssignControllerAction",
+    "AssignRouteAction",
+    "Dimension",
+    "FollowTrajectoryAction",
+    "LaneChangeAction",
+    "LaneOffsetAction",
+    "LongitudinalDistanceAction",
+    "RelativeLane",
+    "RelativeOffset",
+    "RelativeSpeed",
+    "Shape",
+    "SpeedAction",
+    "TeleportAction",
+    "Timing",
+    "Trajectory",
+    "TransitionDynamics",
+    "Vertex",
+]
+
+
+class Shape(StrEnum):
+    """How a value moves from its start to its target over a transition (x in [0, 1]):
+    step (at once), linear x, cubic 3x^2 - 2x^3, sinusoidal (1 - cos(pi x)) / 2."""
+
+    STEP = "step"
+    LINEAR = "linear"
+    CUBIC = "cubic"
+    SINUSOIDAL = "sinusoidal"
+
+
+class Dimension(StrEnum):
+    """What a transition's ``value`` measures: its duration (s), the distance travelled
+    during it (m), or its rate of change (per second; the peak rate for curved shapes)."""
+
+    TIME = "time"
+    DISTANCE = "distance"
+    RATE = "rate"
+
+
+@dataclass(frozen=True)
+class TransitionDynamics:
+    """Shape and size of a transition (OpenSCENARIO TransitionDynamics)."""
+
+    shape: Shape
+    dimension: Dimension
+    value: float
+
+
+@dataclass(frozen=True)
+class AbsoluteSpeed:
+    """Target speed, m/s."""
+
+    value: float
+
+
+@dataclass(frozen=True)
+class RelativeSpeed:
+    """Target speed relative to ``entity``: its speed + value ("delta", m/s) or times value
+    ("factor"); ``continuous``: keep tracking it after the transition."""
+
+    entity: str
+    value: float
+    kind: str = "delta"
+    continuous: bool = False
+
+
+@dataclass(frozen=True)
+class SpeedAction:
+    """Change the speed along the path to ``target`` with ``dynamics``."""
+
+    dynamics: TransitionDynamics
+    target: AbsoluteSpeed | RelativeSpeed
+
+
+@dataclass(frozen=True)
+class LongitudinalDistanceAction:
+    """Put the actor at a gap (``distance`` m, or ``time_gap`` s times the reference's speed)
+    ahead of ("leadingReferencedEntity") or behind ("trailingReferencedEntity") ``entity``
+    along the road, bumper to bumper when ``freespace``; ``continuous`` keeps that gap."""
+
+    entity: str
+    distance: float | None
+    time_gap: float | None
+    freespace: bool
+    continuous: bool
+    displacement: str = "trailingReferencedEntity"
+
+
+@dataclass(frozen=True)
+class AbsoluteLane:
+    """Target lane by OpenDRIVE lane id."""
+
+    lane: int
+
+
+@dataclass(frozen=True)
+class RelativeLane:
+    """Target lane ``value`` lanes to the left (driving direction) of ``entity``'s lane."""
+
+    entity: str
+    value: int
+
+
+@dataclass(frozen=True)
+class LaneChangeAction:
+    """Move to the ``target`` lane's centre (+ ``target_offset`` m) with ``dynamics`` (time:
+    duration s; distance: along the road m; rate: peak lateral speed m/s)."""
+
+    dynamics: TransitionDynamics
+    target: AbsoluteLane | RelativeLane
+    target_offset: float = 0.0
+
+
+@dataclass(frozen=True)
+class AbsoluteOffset:
+    """Target offset from the lane centre, m (road t direction)."""
+
+    value: float
+
+
+@dataclass(frozen=True)
+class RelativeOffset:
+    """Target offset = ``entity``'s lane offset + ``value``, m."""
+
+    entity: str
+    value: float
+
+
+@dataclass(frozen=True)
+class LaneOffsetAction:
+    """Shift to a lateral offset within the lane with ``shape`` and peak lateral acceleration
+    ``max_lateral_acc`` (m/s^2); ``continuous`` keeps it (and follows a relative target)."""
+
+    target: AbsoluteOffset | RelativeOffset
+    shape: Shape
+    max_lateral_acc: float
+    continuous: bool = False
+
+
+@dataclass(frozen=True)
+class TeleportAction:
+    """Place the actor at ``position`` now."""
+
+    position: Position
+
+
+@dataclass(frozen=True)
+class Vertex:
+    """A polyline vertex: ``time`` (s, None when the trajectory has no timing) and where."""
+
+    time: float | None
+    position: Position
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """A polyline trajectory."""
+
+    name: str
+    vertices: tuple[Vertex, ...]
+    closed: bool = False
+
+
+@dataclass(frozen=True)
+class Timing:
+    """How vertex times map to simulation time: absolute (t_sim = scale * t + offset) or
+    relative to the action's start."""
+
+    absolute: bool
+    scale: float = 1.0
+    offset: float = 0.0
+
+
+@dataclass(frozen=True)
+class FollowTrajectoryAction:
+    """Follow ``trajectory``; with ``timing`` the vertex times set where the actor is when,
+    without it the actor moves along the polyline at its current speed."""
+
+    trajectory: Trajectory
+    timing: Timing | None
+    following_mode: str = "position"
+    initial_distance_offset: float = 0.0
+
+
+@dataclass(frozen=True)
+class AssignRouteAction:
+    """Drive / walk through ``waypoints`` in order at the actor's speed (the path follows the
+    lane between waypoints on one road and lane, straight lines elsewhere)."""
+
+    name: str
+    waypoints: tuple[Position, ...]
+    closed: bool = False
+
+
+@dataclass(frozen=True)
+class AcquirePositionAction:
+    """Go to ``position`` at the actor's speed (a route from where it is)."""
+
+    position: Position
+
+
+@dataclass(frozen=True)
+class AssignControllerAction:
+    """Give the actor ``controller`` and activate it in the given domains (None: unchanged)."""
+
+    controller: ControllerSpec
+    lateral: bool | None = None
+    longitudinal: bool | None = None
+
+
+@dataclass(frozen=True)
+class ActivateControllerAction:
+    """Switch the actor's assigned controller on (True) or off (False) per domain."""
+
+    lateral: bool | None = None
+    longitudinal: bool | None = None
+
+
+ActionBody = (
+    SpeedAction
+    | LongitudinalDistanceAction
+    | LaneChangeAction
+    | LaneOffsetAction
+    | TeleportAction
+    | FollowTrajectoryAction
+    | AssignRouteAction
+    | AcquirePositionAction
+    | AssignControllerAction
+    | ActivateControllerAction
+)
+
+
+@dataclass(frozen=True)
+class Action:
+    """A named storyboard action (``source``: file:line it came from, for messages)."""
+
+    name: str
+    body: ActionBody
+    source: str = ""

@@ -1,0 +1,253 @@
+"""Trigger conditions: by value (time, storyboard states, parameters) and by entity
+(distances, headway, TTC, speeds, position, end of road, collision). SI units."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import StrEnum
+
+from hiyari.bridge.openscenario.model.positions import Position
+
+__all__ = [
+    "AccelerationCondition",
+    "CollisionCondition",
+    "Condition",
+    "ConditionBody",
+    "ConditionGroup",
+    "CoordinateSystem",
+    "DistanceCondition",
+    "DistanceType",
+    "Edge",
+    "EndOfRoadCondition",
+    "EntityCondition",
+    "EntityConditionBody",
+    "ParameterCondition",
+    "ReachPositionCondition",
+    "RelativeDistanceCondition",
+    "RelativeSpeedCondition",
+    "Rule",
+    "SimulationTimeCondition",
+    "SpeedCondition",
+    "StandStillCondition",
+    "StoryboardElementStateCondition",
+    "TimeHeadwayCondition",
+    "TimeToCollisionCondition",
+    "Trigger",
+]
+
+
+class Rule(StrEnum):
+    """Comparison of a measured value with the condition's value."""
+
+    GREATER_THAN = "greaterThan"
+    LESS_THAN = "lessThan"
+    EQUAL_TO = "equalTo"
+    GREATER_OR_EQUAL = "greaterOrEqual"
+    LESS_OR_EQUAL = "lessOrEqual"
+    NOT_EQUAL_TO = "notEqualTo"
+
+
+class Edge(StrEnum):
+    """When a condition counts as true: whenever its value is true (none), or only at the step
+    where the value turns true (rising), false (falling), or either."""
+
+    RISING = "rising"
+    FALLING = "falling"
+    RISING_OR_FALLING = "risingOrFalling"
+    NONE = "none"
+
+
+class DistanceType(StrEnum):
+    """Which component of a distance: along the reference's x axis, across it, or straight."""
+
+    LONGITUDINAL = "longitudinal"
+    LATERAL = "lateral"
+    EUCLIDEAN = "euclidianDistance"
+
+
+class CoordinateSystem(StrEnum):
+    """The frame a distance is measured in: the reference entity's axes, or road / lane
+    coordinates (s along the road, t across it)."""
+
+    ENTITY = "entity"
+    ROAD = "road"
+    LANE = "lane"
+
+
+@dataclass(frozen=True)
+class SimulationTimeCondition:
+    """Simulation time (s) compared with ``value``."""
+
+    value: float
+    rule: Rule
+
+
+@dataclass(frozen=True)
+class StoryboardElementStateCondition:
+    """A storyboard element (``element_type``: story, act, maneuverGroup, maneuver, event,
+    action) is in ``state`` (standbyState, runningState, completeState) or went through a
+    transition (startTransition, endTransition, stopTransition, skipTransition) at the last
+    update."""
+
+    element_type: str
+    element: str
+    state: str
+
+
+@dataclass(frozen=True)
+class ParameterCondition:
+    """Parameter ``parameter`` compared with ``value`` (numbers numerically, else as text)."""
+
+    parameter: str
+    value: str
+    rule: Rule
+
+
+@dataclass(frozen=True)
+class RelativeDistanceCondition:
+    """Distance from each triggering entity to ``entity`` compared with ``value`` (m).
+    ``freespace``: between bounding boxes, else between reference points."""
+
+    entity: str
+    distance_type: DistanceType
+    value: float
+    freespace: bool
+    rule: Rule
+    coordinate_system: CoordinateSystem = CoordinateSystem.ENTITY
+
+
+@dataclass(frozen=True)
+class DistanceCondition:
+    """Distance from each triggering entity to ``position`` compared with ``value`` (m)."""
+
+    position: Position
+    distance_type: DistanceType
+    value: float
+    freespace: bool
+    rule: Rule
+    coordinate_system: CoordinateSystem = CoordinateSystem.ENTITY
+
+
+@dataclass(frozen=True)
+class ReachPositionCondition:
+    """A triggering entity's reference point is within ``tolerance`` m of ``position``."""
+
+    position: Position
+    tolerance: float
+
+
+@dataclass(frozen=True)
+class TimeHeadwayCondition:
+    """Time headway (gap to ``entity`` / own speed, s) compared with ``value``; infinite
+    while standing or when ``entity`` is behind."""
+
+    entity: str
+    value: float
+    freespace: bool
+    rule: Rule
+    coordinate_system: CoordinateSystem = CoordinateSystem.ENTITY
+    distance_type: DistanceType = DistanceType.LONGITUDINAL
+
+
+@dataclass(frozen=True)
+class TimeToCollisionCondition:
+    """Time to collision with ``entity`` (or with ``position``, a fixed point), s: the gap
+    over the closing speed along the measured direction; infinite when not closing."""
+
+    value: float
+    freespace: bool
+    rule: Rule
+    entity: str | None = None
+    position: Position | None = None
+    coordinate_system: CoordinateSystem = CoordinateSystem.ENTITY
+    distance_type: DistanceType = DistanceType.EUCLIDEAN
+
+
+@dataclass(frozen=True)
+class SpeedCondition:
+    """Speed (m/s) compared with ``value``."""
+
+    value: float
+    rule: Rule
+
+
+@dataclass(frozen=True)
+class RelativeSpeedCondition:
+    """Own speed minus ``entity``'s (m/s) compared with ``value``."""
+
+    entity: str
+    value: float
+    rule: Rule
+
+
+@dataclass(frozen=True)
+class AccelerationCondition:
+    """Acceleration along the heading (m/s^2) compared with ``value``."""
+
+    value: float
+    rule: Rule
+
+
+@dataclass(frozen=True)
+class StandStillCondition:
+    """Standing (speed below 0.01 m/s) for at least ``duration`` s."""
+
+    duration: float
+
+
+@dataclass(frozen=True)
+class EndOfRoadCondition:
+    """Off every road (no SUMO lane under the reference point) for at least ``duration`` s."""
+
+    duration: float
+
+
+@dataclass(frozen=True)
+class CollisionCondition:
+    """In contact with ``entity`` (None: with anything)."""
+
+    entity: str | None = None
+
+
+EntityConditionBody = (
+    RelativeDistanceCondition
+    | DistanceCondition
+    | ReachPositionCondition
+    | TimeHeadwayCondition
+    | TimeToCollisionCondition
+    | SpeedCondition
+    | RelativeSpeedCondition
+    | AccelerationCondition
+    | StandStillCondition
+    | EndOfRoadCondition
+    | CollisionCondition
+)
+
+
+@dataclass(frozen=True)
+class EntityCondition:
+    """``body`` holds for "any" or "all" of the ``triggering`` entities."""
+
+    triggering: tuple[str, ...]
+    rule: str
+    body: EntityConditionBody
+
+
+ConditionBody = (
+    SimulationTimeCondition | StoryboardElementStateCondition | ParameterCondition | EntityCondition
+)
+
+
+@dataclass(frozen=True)
+class Condition:
+    """A named condition with its edge and delay (s)."""
+
+    name: str
+    body: ConditionBody
+    edge: Edge = Edge.NONE
+    delay: float = 0.0
+    source: str = ""
+
+
+ConditionGroup = tuple[Condition, ...]  # all must hold
+Trigger = tuple[ConditionGroup, ...]  # any group must hold; () = no trigger

@@ -1,0 +1,230 @@
+"""OpenSCENARIO <PrivateAction> -> model actions."""
+
+from __future__ import annotations
+
+from lxml import etree
+
+from hiyari.bridge.openscenario.model.actions import (
+    AbsoluteLane,
+    AbsoluteOffset,
+    AbsoluteSpeed,
+    AcquirePositionAction,
+    ActionBody,
+    ActivateControllerAction,
+    AssignControllerAction,
+    AssignRouteAction,
+    Dimension,
+    FollowTrajectoryAction,
+    LaneChangeAction,
+    LaneOffsetAction,
+    LongitudinalDistanceAction,
+    RelativeLane,
+    RelativeOffset,
+    RelativeSpeed,
+    Shape,
+    SpeedAction,
+    TeleportAction,
+    Timing,
+    Trajectory,
+    TransitionDynamics,
+    Vertex,
+)
+from hiyari.bridge.openscenario.model.entities import ControllerSpec
+from hiyari.bridge.openscenario.xosc.context import Ctx
+from hiyari.bridge.openscenario.xosc.read_positions import read_position
+
+
+def read_private_action(ctx: Ctx, el: etree._Element) -> ActionBody:
+    """The body of one <PrivateAction>."""
+    kind = ctx.one(el)
+    if kind.tag == "TeleportAction":
+        return TeleportAction(read_position(ctx, ctx.child(kind, "Position")))
+    if kind.tag == "ActivateControllerAction":  # 1.0 placement, deprecated
+        return _activate(ctx, kind)
+    group = {
+        "LongitudinalAction": _LONGITUDINAL,
+        "LateralAction": _LATERAL,
+        "ControllerAction": _CONTROLLER,
+        "RoutingAction": _ROUTING,
+    }.get(kind.tag)
+    if group is None:
+        raise ctx.unsupported(kind)
+    action = ctx.one(kind)
+    reader = group.get(action.tag)
+    if reader is None:
+        raise ctx.unsupported(action)
+    return reader(ctx, action)
+
+
+def read_dynamics(ctx: Ctx, el: etree._Element) -> TransitionDynamics:
+    """A TransitionDynamics element (SpeedActionDynamics, LaneChangeActionDynamics, ...)."""
+    if el.get("followingMode") == "follow":
+        raise ctx.unsupported(el, "followingMode follow")
+    return TransitionDynamics(
+        Shape(ctx.text(el, "dynamicsShape")),
+        Dimension(ctx.text(el, "dynamicsDimension")),
+        ctx.num(el, "value"),
+    )
+
+
+def _speed(ctx: Ctx, el: etree._Element) -> ActionBody:
+    target = ctx.one(ctx.child(el, "SpeedActionTarget"))
+    if target.tag == "AbsoluteTargetSpeed":
+        tgt: AbsoluteSpeed | RelativeSpeed = AbsoluteSpeed(ctx.num(target, "value"))
+    else:
+        tgt = RelativeSpeed(
+            ctx.text(target, "entityRef"),
+            ctx.num(target, "value"),
+            ctx.text(target, "speedTargetValueType", "delta"),
+            ctx.flag(target, "continuous", False),
+        )
+    return SpeedAction(read_dynamics(ctx, ctx.child(el, "SpeedActionDynamics")), tgt)
+
+
+def _long_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
+    if el.find("DynamicConstraints") is not None:
+        raise ctx.unsupported(
+            el, "DynamicConstraints: hiyari places the actor at the gap kinematically"
+        )
+    if ctx.flag(el, "continuous"):
+        raise ctx.unsupported(el, "continuous = true: the gap is set once")
+    if ctx.text(el, "coordinateSystem", "entity") not in ("entity", "road", "lane"):
+        raise ctx.unsupported(el, f"coordinateSystem {el.get('coordinateSystem')}")
+    return LongitudinalDistanceAction(
+        ctx.text(el, "entityRef"),
+        ctx.opt_num(el, "distance"),
+        ctx.opt_num(el, "timeGap"),
+        ctx.flag(el, "freespace"),
+        ctx.flag(el, "continuous"),
+        ctx.text(el, "displacement", "trailingReferencedEntity"),
+    )
+
+
+def _lane_change(ctx: Ctx, el: etree._Element) -> ActionBody:
+    target = ctx.one(ctx.child(el, "LaneChangeTarget"))
+    if target.tag == "RelativeTargetLane":
+        tgt: AbsoluteLane | RelativeLane = RelativeLane(
+            ctx.text(target, "entityRef"), ctx.int(target, "value")
+        )
+    else:
+        tgt = AbsoluteLane(ctx.int(target, "value"))
+    return LaneChangeAction(
+        read_dynamics(ctx, ctx.child(el, "LaneChangeActionDynamics")),
+        tgt,
+        ctx.num(el, "targetLaneOffset", 0.0),
+    )
+
+
+def _lane_offset(ctx: Ctx, el: etree._Element) -> ActionBody:
+    dyn = ctx.child(el, "LaneOffsetActionDynamics")
+    shape = Shape(ctx.text(dyn, "dynamicsShape"))
+    max_acc = ctx.opt_num(dyn, "maxLateralAcc")
+    if shape != Shape.STEP and (max_acc is None or max_acc <= 0):
+        raise ctx.unsupported(dyn, f"a {shape} lane offset needs a positive maxLateralAcc")
+    if shape == Shape.LINEAR:
+        raise ctx.unsupported(
+            dyn, "a linear lateral ramp has no finite peak acceleration; use cubic or sinusoidal"
+        )
+    target = ctx.one(ctx.child(el, "LaneOffsetTarget"))
+    if target.tag == "RelativeTargetLaneOffset":
+        tgt: AbsoluteOffset | RelativeOffset = RelativeOffset(
+            ctx.text(target, "entityRef"), ctx.num(target, "value")
+        )
+    else:
+        tgt = AbsoluteOffset(ctx.num(target, "value"))
+    return LaneOffsetAction(tgt, shape, max_acc or 0.0, ctx.flag(el, "continuous"))
+
+
+def read_controller(ctx: Ctx, el: etree._Element) -> ControllerSpec:
+    """A <Controller> or a CatalogReference to one."""
+    if el.tag == "CatalogReference":
+        el, ctx = ctx.catalogs.resolve(ctx, el)
+    if el.tag != "Controller":
+        raise ctx.unsupported(el)
+    ctx = ctx.enter(el)
+    props = {}
+    pr = el.find("Properties")
+    for p in [] if pr is None else pr.findall("Property"):
+        props[ctx.text(p, "name")] = ctx.text(p, "value")
+    return ControllerSpec(ctx.text(el, "name"), props)
+
+
+def _assign_controller(ctx: Ctx, el: etree._Element) -> ActionBody:
+    src = el.find("Controller")
+    if src is None:
+        src = el.find("CatalogReference")
+    if src is None:
+        raise ctx.unsupported(el, "no Controller or CatalogReference")
+    return AssignControllerAction(
+        read_controller(ctx, src),
+        ctx.opt_flag(el, "activateLateral"),
+        ctx.opt_flag(el, "activateLongitudinal"),
+    )
+
+
+def _activate(ctx: Ctx, el: etree._Element) -> ActionBody:
+    return ActivateControllerAction(ctx.opt_flag(el, "lateral"), ctx.opt_flag(el, "longitudinal"))
+
+
+def _trajectory(ctx: Ctx, el: etree._Element) -> Trajectory:
+    if el.tag == "CatalogReference":
+        el, ctx = ctx.catalogs.resolve(ctx, el)
+    ctx = ctx.enter(el)
+    shape = ctx.one(ctx.child(el, "Shape"))
+    if shape.tag != "Polyline":
+        raise ctx.unsupported(shape, "only polyline trajectories")
+    vertices = tuple(
+        Vertex(ctx.opt_num(v, "time"), read_position(ctx, ctx.child(v, "Position")))
+        for v in shape.findall("Vertex")
+    )
+    return Trajectory(ctx.text(el, "name"), vertices, ctx.flag(el, "closed", False))
+
+
+def _follow_trajectory(ctx: Ctx, el: etree._Element) -> ActionBody:
+    ref = el.find("TrajectoryRef")
+    if ref is not None:
+        src = ctx.one(ref)
+    else:  # 1.0 placement, deprecated
+        src = el.find("Trajectory")
+        if src is None:
+            src = ctx.child(el, "CatalogReference")
+    timing = None
+    tref = el.find("TimeReference")
+    if tref is not None and tref.find("Timing") is not None:
+        t = tref.find("Timing")
+        timing = Timing(
+            ctx.text(t, "domainAbsoluteRelative") == "absolute",
+            ctx.num(t, "scale"),
+            ctx.num(t, "offset"),
+        )
+    mode = el.find("TrajectoryFollowingMode")
+    following = "position" if mode is None else ctx.text(mode, "followingMode")
+    if following != "position":
+        raise ctx.unsupported(el, f"followingMode {following}: scripted actors follow positions")
+    return FollowTrajectoryAction(
+        _trajectory(ctx, src), timing, following, ctx.num(el, "initialDistanceOffset", 0.0)
+    )
+
+
+def _assign_route(ctx: Ctx, el: etree._Element) -> ActionBody:
+    src = ctx.one(el)
+    if src.tag == "CatalogReference":
+        src, ctx = ctx.catalogs.resolve(ctx, src)
+    ctx = ctx.enter(src)
+    waypoints = tuple(read_position(ctx, ctx.child(w, "Position")) for w in src.findall("Waypoint"))
+    return AssignRouteAction(ctx.text(src, "name"), waypoints, ctx.flag(src, "closed", False))
+
+
+_LONGITUDINAL = {"SpeedAction": _speed, "LongitudinalDistanceAction": _long_distance}
+_LATERAL = {"LaneChangeAction": _lane_change, "LaneOffsetAction": _lane_offset}
+_CONTROLLER = {
+    "AssignControllerAction": _assign_controller,
+    "ActivateControllerAction": _activate,
+}
+_ROUTING = {
+    "AssignRouteAction": _assign_route,
+    "FollowTrajectoryAction": _follow_trajectory,
+    "AcquirePositionAction": lambda ctx, el: AcquirePositionAction(
+        read_position(ctx, ctx.child(el, "Position"))
+    ),
+}

@@ -1,0 +1,206 @@
+"""OpenSCENARIO triggers and conditions -> model conditions."""
+
+from __future__ import annotations
+
+from lxml import etree
+
+from hiyari.bridge.openscenario.model.conditions import (
+    AccelerationCondition,
+    CollisionCondition,
+    Condition,
+    ConditionBody,
+    CoordinateSystem,
+    DistanceCondition,
+    DistanceType,
+    Edge,
+    EndOfRoadCondition,
+    EntityCondition,
+    EntityConditionBody,
+    ParameterCondition,
+    ReachPositionCondition,
+    RelativeDistanceCondition,
+    RelativeSpeedCondition,
+    Rule,
+    SimulationTimeCondition,
+    SpeedCondition,
+    StandStillCondition,
+    StoryboardElementStateCondition,
+    TimeHeadwayCondition,
+    TimeToCollisionCondition,
+    Trigger,
+)
+from hiyari.bridge.openscenario.xosc.context import Ctx
+from hiyari.bridge.openscenario.xosc.read_positions import read_position
+from hiyari.errors import HiyariError
+
+
+def read_trigger(ctx: Ctx, el: etree._Element | None) -> Trigger:
+    """A StartTrigger / StopTrigger: OR of condition groups, each an AND of conditions."""
+    if el is None:
+        return ()
+    return tuple(
+        tuple(read_condition(ctx, c) for c in g.findall("Condition"))
+        for g in el.findall("ConditionGroup")
+    )
+
+
+def read_condition(ctx: Ctx, el: etree._Element) -> Condition:
+    """One <Condition>."""
+    kind = ctx.one(el)
+    body: ConditionBody
+    if kind.tag == "ByValueCondition":
+        body = _by_value(ctx, ctx.one(kind))
+    elif kind.tag == "ByEntityCondition":
+        trig = ctx.child(kind, "TriggeringEntities")
+        ents = tuple(ctx.text(r, "entityRef") for r in trig.findall("EntityRef"))
+        inner = ctx.one(ctx.child(kind, "EntityCondition"))
+        body = EntityCondition(
+            ents, ctx.text(trig, "triggeringEntitiesRule"), _by_entity(ctx, inner)
+        )
+    else:
+        raise ctx.unsupported(kind)
+    return Condition(
+        ctx.text(el, "name"),
+        body,
+        Edge(ctx.text(el, "conditionEdge")),
+        ctx.num(el, "delay", 0.0),
+        ctx.where(el),
+    )
+
+
+def _rule(ctx: Ctx, el: etree._Element) -> Rule:
+    text = ctx.text(el, "rule")
+    try:
+        return Rule(text)
+    except ValueError:
+        raise HiyariError(f"{ctx.where(el)}: unknown rule {text!r}") from None
+
+
+def _by_value(ctx: Ctx, el: etree._Element) -> ConditionBody:
+    if el.tag == "SimulationTimeCondition":
+        return SimulationTimeCondition(ctx.num(el, "value"), _rule(ctx, el))
+    if el.tag == "StoryboardElementStateCondition":
+        return StoryboardElementStateCondition(
+            ctx.text(el, "storyboardElementType"),
+            ctx.text(el, "storyboardElementRef"),
+            ctx.text(el, "state"),
+        )
+    if el.tag == "ParameterCondition":
+        return ParameterCondition(
+            ctx.text(el, "parameterRef"), ctx.text(el, "value"), _rule(ctx, el)
+        )
+    raise ctx.unsupported(el)
+
+
+def _distance_type(ctx: Ctx, el: etree._Element, default: str) -> DistanceType:
+    text = ctx.text(el, "relativeDistanceType", default)
+    return DistanceType("euclidianDistance" if text == "cartesianDistance" else text)
+
+
+def _coordinate_system(ctx: Ctx, el: etree._Element) -> CoordinateSystem:
+    """coordinateSystem, or the deprecated alongRoute (true: road)."""
+    if el.get("coordinateSystem") is None and el.get("alongRoute") is not None:
+        return CoordinateSystem.ROAD if ctx.flag(el, "alongRoute") else CoordinateSystem.ENTITY
+    text = ctx.text(el, "coordinateSystem", "entity")
+    if text == "trajectory":
+        raise ctx.unsupported(el, "coordinateSystem trajectory")
+    return CoordinateSystem(text)
+
+
+def _relative_distance(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
+    return RelativeDistanceCondition(
+        ctx.text(el, "entityRef"),
+        _distance_type(ctx, el, "euclidianDistance"),
+        ctx.num(el, "value"),
+        ctx.flag(el, "freespace"),
+        _rule(ctx, el),
+        _coordinate_system(ctx, el),
+    )
+
+
+def _distance(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
+    return DistanceCondition(
+        read_position(ctx, ctx.child(el, "Position")),
+        _distance_type(ctx, el, "euclidianDistance"),
+        ctx.num(el, "value"),
+        ctx.flag(el, "freespace"),
+        _rule(ctx, el),
+        _coordinate_system(ctx, el),
+    )
+
+
+def _headway(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
+    return TimeHeadwayCondition(
+        ctx.text(el, "entityRef"),
+        ctx.num(el, "value"),
+        ctx.flag(el, "freespace"),
+        _rule(ctx, el),
+        _coordinate_system(ctx, el),
+        _distance_type(ctx, el, "longitudinal"),
+    )
+
+
+def _ttc(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
+    target = ctx.one(ctx.child(el, "TimeToCollisionConditionTarget"))
+    entity = ctx.text(target, "entityRef") if target.tag == "EntityRef" else None
+    position = read_position(ctx, target) if target.tag == "Position" else None
+    return TimeToCollisionCondition(
+        ctx.num(el, "value"),
+        ctx.flag(el, "freespace"),
+        _rule(ctx, el),
+        entity,
+        position,
+        _coordinate_system(ctx, el),
+        _distance_type(ctx, el, "euclidianDistance"),
+    )
+
+
+def _speed(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
+    if el.get("direction") not in (None, "longitudinal"):
+        raise ctx.unsupported(el, f"direction {el.get('direction')}")
+    return SpeedCondition(ctx.num(el, "value"), _rule(ctx, el))
+
+
+def _accel(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
+    if el.get("direction") not in (None, "longitudinal"):
+        raise ctx.unsupported(el, f"direction {el.get('direction')}")
+    return AccelerationCondition(ctx.num(el, "value"), _rule(ctx, el))
+
+
+def _collision(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
+    ref, by_type = el.find("EntityRef"), el.find("ByType")
+    if ref is not None:
+        return CollisionCondition(entity=ctx.text(ref, "entityRef"))
+    if by_type is not None:
+        raise ctx.unsupported(by_type, "collisions by object type")
+    return CollisionCondition()
+
+
+def _reach(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
+    return ReachPositionCondition(
+        read_position(ctx, ctx.child(el, "Position")), ctx.num(el, "tolerance")
+    )
+
+
+_ENTITY_READERS = {
+    "RelativeDistanceCondition": _relative_distance,
+    "DistanceCondition": _distance,
+    "TimeHeadwayCondition": _headway,
+    "TimeToCollisionCondition": _ttc,
+    "SpeedCondition": _speed,
+    "AccelerationCondition": _accel,
+    "CollisionCondition": _collision,
+    "ReachPositionCondition": _reach,
+    "RelativeSpeedCondition": lambda ctx, el: RelativeSpeedCondition(
+        ctx.text(el, "entityRef"), ctx.num(el, "value"), _rule(ctx, el)
+    ),
+    "StandStillCondition": lambda ctx, el: StandStillCondition(ctx.num(el, "duration")),
+    "EndOfRoadCondition": lambda ctx, el: EndOfRoadCondition(ctx.num(el, "duration")),
+}
+
+
+def _by_entity(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
+    reader = _ENTITY_READERS.get(el.tag)
+    if reader is None:
+        raise ctx.unsupported(el)
+    return reader(ctx, el)

@@ -1,0 +1,176 @@
+"""The ALKS acceptance table: every OpenSCENARIO file of a folder (the 15 openMSL ALKS
+reference scenarios) run in closed loop with hiyari's default ego stack, per perception mode,
+each recorded (run.mcap) with a static replay (replay.html), and the verdicts tabulated
+(results.csv, results.md: the README's table).
+
+    python -m hiyari.bridge.studies.alks ../shared/data/openscenario/alks -o out/alks
+
+Runs go to worker processes (one libsumo simulation each); a re-run keeps the runs already
+done (their result.json and replay.html), so an interrupted table resumes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from hiyari.atomic import atomic_path, write_text_atomic
+
+#: Columns of results.csv (SI except where named).
+COLUMNS = (
+    "scenario",
+    "perception",
+    "verdict",
+    "collided_with",
+    "impact_speed_kmh",
+    "min_ttc_s",
+    "min_gap_m",
+    "aeb_max_stage",
+    "stop_trigger",
+    "sim_seconds",
+    "wall_seconds",
+)
+
+
+@dataclass(frozen=True)
+class AlksTask:
+    """One run: scenario file, perception mode, output folder, replay frame stride."""
+
+    path: Path
+    perception: str
+    out: Path
+    replay_every: int = 20
+
+
+def run_task(task: AlksTask) -> dict:
+    """Run, record and export the replay of one scenario; its results.csv row."""
+    from hiyari.bridge.loop.engine_run import EgoSetup
+    from hiyari.bridge.loop.run import RunOptions
+    from hiyari.bridge.loop.xosc_runs import load_plan, run_xosc
+    from hiyari.bridge.record.reader import Recording
+    from hiyari.bridge.replay.export import export_html
+    from hiyari.bridge.studies.report.timeseries import plot_timeseries
+
+    t0 = time.perf_counter()
+    (run,) = load_plan(task.path, EgoSetup(perception=task.perception)).expand()
+    res = run_xosc(run, RunOptions(out_dir=task.out, record=True, plot=plot_timeseries))
+    rec = Recording.open(task.out / "run.mcap")
+    export_html(
+        rec,
+        task.out / "replay.html",
+        frames=range(0, len(rec), max(1, task.replay_every)),
+        progress=False,
+    )
+    return row_of(task, res.as_dict(), time.perf_counter() - t0)
+
+
+def row_of(task: AlksTask, d: dict, wall: float) -> dict:
+    """The results.csv row of a run from its result summary (RunResult.as_dict())."""
+    collision = bool(d["collision"])
+    return {
+        "scenario": task.path.stem.removesuffix("_template"),
+        "perception": task.perception,
+        "verdict": "collision" if collision else "no collision",
+        "collided_with": d["collided_with"],
+        "impact_speed_kmh": d["impact_speed_kmh"] if collision else "",
+        "min_ttc_s": "" if d["min_ttc_s"] is None else d["min_ttc_s"],
+        "min_gap_m": "" if d["min_gap_m"] is None else d["min_gap_m"],
+        "aeb_max_stage": d["aeb_max_stage"],
+        "stop_trigger": d["stop_trigger"],
+        "sim_seconds": round(d["sim_seconds"], 2),
+        "wall_seconds": round(wall, 1),
+    }
+
+
+def finished_row(task: AlksTask) -> dict | None:
+    """The row of a task whose outputs (result.json, replay.html) are already there."""
+    result = task.out / "result.json"
+    if not (result.is_file() and (task.out / "replay.html").is_file()):
+        return None
+    d = json.loads(result.read_text())["result"]
+    return row_of(task, d, d["wall_seconds"])
+
+
+def markdown(rows: list[dict]) -> str:
+    """The table as Markdown: one line per scenario, the perception modes side by side."""
+    modes = list(dict.fromkeys(r["perception"] for r in rows))
+    by = {(r["scenario"], r["perception"]): r for r in rows}
+    head = "| scenario | " + " | ".join(f"{m}: verdict, min TTC, min gap" for m in modes) + " |"
+    lines = [head, "| --- |" + " --- |" * len(modes)]
+    for name in dict.fromkeys(r["scenario"] for r in rows):
+        cells = []
+        for m in modes:
+            r = by.get((name, m))
+            if r is None:
+                cells.append("not run")
+                continue
+            verdict = (
+                f"**collision** ({r['collided_with']}, {r['impact_speed_kmh']} km/h)"
+                if r["verdict"] == "collision"
+                else "no collision"
+            )
+            ttc = f"{r['min_ttc_s']} s" if r["min_ttc_s"] != "" else "–"
+            gap = f"{r['min_gap_m']} m" if r["min_gap_m"] != "" else "–"
+            end = "" if r["stop_trigger"] else " (no stop trigger)"
+            cells.append(f"{verdict}, {ttc}, {gap}{end}")
+        lines.append(f"| {name.removeprefix('alks_scenario_')} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def run_table(
+    folder: Path,
+    out: Path,
+    perceptions: list[str],
+    workers: int,
+    only: str = "",
+    run: bool = True,
+) -> list[dict]:
+    """Run every .xosc in ``folder`` per perception mode (runs whose outputs are already in
+    ``out`` are kept; ``run`` False: only those); write results.csv / results.md."""
+    from tqdm import tqdm
+
+    from hiyari.bridge.studies.pool import PoolOptions, run_all
+
+    files = sorted(p for p in folder.glob("*.xosc") if only in p.name)
+    tasks = [AlksTask(p, m, out / p.stem / m) for m in perceptions for p in files]
+    rows = [finished_row(t) for t in tasks]  # a re-run keeps the runs already done
+    todo = [i for i, r in enumerate(rows) if r is None] if run else []
+    with tqdm(total=len(tasks), initial=len(tasks) - len(todo), unit="run", desc="alks") as bar:
+        for k, row in run_all(run_task, [tasks[i] for i in todo], PoolOptions(workers=workers)):
+            rows[todo[k]] = row
+            bar.update(1)
+    done = [r for r in rows if r is not None]
+    with atomic_path(out / "results.csv") as tmp, tmp.open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(COLUMNS))
+        w.writeheader()
+        w.writerows(done)
+    write_text_atomic(out / "results.md", markdown(done))
+    return done
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command line: folder, -o out, --perception (repeatable), -j workers."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("folder", type=Path, help="folder of .xosc files")
+    ap.add_argument("-o", "--out", type=Path, default=Path("out/alks"))
+    ap.add_argument(
+        "--perception", action="append", choices=["perfect", "sensors", "none"], default=None
+    )
+    ap.add_argument("-j", "--workers", type=int, default=2)
+    ap.add_argument("--only", default="", help="only files whose name contains this")
+    ap.add_argument(
+        "--no-run", action="store_true", help="tabulate the runs already in --out; run nothing"
+    )
+    args = ap.parse_args(argv)
+    modes = args.perception or ["perfect", "sensors"]
+    rows = run_table(args.folder, args.out, modes, args.workers, args.only, not args.no_run)
+    print(markdown(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,391 @@
+"""Report of the pedestrian incident study: tables, plots and the CSV of every incident.
+
+Everything is written into one folder, atomically per file: ``report.md``, ``summary.json``,
+``incidents.csv`` (one row per incident, both arms), ``incidents_bar.png`` (the seed's chart:
+incidents per arm), ``ttc_sct_hist.png`` (per-encounter minimum TTC and SCT), and
+``incidents_by_hour.png``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np  # noqa: E402
+from matplotlib.figure import Figure
+
+from hiyari.atomic import atomic_path, write_text_atomic  # noqa: E402
+from hiyari.bridge.studies.sct.study import ARMS, ArmResult, StudyConfig  # noqa: E402
+from hiyari.risk.metrics.incidents import CSV_FIELDS  # noqa: E402
+
+#: DIVP FY2020 report, C2 (divp-H §6.4): incidents over 2 days at 200 veh/h
+SEED_BASELINE = 1990
+SEED_SCT = 641
+SEED_REDUCTION = (SEED_BASELINE - SEED_SCT) / SEED_BASELINE
+
+
+@dataclass
+class ArmSummary:
+    """One arm of one variant, summed over its runs. Times in seconds."""
+
+    variant: str
+    arm: str
+    sim_days: float
+    vehicles: int
+    encounters: int
+    incidents: int
+    ttc_incidents: int
+    pet_incidents: int
+    collisions: int
+    mean_travel_time: float
+    mean_time_loss: float
+    mean_pedestrian_time_loss: float
+    controller_interventions: int
+    wall_seconds: float
+    evaluated_share: float
+
+
+def summarise(config: StudyConfig, results: list[ArmResult]) -> list[ArmSummary]:
+    """Per (variant, arm): counts and trip statistics over all runs."""
+    out = []
+    ic = config.incidents
+    for variant in config.variants:
+        for arm in ARMS:
+            rs = [r for r in results if r.variant == variant and r.arm == arm]
+            inc = [e for r in rs for e in r.incidents]
+            tt = np.concatenate([r.travel_time for r in rs]) if rs else np.zeros(0)
+            tl = np.concatenate([r.time_loss for r in rs]) if rs else np.zeros(0)
+            pl = np.concatenate([r.person_time_loss for r in rs]) if rs else np.zeros(0)
+            out.append(
+                ArmSummary(
+                    variant=variant,
+                    arm=arm,
+                    sim_days=sum(r.sim_seconds for r in rs) / 86400.0,
+                    vehicles=len(tt),
+                    encounters=sum(len(r.encounters) for r in rs),
+                    incidents=len(inc),
+                    ttc_incidents=sum(e.min_ttc < ic.ttc_threshold for e in inc),
+                    pet_incidents=sum(e.min_pet < ic.pet_threshold for e in inc),
+                    collisions=sum(e.collision for e in inc),
+                    mean_travel_time=_mean(tt),
+                    mean_time_loss=_mean(tl),
+                    mean_pedestrian_time_loss=_mean(pl),
+                    controller_interventions=sum(r.interventions for r in rs),
+                    wall_seconds=sum(r.wall_seconds for r in rs),
+                    evaluated_share=sum(r.evaluated_steps for r in rs)
+                    / max(sum(r.steps for r in rs), 1),
+                )
+            )
+    return out
+
+
+def _mean(a: np.ndarray) -> float:
+    return float(a.mean()) if len(a) else math.nan
+
+
+def _pair(summaries: list[ArmSummary], variant: str) -> tuple[ArmSummary, ArmSummary]:
+    base = next(s for s in summaries if s.variant == variant and s.arm == "baseline")
+    sct = next(s for s in summaries if s.variant == variant and s.arm == "sct")
+    return base, sct
+
+
+def reduction(base: int, sct: int) -> float:
+    """Relative reduction of incidents, (base - sct) / base (nan without baseline incidents)."""
+    return (base - sct) / base if base else math.nan
+
+
+def write_report(
+    folder: str | Path,
+    config: StudyConfig,
+    results: list[ArmResult],
+    wall_seconds: float,
+    sensitivity: tuple[float, list] | None = None,
+) -> Path:
+    """Write the study report into ``folder``; return the Markdown file's path.
+    ``sensitivity``: (simulated hours per point, SensitivityPoint list) to include."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    summaries = summarise(config, results)
+    _write_csv(folder / "incidents.csv", config, results)
+    _bar_chart(folder / "incidents_bar.png", config, summaries)
+    _histograms(folder / "ttc_sct_hist.png", config, results)
+    _by_hour(folder / "incidents_by_hour.png", config, results)
+    facts = {v: _residual_facts(config, results, v) for v in config.variants}
+    summary = {
+        "config": _config_dict(config),
+        "wall_seconds": round(wall_seconds, 1),
+        "arms": [asdict(s) for s in summaries],
+        "reduction": {
+            v: reduction(*(s.incidents for s in _pair(summaries, v))) for v in config.variants
+        },
+        "seed": {"baseline": SEED_BASELINE, "sct": SEED_SCT, "reduction": SEED_REDUCTION},
+    }
+    write_text_atomic(folder / "summary.json", json.dumps(summary, indent=2, default=str))
+    text = _markdown(config, summaries, wall_seconds, facts)
+    if sensitivity is not None and sensitivity[1]:
+        from hiyari.bridge.studies.sct.sensitivity import write_sensitivity
+
+        write_sensitivity(folder, sensitivity[1], sensitivity[0])
+        text += _sensitivity_markdown(*sensitivity)
+    return write_text_atomic(folder / "report.md", text)
+
+
+def _sensitivity_markdown(hours: float, points: list) -> str:
+    lines = [
+        "",
+        "## Sensitivity",
+        "",
+        f"One parameter at a time around the main configuration, {hours:g} simulated hours per "
+        "arm and point (unsignalised, same seed); SCT_safe and penetration points share their "
+        "baseline. The seed's −68 % is the dashed line.",
+        "",
+        "| parameter | value | baseline incidents | SCT incidents | change | travel-time cost, s |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    for p in points:
+        lines.append(
+            f"| {p.parameter} | {p.value:g} | {p.baseline_incidents} | {p.sct_incidents} | "
+            f"{-p.reduction:+.0%} | {p.travel_time_cost:+.1f} |"
+        )
+    lines += ["", "![sensitivity](sensitivity.png)", ""]
+    return "\n".join(lines)
+
+
+def _config_dict(config: StudyConfig) -> dict:
+    d = asdict(config)
+    d["run_seconds"] = config.run_seconds
+    return d
+
+
+def _write_csv(path: Path, config: StudyConfig, results: list[ArmResult]) -> None:
+    import csv
+
+    with atomic_path(path) as tmp, tmp.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=["variant", "arm", "run", "seed", *CSV_FIELDS])
+        w.writeheader()
+        for r in results:
+            for e in r.incidents:
+                row = {"variant": r.variant, "arm": r.arm, "run": r.run, "seed": r.seed}
+                w.writerow({**row, **asdict(e)})
+
+
+def _save(fig: Figure, path: Path) -> None:
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
+
+
+def _bar_chart(path: Path, config: StudyConfig, summaries: list[ArmSummary]) -> None:
+    """Incidents per arm, each variant next to the seed's Vissim study."""
+    groups = [("DIVP seed\n(Vissim, 2 days)", SEED_BASELINE, SEED_SCT)]
+    for v in config.variants:
+        base, sct = _pair(summaries, v)
+        groups.append((f"hiyari {v}\n({base.sim_days:g} days)", base.incidents, sct.incidents))
+    fig = Figure(figsize=(2.6 + 2.2 * len(groups), 4.2))
+    ax = fig.subplots()
+    x = np.arange(len(groups))
+    w = 0.36
+    b = ax.bar(x - w / 2, [g[1] for g in groups], w, label="standard drivers", color="#888")
+    s = ax.bar(x + w / 2, [g[2] for g in groups], w, label="SCT drivers", color="#2a7")
+    ax.bar_label(b, padding=2)
+    ax.bar_label(s, padding=2)
+    for k, (_, nb, ns) in enumerate(groups):
+        red = reduction(nb, ns)
+        if not math.isnan(red):
+            top = max(nb, ns) * 1.12 + 1
+            ax.text(k, top, f"{-red:+.0%}", ha="center", fontweight="bold")
+    ax.set_xticks(x, [g[0] for g in groups])
+    ax.set_ylabel("incidents")
+    ax.set_ylim(0, max(max(g[1], g[2]) for g in groups) * 1.3 + 2)
+    ax.set_title(f"Pedestrian incidents, {config.vehicles_per_hour:g} veh/h")
+    ax.legend(loc="upper right")
+    _save(fig, path)
+
+
+def _histograms(path: Path, config: StudyConfig, results: list[ArmResult]) -> None:
+    """Per-encounter minimum TTC and SCT, baseline against SCT arm, per variant."""
+    h = config.metric_horizon
+    bins = np.linspace(0.0, h, int(round(h / 0.25)) + 1)  # coarser than the 0.1 s step
+    fig = Figure(figsize=(10, 3.2 * len(config.variants)))
+    axes = fig.subplots(len(config.variants), 2, squeeze=False)
+    for row, v in enumerate(config.variants):
+        for col, (name, field) in enumerate((("TTC", "min_ttc"), ("SCT", "min_sct"))):
+            ax = axes[row, col]
+            for arm, color in zip(ARMS, ("#888", "#2a7"), strict=True):
+                vals = np.array(
+                    [
+                        getattr(e, field)
+                        for r in results
+                        if r.variant == v and r.arm == arm
+                        for e in r.encounters
+                    ]
+                )
+                vals = vals[np.isfinite(vals)]
+                ax.hist(
+                    vals, bins, histtype="step", lw=1.6, color=color, label=f"{arm} ({len(vals)})"
+                )
+            mark = config.incidents.ttc_threshold if name == "TTC" else config.controller.sct_safe
+            if mark <= h:
+                ax.axvline(mark, color="r", ls="--", lw=1)
+            ax.set_title(f"{v}: minimum {name} per encounter (logged below {h:g} s)")
+            ax.set_xlabel(f"{name}, s")
+            ax.set_ylabel("encounters")
+            ax.legend()
+    _save(fig, path)
+
+
+def _by_hour(path: Path, config: StudyConfig, results: list[ArmResult]) -> None:
+    """Incidents per simulated hour across the whole study time, per arm and variant."""
+    hours = int(math.ceil(config.days * 24))
+    fig = Figure(figsize=(10, 2.8 * len(config.variants)))
+    axes = fig.subplots(len(config.variants), 1, squeeze=False)
+    for row, v in enumerate(config.variants):
+        ax = axes[row, 0]
+        for arm, color in zip(ARMS, ("#888", "#2a7"), strict=True):
+            counts = np.zeros(hours)
+            for r in results:
+                if r.variant != v or r.arm != arm:
+                    continue
+                for e in r.incidents:
+                    t = r.run * config.run_seconds + (0.0 if math.isnan(e.time) else e.time)
+                    counts[min(int(t // 3600), hours - 1)] += 1
+            ax.step(np.arange(hours), counts, where="post", color=color, label=arm)
+        ax.set_title(f"{v}: incidents per simulated hour")
+        ax.set_xlabel("simulated hour")
+        ax.set_ylabel("incidents")
+        ax.legend()
+    _save(fig, path)
+
+
+def _residual_facts(config: StudyConfig, results: list[ArmResult], variant: str) -> list[str]:
+    """Measured facts behind the closing note: where the remaining incidents happen and
+    what the contacts were."""
+    walkingareas = ("_w",)  # SUMO walking-area lane ids look like ':C_w0_0'
+    out = []
+    if config.crossing_priority and variant == "unsignalised":
+        out.append(
+            "Baseline drivers: SUMO's, at zebra crossings (crossings have priority, so drivers "
+            "yield to pedestrians on them or stepping onto them, as the traffic rules require)."
+        )
+    elif variant == "unsignalised":
+        out.append(
+            "Baseline drivers: SUMO's at crossings without priority (--minor-crossings): "
+            "pedestrians wait for gaps and drivers keep the right of way."
+        )
+    for arm in ARMS:
+        inc = [e for r in results if r.variant == variant and r.arm == arm for e in r.incidents]
+        if not inc:
+            continue
+        corner = sum(any(w in e.pedestrian_lane for w in walkingareas) for e in inc)
+        coll = [e for e in inc if e.collision]
+        sct = np.array([e.min_sct for e in inc])
+        line = (
+            f"{variant}, {arm} arm: {len(inc)} incidents; in {corner} ({corner / len(inc):.0%}) "
+            f"the pedestrian was still on a junction corner (walking area) at the worst moment; "
+            f"median minimum SCT {np.median(sct):.2f} s"
+        )
+        if coll:
+            speeds = np.array([e.vehicle_speed for e in coll])
+            on_crossing = sum(":" in e.pedestrian_lane and "_c" in e.pedestrian_lane for e in coll)
+            on_corner = sum(any(w in e.pedestrian_lane for w in walkingareas) for e in coll)
+            line += (
+                f"; {len(coll)} contacts: {on_crossing} with the pedestrian on a crossing, "
+                f"{on_corner} on a corner walking area (a turning car's corner over the kerb "
+                f"line of SUMO's corner geometry), {len(coll) - on_crossing - on_corner} "
+                f"elsewhere; vehicle speed median {np.nanmedian(speeds):.1f} m/s"
+            )
+        out.append(line + ".")
+    return out
+
+
+def _markdown(
+    config: StudyConfig, summaries: list[ArmSummary], wall: float, facts: dict[str, list[str]]
+) -> str:
+    c = config
+    lines = [
+        "# Pedestrian incident study: SUMO drivers vs Safety Cushion Time drivers",
+        "",
+        f"Four-leg intersection with a crossing on every leg; {c.vehicles_per_hour:g} passenger "
+        f"cars/h and {c.persons_per_hour:g} pedestrians/h (Poisson, fringe to fringe); "
+        f"{c.days:g} simulated days per arm and variant at {c.step_length:g} s, split into "
+        f"{c.runs} run(s) with seeds {c.seed}..{c.seed + c.runs - 1}, identical in both arms. "
+        f"SCT arm: {c.penetration:.0%} of vehicles driven by the SCT model "
+        f"(SCT_safe {c.controller.sct_safe:g} s). Wall time {wall:.0f} s.",
+        "",
+        f"Incident: minimum TTC < {c.incidents.ttc_threshold:g} s, or PET at a crossing "
+        f"< {c.incidents.pet_threshold:g} s, or contact; once per vehicle–pedestrian pair.",
+        "",
+        "| variant | arm | vehicles | incidents | TTC | PET | collisions | mean travel time, s "
+        "| mean delay, s | ped. delay, s |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for s in summaries:
+        lines.append(
+            f"| {s.variant} | {s.arm} | {s.vehicles} | {s.incidents} | {s.ttc_incidents} | "
+            f"{s.pet_incidents} | {s.collisions} | {s.mean_travel_time:.1f} | "
+            f"{s.mean_time_loss:.1f} | {s.mean_pedestrian_time_loss:.1f} |"
+        )
+    lines += [
+        "",
+        "| | baseline incidents | SCT incidents | reduction | travel-time cost |",
+        "|---|---:|---:|---:|---:|",
+        f"| DIVP seed (Vissim) | {SEED_BASELINE} | {SEED_SCT} | {SEED_REDUCTION:.0%} | "
+        "not reported |",
+    ]
+    short = []
+    for v in c.variants:
+        base, sct = _pair(summaries, v)
+        red = reduction(base.incidents, sct.incidents)
+        cost = sct.mean_travel_time - base.mean_travel_time
+        rel = cost / base.mean_travel_time if base.mean_travel_time else math.nan
+        lines.append(
+            f"| hiyari, {v} | {base.incidents} | {sct.incidents} | {red:.0%} | "
+            f"{cost:+.1f} s ({rel:+.1%}) |"
+        )
+        if not red >= SEED_REDUCTION:
+            short.append((v, red))
+    lines += [
+        "",
+        "![incidents per arm](incidents_bar.png)",
+        "",
+        "![minimum TTC and SCT per encounter](ttc_sct_hist.png)",
+        "",
+        "![incidents per hour](incidents_by_hour.png)",
+        "",
+        "Every incident is listed in `incidents.csv` (positions in SUMO network metres and "
+        "speeds in m/s at the worst moment).",
+        "",
+        "## Closing note",
+        "",
+    ]
+    lines += [f"- {f}" for v in c.variants for f in facts.get(v, [])]
+    lines.append("")
+    if short:
+        names = ", ".join(f"{v} ({r:.0%})" for v, r in short)
+        lines += [
+            f"The reduction falls short of the seed's {SEED_REDUCTION:.0%} for: {names}.",
+            "",
+            "Why: the SCT driver keeps a cushion of SCT_safe to every pedestrian it can "
+            "foresee (constant velocity, or stepping in from the kerb when facing the road or "
+            "a crossing). What remains are pedestrians who become a threat when the car is "
+            "already close: SUMO's pedestrians walk round the junction corner and turn onto a "
+            "crossing, or start to cross, within a second or two of an approaching car; the "
+            "minimum SCT of these encounters (above) shows the driver had well under SCT_safe "
+            "of warning, and braking is bounded to 0.4 g with a 3 m/s^3 jerk. The seed's "
+            "Vissim drivers, pedestrian model and incident criterion are not published, so its "
+            "baseline count and what can be removed differ: the sensitivity section shows the "
+            "range the model gives.",
+            "",
+            "What would change it: anticipating pedestrians who approach a crossing end "
+            "(a dart-out zone that follows the walking direction, not only the heading within "
+            "1.5 m), a larger SCT_safe (more delay), a pedestrian model that looks for cars "
+            "before stepping in, and the incident thresholds (--ttc-threshold, "
+            "--pet-threshold).",
+        ]
+    else:
+        lines.append(
+            f"The reduction reaches the seed's {SEED_REDUCTION:.0%} in every variant, at the "
+            "travel-time cost in the table."
+        )
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,233 @@
+"""Scenario sweeps: every concrete run of a logical scenario, each in its own worker process.
+
+libsumo runs one simulation per process, so runs go to the campaign pool
+(:mod:`hiyari.bridge.studies.pool`): local worker processes (default) or a Ray cluster
+(``backend="ray"``; ``pip install hiyari[ray]``). Runs are independent and seeded by their
+index, so the result table is the same whichever backend or worker count ran them.
+Results stream to ``results.csv`` as runs finish (one row per run, flushed), so a killed sweep
+resumes where it stopped: a re-run skips the rows already there. An interrupted sweep (Ctrl-C,
+SIGTERM) stops its workers, keeps the rows done and says how to resume. At the end the table
+is rewritten sorted by run index; wall-clock timings go to ``timings.csv`` so that
+``results.csv`` is reproducible byte for byte.
+
+The number of runs is counted from the ranges before anything is expanded, and a sweep of
+more than ``max_runs`` runs is refused (a typo in a step can otherwise ask for millions).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from hiyari.atomic import atomic_path
+from hiyari.bridge.loop.result import RESULT_KEYS
+from hiyari.bridge.loop.xosc_runs import XoscPlan, XoscRun
+from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario, LogicalScenario
+from hiyari.bridge.studies.pool import PoolOptions, run_all
+from hiyari.errors import HiyariError
+
+#: What a sweep runs: a TOML logical scenario, or the runs of an OpenSCENARIO file.
+Plan = LogicalScenario | XoscPlan
+
+
+@dataclass(frozen=True)
+class SweepOptions:
+    """Where and how to run. ``workers`` local processes, or a Ray cluster at ``ray_address``
+    ("auto" joins a running cluster; None starts a local one)."""
+
+    out_dir: Path
+    backend: str = "local"  # "local" or "ray"
+    workers: int = max(1, (os.cpu_count() or 1))
+    ray_address: str | None = None
+    retry_failed: bool = False
+    progress: bool = True
+    max_runs: int = 10_000  # refuse sweeps with more runs than this
+
+    def pool(self) -> PoolOptions:
+        """The pool these options ask for."""
+        return PoolOptions(self.workers, self.backend, self.ray_address)
+
+
+@dataclass
+class SweepSummary:
+    """Counts of one sweep call (runs skipped were already in the table)."""
+
+    total: int
+    ran: int
+    skipped: int
+    failed: int
+    wall_seconds: float
+    table: Path
+
+
+def run_one(cs: ConcreteScenario | XoscRun) -> tuple[dict, float]:
+    """Run one concrete scenario; never raises: failures become a row with the error."""
+    from hiyari.bridge.loop.run import run_concrete
+    from hiyari.bridge.loop.xosc_runs import run_xosc
+
+    t0 = time.perf_counter()
+    row: dict = {"index": cs.index, "seed": cs.seed, **cs.params}
+    try:
+        res = run_xosc(cs) if isinstance(cs, XoscRun) else run_concrete(cs)
+        row.update(status="ok", error="", **res.row())
+    except Exception as exc:  # one failing run must not stop the sweep
+        msg = " ".join(f"{type(exc).__name__}: {exc}".split())
+        row.update(status="failed", error=msg, **dict.fromkeys(RESULT_KEYS, ""))
+    return row, time.perf_counter() - t0
+
+
+def count_runs(logical: Plan) -> int:
+    """How many concrete runs ``logical`` expands to, computed from the axis lengths (nothing
+    is expanded)."""
+    if isinstance(logical, XoscPlan):
+        return logical.count()
+    if logical.sampling.get("mode", "grid") == "random":
+        return int(logical.sampling.get("n", 0))
+    return math.prod(len(v) for v in logical.ranges.values())
+
+
+def _columns(logical: Plan) -> list[str]:
+    from hiyari.bridge.openscenario.presets.toml_file import PARAMETERS
+
+    names = logical.parameter_names if isinstance(logical, XoscPlan) else PARAMETERS[logical.type]
+    return ["index", "seed", *names, "status", "error", *RESULT_KEYS]
+
+
+def _varied(logical: Plan) -> list[str]:
+    """The parameters that change between runs (the plot's axes)."""
+    if isinstance(logical, XoscPlan):
+        return logical.varied
+    return [*logical.ranges, *logical.random]
+
+
+def read_table(path: Path) -> dict[int, dict]:
+    """Rows of an existing results.csv by run index (a torn last line is ignored)."""
+    if not path.exists():
+        return {}
+    rows = {}
+    with path.open(newline="") as f:
+        reader = csv.DictReader(f)
+        for row in reader:
+            if None in row or any(v is None for v in row.values()) or not row.get("status"):
+                continue  # a row cut short when the sweep was killed
+            rows[int(row["index"])] = row
+    return rows
+
+
+def _fmt(v: object) -> str:
+    if isinstance(v, float):
+        return repr(v) if math.isfinite(v) else ""
+    return "" if v is None else str(v)
+
+
+def run_sweep(logical: Plan, options: SweepOptions) -> SweepSummary:
+    """Run every concrete scenario not yet in ``out_dir/results.csv``; return counts. An
+    OpenSCENARIO plan's road is imported once into ``out_dir/roads`` for all its runs."""
+    from tqdm import tqdm
+
+    options.pool().validate()
+    n = count_runs(logical)
+    if n > options.max_runs:
+        raise HiyariError(
+            f"{logical.path}: the parameter ranges give {n:,} runs, more than --max-runs "
+            f"{options.max_runs:,} (use coarser steps, or raise --max-runs)"
+        )
+    if isinstance(logical, XoscPlan):
+        logical = logical.with_road_imported(options.out_dir / "roads")
+    runs = logical.expand()
+    if not runs:
+        raise HiyariError(f"{logical.path}: the parameters expand to no run")
+    out = options.out_dir
+    out.mkdir(parents=True, exist_ok=True)
+    table = out / "results.csv"
+    cols = _columns(logical)
+    done = read_table(table)
+    if done and list(next(iter(done.values()))) != cols:
+        raise HiyariError(f"{table}: columns differ from this scenario's; use another folder")
+    keep = {i: r for i, r in done.items() if r["status"] == "ok" or not options.retry_failed}
+    todo = [cs for cs in runs if cs.index not in keep]
+    t0 = time.perf_counter()
+    failed = sum(r["status"] == "failed" for r in keep.values())
+    # rewrite the kept rows (drops torn lines), then append as runs finish
+    _write_rows(table, cols, sorted(keep.values(), key=lambda r: int(r["index"])))
+    timings = out / "timings.csv"
+    with (
+        table.open("a", newline="") as f,
+        timings.open("a") as tf,
+        tqdm(
+            total=len(runs),
+            initial=len(keep),
+            unit="run",
+            disable=not options.progress,
+            desc="sweep",
+        ) as bar,
+    ):
+        writer = csv.DictWriter(f, fieldnames=cols)
+        try:
+            for _, (row, wall) in run_all(run_one, todo, options.pool()):
+                writer.writerow({k: _fmt(row.get(k)) for k in cols})
+                f.flush()
+                tf.write(f"{row['index']},{wall:.4f}\n")
+                tf.flush()
+                failed += row["status"] == "failed"
+                bar.update(1)
+                bar.set_postfix(failed=failed, remaining=len(runs) - bar.n)
+        except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: workers are stopped by now
+            f.flush()
+            kept = len(read_table(table))
+            exc.args = (
+                f"{kept} of {len(runs)} runs are kept in {table}; run the same command "
+                "again to resume",
+            )
+            raise
+    final = read_table(table)
+    _write_rows(table, cols, [final[i] for i in sorted(final)])
+    summary = SweepSummary(len(runs), len(todo), len(keep), failed, time.perf_counter() - t0, table)
+    plot_sweep(logical, [final[i] for i in sorted(final)], out / "summary.png")
+    return summary
+
+
+def _write_rows(path: Path, cols: list[str], rows: list[dict]) -> None:
+    with atomic_path(path) as tmp, tmp.open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=cols)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: r.get(k, "") for k in cols})
+
+
+def plot_sweep(logical: Plan, rows: list[dict], out: Path) -> Path | None:
+    """Outcome over the first two varied parameters (or one), collision vs no collision."""
+    from matplotlib.figure import Figure
+
+    varied = _varied(logical)
+    ok = [r for r in rows if r["status"] == "ok"]
+    if not ok or not varied:
+        return None
+    xk = varied[0]
+    yk = varied[1] if len(varied) > 1 else "min_ttc_s"
+    fig = Figure(figsize=(7, 5))
+    ax = fig.subplots()
+    for coll, color, label in (
+        ("True", "tab:red", "collision"),
+        ("False", "tab:green", "no collision"),
+    ):
+        pts = [(float(r[xk]), float(r[yk])) for r in ok if r["collision"] == coll and r[yk] != ""]
+        if pts:
+            ax.scatter(*zip(*pts, strict=True), c=color, label=label, s=25, edgecolors="k", lw=0.3)
+    failed = [r for r in rows if r["status"] == "failed"]
+    ax.set_xlabel(xk)
+    ax.set_ylabel(yk)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    ax.set_title(
+        f"{logical.name}: {len(ok)} runs, {sum(r['collision'] == 'True' for r in ok)} "
+        f"collisions, {len(failed)} failed"
+    )
+    fig.tight_layout()
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    return out
