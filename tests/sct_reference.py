@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
-from numba import njit
 
 from hiyari.bridge.loop.drivers.sct_controller import SCTController, ramp_profiles, travel
+from hiyari.jit import njit
 from hiyari.risk.metrics.contact import (
     ContactGeometry,
     contact_gap,

@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from hiyari.jit import njit
 
-@numba.njit(cache=True)
+
+@njit(cache=True)
 def sumo_to_state(
     front: np.ndarray,
     angle: np.ndarray,
@@ -67,7 +68,7 @@ def sumo_to_state(
     return xyz, heading, st
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def within(xyz: np.ndarray, cx: float, cy: float, radius: float) -> np.ndarray:
     """(N,) bool: the points ``xyz`` (N, >=2) within ``radius`` (2-D, hypot) of (cx, cy), m."""
     n = xyz.shape[0]

@@ -17,7 +17,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import njit
+
+from hiyari.jit import njit
 
 if TYPE_CHECKING:
     from hiyari.net.road.opendrive_lanes import Poly3, Road

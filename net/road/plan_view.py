@@ -13,8 +13,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import njit
 
+from hiyari.jit import njit
 from hiyari.net.road.lane_profile import cubic_at
 
 if TYPE_CHECKING:

@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from numba import njit
 
+from hiyari.jit import njit
 from hiyari.kinematics import (
     heading_vector,
     rectangle_point_distance,

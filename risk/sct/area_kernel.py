@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
-from numba import njit
+
+from hiyari.jit import njit
 
 # Shewchuk's ccwerrboundA, (3 + 16 eps) eps with eps = 2^-53: |det| above it times the
 # permanent means the floating-point orient2d has the exact sign

@@ -18,8 +18,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from hiyari.jit import njit
 from hiyari.risk.sct.contact_kernel import _first_contact, segment_at
 
 

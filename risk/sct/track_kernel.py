@@ -16,8 +16,8 @@ Frames and units: network coordinates in metres, speeds m/s, times s.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from hiyari.jit import njit
 from hiyari.risk.metrics.contact import _predict
 from hiyari.risk.sct.area_kernel import locate_xy
 

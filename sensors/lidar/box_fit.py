@@ -20,7 +20,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+
+from hiyari.jit import njit
 
 
 @dataclass(frozen=True)

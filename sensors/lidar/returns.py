@@ -7,8 +7,8 @@ is numpy's float32 arithmetic of the formula in sensors/lidar/sensor.py, in the 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from hiyari.jit import njit
 from hiyari.sensors.outputs import HIT_NONE
 
 

@@ -9,7 +9,8 @@ same order (tests/test_lidar_scan_kernel.py checks them equal bit for bit).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from hiyari.jit import njit
 
 
 @njit(cache=True, nogil=True)

@@ -11,8 +11,8 @@ threads run them in parallel.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from hiyari.jit import njit
 from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
 
 

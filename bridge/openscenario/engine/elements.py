@@ -7,10 +7,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
 from hiyari.bridge.openscenario.model.storyboard import Storyboard
 from hiyari.errors import HiyariError
+from hiyari.jit import njit
 
 STANDBY, RUNNING, COMPLETE = 0, 1, 2
 START, END, STOP, SKIP, NO_TRANSITION = 3, 4, 5, 6, 7

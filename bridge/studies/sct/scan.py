@@ -15,8 +15,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from hiyari.jit import njit
 from hiyari.risk.sct.contact_kernel import pair_time_bounds
 
 

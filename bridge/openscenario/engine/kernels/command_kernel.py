@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from hiyari.bridge.openscenario.engine.kernels.motion_kernel import (
     V_LAT,
@@ -22,6 +21,7 @@ from hiyari.bridge.openscenario.engine.kernels.motion_kernel import (
     _remainder,
     advance_and_place,
 )
+from hiyari.jit import njit
 from hiyari.net.road.lane_profile import section_of
 
 

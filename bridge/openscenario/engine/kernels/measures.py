@@ -19,9 +19,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from hiyari.bridge.openscenario.model.positions import LanePosition, RoadPosition, WorldPosition
+from hiyari.jit import njit
 
 #: Speed below which an actor stands still, m/s.
 STANDSTILL_SPEED = 0.01

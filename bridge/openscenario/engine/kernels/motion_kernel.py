@@ -15,9 +15,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from hiyari.bridge.openscenario.engine.kernels.shapes import shape_progress
+from hiyari.jit import njit
 from hiyari.net.road.lane_profile import lane_centre_at
 from hiyari.net.road.plan_view import road_pose_at
 

@@ -10,10 +10,9 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
 from hiyari.bridge.openscenario.model.actions import Dimension, Shape
 from hiyari.errors import HiyariError
+from hiyari.jit import njit
 
 PEAK_SLOPE = {Shape.STEP: 0.0, Shape.LINEAR: 1.0, Shape.CUBIC: 1.5, Shape.SINUSOIDAL: math.pi / 2}
 

@@ -12,9 +12,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from hiyari.bridge.openscenario.engine.kernels.motion_kernel import S, T
+from hiyari.jit import njit
 
 
 @dataclass

@@ -10,10 +10,10 @@ trigger fired or a transition ended: one call instead of two, with no Python in 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 from hiyari.bridge.openscenario.engine.kernels.command_kernel import advance_and_command
 from hiyari.bridge.openscenario.engine.kernels.trigger_kernel import gather_and_evaluate
+from hiyari.jit import njit
 
 
 @njit(cache=True)

@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from hiyari.bridge.openscenario.engine.kernels.measures import (
     COLLISION,
@@ -46,6 +45,7 @@ from hiyari.bridge.openscenario.engine.kernels.snapshot import (
     F_SPEED,
     gather_entities,
 )
+from hiyari.jit import njit
 
 #: Condition kinds (column 0 of the condition table).
 STATIC, TIME, STATE, ENTITY = 0, 1, 2, 3
