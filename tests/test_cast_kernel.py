@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from hiyari.net.mesh.materials import Material
 from hiyari.sensors.frames import Mount
@@ -13,6 +14,9 @@ from hiyari.sensors.scene.cast_kernel import actor_candidates, static_hits
 from hiyari.sensors.scene.ray_scene import AZIMUTH_BINS, NO_MATERIAL, RayScene, SensorRays
 from hiyari.sensors.scene.synthetic import actor_world, wall
 from hiyari.traffic.actor_class import ActorClass
+
+#: compiled kernels against numpy formulas: CI runs these again with numpy's dispatch limited
+pytestmark = pytest.mark.kernels
 
 
 def _numpy_static(prim, tfar, d, material_ext, normal_ext):

@@ -26,6 +26,9 @@ from hiyari.bridge.openscenario.model import (
 )
 from hiyari.kinematics import footprint_distance, footprint_extent, unrotate_xy, vehicle_to_world
 
+#: compiled kernels against numpy formulas: CI runs these again with numpy's dispatch limited
+pytestmark = pytest.mark.kernels
+
 DT = 0.1
 
 

@@ -25,6 +25,9 @@ from hiyari.net.road.opendrive_lanes import LaneSection, LaneSpec, OpenDriveMap,
 from hiyari.net.road.plan_view import road_pose_at
 from hiyari.traffic.commands import heading_to_sumo_angle
 
+#: compiled kernels against numpy formulas: CI runs these again with numpy's dispatch limited
+pytestmark = pytest.mark.kernels
+
 ROADS = Path(__file__).resolve().parents[2] / "shared/data/openscenario/alks/road_networks"
 CURVED = ROADS / "alks_road_different_curvatures.xodr"
 ARC = ROADS / "alks_road_right_radius_250m.xodr"

@@ -3,9 +3,13 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from hiyari.kinematics import rotate_xy
 from hiyari.sensors.lidar.scan_kernel import add_range_noise, return_points, scan_rays
+
+#: compiled kernels against numpy formulas: CI runs these again with numpy's dispatch limited
+pytestmark = pytest.mark.kernels
 
 
 def _unit(rng: np.random.Generator, n: int) -> np.ndarray:

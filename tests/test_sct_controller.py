@@ -7,12 +7,12 @@ from multiprocessing import get_context
 
 import numpy as np
 import pytest
+from sct_reference import ramp_profiles
 
 from hiyari.bridge.loop.drivers.sct_controller import (
     G,
     SCTController,
     SCTControllerConfig,
-    ramp_profiles,
     travel,
 )
 from hiyari.errors import HiyariError

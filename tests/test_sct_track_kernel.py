@@ -26,6 +26,9 @@ from hiyari.risk.sct.model import SCTModel
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.world_state import WorldState
 
+#: compiled kernels against numpy formulas: CI runs these again with numpy's dispatch limited
+pytestmark = pytest.mark.kernels
+
 ARMS = ("n", "e", "s", "w")
 
 

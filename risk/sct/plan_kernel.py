@@ -295,7 +295,7 @@ def _overlap_depth(qa: np.ndarray, qb: np.ndarray) -> float:
 
 @njit(cache=True)
 def _ramps(a0: np.ndarray, targets: np.ndarray, times: np.ndarray, jerk: float) -> np.ndarray:
-    """controller.ramp_profiles per scalar: (W, C, K) m/s^2."""
+    """the cubic ramps per scalar (tests/sct_reference.py ramp_profiles is the numpy oracle): (W, C, K) m/s^2."""
     out = np.empty((len(a0), len(targets), len(times)))
     for w in range(len(a0)):
         for c in range(len(targets)):

@@ -78,20 +78,6 @@ class SCTControllerConfig:
             raise HiyariError("SCT controller: targets_g needs at least one acceleration")
 
 
-def ramp_profiles(
-    a0: float | np.ndarray, targets: np.ndarray, times: np.ndarray, jerk_limit: float
-) -> np.ndarray:
-    """(..., C, K) acceleration, m/s^2, of cubic ramps from ``a0`` (a float, or (...) one per
-    vehicle) to each target at ``times`` s: a(t) = aT - (aT - a0) (1 - t / T)^3 up to T, then
-    aT. The jerk is largest at the start, 3 |aT - a0| / T, and T is chosen to make that the
-    jerk limit; it fades to 0 at the plateau. (Re-planned every step, a ramp that started with
-    zero jerk would never leave a0.)"""
-    delta = targets - np.asarray(a0, float)[..., None]
-    ramp = np.maximum(3.0 * np.abs(delta) / jerk_limit, 1e-6)
-    tau = np.minimum(times / ramp[..., None], 1.0)
-    return targets[:, None] - delta[..., None] * (1.0 - tau) ** 3
-
-
 def travel(
     accel: np.ndarray,
     v0: float | np.ndarray,
