@@ -6,7 +6,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 OUT ?= out
 
-.PHONY: demo test test-baseline-dispatch lint bench install clean browser
+.PHONY: demo test test-baseline-dispatch docs lint bench install clean browser
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -45,6 +45,10 @@ test: $(STAMP) browser
 NUMPY_BASELINE_ONLY := X86_V3 X86_V4 AVX512_ICL AVX512_SPR AVX512_SKX AVX512F AVX2 FMA3
 test-baseline-dispatch: $(STAMP)
 	NPY_DISABLE_CPU_FEATURES="$(NUMPY_BASELINE_ONLY)" $(BIN)/python -m pytest -q -n $(TEST_WORKERS) -m kernels
+
+# The user guide (docs/) as a static site in site/.
+docs: $(STAMP)
+	$(BIN)/mkdocs build --strict --quiet
 
 lint: $(STAMP)
 	$(BIN)/ruff check . && $(BIN)/ruff format --check .

@@ -26,7 +26,7 @@ step_length = 0.1
 perception = "perfect"
 {stack}
 [parameters]
-ve0_kmh = {{ range = [20, 69], step = 2 }}
+ve0_kmh = {{ range = [20, 69], step = 4 }}
 ped_speed_kmh = 5
 impact_fraction = 0.5
 """
@@ -44,7 +44,7 @@ def reference(tmp_path_factory):
     s = run_sweep(
         load_scenario(_scenario(tmp)), SweepOptions(tmp / "w1", workers=1, progress=False)
     )
-    assert s.total == 25 and s.ran == 25 and s.failed == 0
+    assert s.total == 13 and s.ran == 13 and s.failed == 0
     return s.table.read_bytes()
 
 
@@ -100,14 +100,14 @@ def test_killed_sweep_resumes_only_missing_rows(reference, tmp_path):
     proc = _start_sweep(scen, out, tmp_path / "tmp", workers=1)
     table = out / "results.csv"
     deadline = time.time() + 120
-    while time.time() < deadline and len(read_table(table)) < 10:
+    while time.time() < deadline and len(read_table(table)) < 4:
         time.sleep(0.2)
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait()
     before = len(read_table(table))
-    assert 10 <= before < 25
+    assert 4 <= before < 13
     s = run_sweep(load_scenario(scen), SweepOptions(out, workers=1, progress=False))
-    assert s.skipped == before and s.ran == 25 - before
+    assert s.skipped == before and s.ran == 13 - before
     assert table.read_bytes() == reference
 
 
@@ -125,7 +125,7 @@ def test_failing_run_is_recorded(tmp_path, monkeypatch):
     scen = _scenario(tmp_path, stack='stack = "exploding_stack:Exploding"')
     s = run_sweep(load_scenario(scen), SweepOptions(tmp_path / "fail", workers=2, progress=False))
     rows = read_table(s.table)
-    assert s.failed == 1 and len(rows) == 25
+    assert s.failed == 1 and len(rows) == 13
     bad = [r for r in rows.values() if r["status"] == "failed"]
     assert [r["ve0_kmh"] for r in bad] == ["24.0"]
     assert bad[0]["error"] == "RuntimeError: planner diverged at 24 km/h"
@@ -154,7 +154,7 @@ def test_interrupted_sweep_stops_cleanly(reference, tmp_path, sig, status):
     lines = err.strip().splitlines()
     assert len(lines) == 1 and "run the same command again to resume" in lines[0], err
     kept = len(read_table(table))
-    assert 3 <= kept < 25 and f"{kept} of 25 runs are kept" in lines[0]
+    assert 3 <= kept < 13 and f"{kept} of 13 runs are kept" in lines[0]
     assert list(tmp.iterdir()) == []
     # the rows kept are whole and the same as in the uninterrupted sweep
     ref_path = tmp_path / "reference.csv"
@@ -168,7 +168,7 @@ def test_run_count_guard_counts_without_expanding(tmp_path, capsys):
 
     scen = tmp_path / "tiny.toml"
     scen.write_text(
-        GRID.format(stack="").replace("step = 2 }", "step = 1e-7 }") + "[sampling]\nmode = 'grid'\n"
+        GRID.format(stack="").replace("step = 4 }", "step = 1e-7 }") + "[sampling]\nmode = 'grid'\n"
     )
     t0 = time.perf_counter()
     status = main(["sweep", str(scen), "-o", str(tmp_path / "out"), "-q"])
@@ -178,7 +178,7 @@ def test_run_count_guard_counts_without_expanding(tmp_path, capsys):
     assert "--max-runs 10,000" in err
     assert time.perf_counter() - t0 < 2.0  # counted, not listed
     assert not (tmp_path / "out").exists()
-    # the same grid within a raised limit is accepted (counted exactly: 25 runs here)
+    # the same grid within a raised limit is accepted (counted exactly: 13 runs here)
     logical = load_scenario(_scenario(tmp_path))
-    with pytest.raises(HiyariError, match="give 25 runs, more than --max-runs 24"):
-        run_sweep(logical, SweepOptions(tmp_path / "o2", max_runs=24, progress=False))
+    with pytest.raises(HiyariError, match="give 13 runs, more than --max-runs 12"):
+        run_sweep(logical, SweepOptions(tmp_path / "o2", max_runs=12, progress=False))
