@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from concurrent.futures import ProcessPoolExecutor
-from multiprocessing import get_context
-
 import numpy as np
 import pytest
 from sct_reference import ramp_profiles
@@ -112,15 +109,9 @@ def approach_speeds(net, routes, sct: bool) -> tuple[np.ndarray, np.ndarray, flo
     return np.array(ys), np.array(vs), ped_y
 
 
-def in_fresh_process(*args):
-    """approach_speeds in a new process: libsumo runs one simulation per process."""
-    with ProcessPoolExecutor(1, mp_context=get_context("spawn")) as pool:
-        return pool.submit(approach_speeds, *args).result()
-
-
 def test_sct_car_slows_for_a_kerb_pedestrian_where_sumo_does_not(scene):
-    y_base, v_base, ped_y = in_fresh_process(*scene, False)
-    y_sct, v_sct, _ = in_fresh_process(*scene, True)
+    y_base, v_base, ped_y = approach_speeds(*scene, False)
+    y_sct, v_sct, _ = approach_speeds(*scene, True)
     near = (y_base > ped_y) & (y_base < ped_y + 40.0)
     assert v_base[near].min() > 13.0  # SUMO's driver keeps the 50 km/h limit
     near = (y_sct > ped_y) & (y_sct < ped_y + 40.0)

@@ -102,6 +102,9 @@ class Commands:
         """Commands are about to move these actors or set their speeds (Simulation's read
         scope then reads them every step: no speed bound holds for them)."""
 
+    def _placed(self) -> None:
+        """A moveToXY was issued: SUMO holds it until the next step (see Simulation.close)."""
+
     # ------------------------------------------------------------------ actors
     def define_vehicle_type(self, vt: VehicleType) -> None:
         """Create vehicle type ``vt.type_id`` as a copy of ``vt.base`` with the given sizes."""
@@ -227,6 +230,7 @@ class Commands:
         step (SUMO maps it to the nearest lane of ``edge`` when given, else of any edge);
         ``speed`` m/s is what SUMO reports for it (None: implied by the move)."""
         self._commanded((vehicle_id,))
+        self._placed()
         s = self._api()
         fx, fy = (float(v) for v in point_ahead((x, y), heading, 0.5 * length))
         # keepRoute 2 | 4: anywhere, mapped to the nearest lane whatever its permissions, so a
@@ -255,6 +259,7 @@ class Commands:
         if {len(edges), len(lanes), len(front_x), len(front_y), len(angle), len(speed)} != {n}:
             raise ValueError("move_vehicle_fronts: arguments of different lengths")
         self._commanded(vehicle_ids)
+        self._placed()
         speeds = speed.tolist() if isinstance(speed, np.ndarray) else list(speed)
         keep = [v == v for v in speeds]  # NaN: leave the speed set last
         # libsumo's SWIG functions themselves (its Python wrappers add a frame per call),
@@ -279,6 +284,7 @@ class Commands:
     ) -> None:
         """Place a person's centre at (``x``, ``y``) facing ``heading`` for the next step."""
         self._commanded((person_id,), persons=True)
+        self._placed()
         self._api().person.moveToXY(
             person_id, edge, x, y, angle=heading_to_sumo_angle(heading), keepRoute=2
         )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 import tempfile
@@ -136,6 +137,7 @@ class Simulation(Commands):
         self._collisions: list[Collision] = []
         self._tmpdir: tempfile.TemporaryDirectory[str] | None = None
         self._trap: StderrTrap | None = None
+        self._placed_since_step = False
 
     # ------------------------------------------------------------------ lifecycle
     def __enter__(self) -> Simulation:
@@ -182,9 +184,21 @@ class Simulation(Commands):
     def close(self) -> None:
         """Close SUMO (safe to call twice)."""
         if self._open:
+            if self._placed_since_step:
+                self._consume_placements()
             self._sumo.close()
             self._open = False
         self._cleanup_tmp()
+
+    def _consume_placements(self) -> None:
+        """One last step, its messages and errors dropped: libsumo keeps moveToXY requests in
+        a table of the process until the next step and does not clear it on close, so the next
+        simulation in this process would apply them to this one's freed actors (a segfault in
+        its first step once an actor id repeats)."""
+        with contextlib.suppress(Exception), self._trap:
+            self._sumo.simulationStep()
+        self._trap.take()
+        self._placed_since_step = False
 
     def _cleanup_tmp(self) -> None:
         if self._tmpdir is not None:
@@ -219,6 +233,7 @@ class Simulation(Commands):
                 detail = _first_error(Path(self._tmpdir.name) / "errors.log")
             what = f"SUMO stopped at t={now:.2f} s"
             raise HiyariError(self._sumo_error(what, detail or str(exc))) from None
+        self._placed_since_step = False
         text = self._trap.take()
         if text:
             sys.stderr.write(text)
@@ -269,6 +284,9 @@ class Simulation(Commands):
     def _commanded(self, actor_ids: Sequence[str], persons: bool = False) -> None:
         self._require_open()
         self._reader.pin(actor_ids, persons)
+
+    def _placed(self) -> None:
+        self._placed_since_step = True
 
     @property
     def state(self) -> WorldState:
