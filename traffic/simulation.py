@@ -16,6 +16,7 @@ from hiyari.sumo_tools import (
     check_net_loads,
     check_sumo_loads,
     first_error,
+    proj_env,
     sumo_binary,
     sumo_home,
 )
@@ -155,6 +156,8 @@ class Simulation(Commands):
                 "per process (close it first, or run the second in another process)"
             )
         os.environ.setdefault("SUMO_HOME", str(sumo_home()))
+        for key, value in proj_env().items():  # geo-referenced (OpenStreetMap) nets
+            os.environ.setdefault(key, value)
         self._preflight()
         self._tmpdir = tempfile.TemporaryDirectory(prefix="hiyari-sumo-")
         self._trap = StderrTrap()
