@@ -84,6 +84,9 @@ NETCONVERT_OPTIONS: tuple[NetconvertOption, ...] = tuple(
          "carriageways become one junction"),
         ("--ramps.guess", "true", "acceleration and deceleration lanes at motorway ramps"),
         ("--roundabouts.guess", "true", "right of way inside roundabouts"),
+        ("--no-turnarounds.except-deadend", "true", "U-turns only at dead ends: a U-turn at "
+         "a junction sweeps across the crossings there, which SUMO's pedestrians do not "
+         "see as a foe"),
         ("--geometry.remove", "true", "shape-only nodes joined into longer edges"),
         ("--keep-edges.by-vclass", KEPT_CLASSES, "only drivable and walkable roads (no "
          "railways, waterways, aerialways)"),
