@@ -24,7 +24,9 @@ def run(args: argparse.Namespace) -> int:
     # the work is imported in _run so that `hiyari --help` and the other commands start fast
     if args.scenario is None:
         if args.sumocfg is None and args.map is None:
-            raise HiyariError("give a scenario file, or a world to drive in (--sumocfg, --map)")
+            args.run_parser.error(
+                "the following arguments are required: scenario (or a world: --sumocfg, --map)"
+            )
         return _run(args)
     with about(args.scenario, Path(args.scenario).resolve()):
         if Path(args.scenario).suffix.lower() == ".xosc":
@@ -206,7 +208,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     add_xosc_options(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, run_parser=p)
 
 
 def add_xosc_options(p: argparse.ArgumentParser) -> None:
