@@ -34,10 +34,22 @@ def sumo_binary(name: str) -> Path:
 
 
 def sumo_env() -> dict[str, str]:
-    """Environment for SUMO subprocesses: SUMO_HOME pointing at the wheel."""
+    """Environment for SUMO subprocesses: SUMO_HOME pointing at the wheel, and PROJ's data
+    (the wheel's ``data/proj``) for the geo projections of imported OpenStreetMap nets."""
     env = dict(os.environ)
     env["SUMO_HOME"] = str(sumo_home())
+    env.update(proj_env())
     return env
+
+
+def proj_env() -> dict[str, str]:
+    """PROJ's data folder for SUMO (``PROJ_DATA`` and the older ``PROJ_LIB`` SUMO's PROJ
+    reads): without it netconvert cannot project OpenStreetMap coordinates and SUMO prints
+    "Cannot find proj.db" loading a geo-referenced net. Empty when the wheel has no proj data."""
+    proj = sumo_home() / "data" / "proj"
+    if not (proj / "proj.db").is_file():
+        return {}
+    return {"PROJ_DATA": str(proj), "PROJ_LIB": str(proj)}
 
 
 def first_error(text: str) -> str:

@@ -17,6 +17,7 @@ from hiyari.sumo_tools import (
     check_net_loads,
     check_sumo_loads,
     first_error,
+    proj_env,
     sumo_binary,
     sumo_home,
 )
@@ -24,12 +25,13 @@ from hiyari.traffic.collision import Collision, CollisionDetector
 from hiyari.traffic.commands import Commands
 from hiyari.traffic.read_scope import ReadScope
 from hiyari.traffic.sumo_reader import ReadMode, WorldStateReader
+from hiyari.traffic.sumocfg import read_sumocfg
 from hiyari.traffic.world_state import WorldState
 
 
 @dataclass(frozen=True)
 class SimConfig:
-    """What SUMO runs: a net with route / demand files, or a .sumocfg.
+    """What SUMO runs: a net with route / demand files, or a .sumocfg (``from_sumocfg``).
 
     Times in seconds of simulation time. ``end_time`` None runs until stopped by the caller.
     ``read_mode`` chooses how the full state is read (same values either way);
@@ -57,6 +59,24 @@ class SimConfig:
     #: broken nets, and a crash in libsumo takes this process down. For files from users
     #: (the CLI turns it on); costs one extra load of the net.
     preflight: bool = False
+
+    @staticmethod
+    def from_sumocfg(
+        path: str | Path, step_length: float | None = None, seed: int | None = None, **kw: object
+    ) -> SimConfig:
+        """The user's SUMO scenario ``path`` (a .sumocfg) as SUMO runs it, over its own time
+        window; ``step_length`` / ``seed`` replace the configuration's (None: its own, else
+        SimConfig's defaults); ``kw`` sets other fields (read_scope ...). HiyariError (one
+        line naming the file) for a configuration that cannot run (see ``read_sumocfg``)."""
+        sc = read_sumocfg(path)
+        return SimConfig(
+            config=sc.config,
+            step_length=step_length or sc.step_length or SimConfig.step_length,
+            seed=seed if seed is not None else sc.seed if sc.seed is not None else SimConfig.seed,
+            begin=sc.begin,
+            end_time=sc.end,
+            **kw,  # type: ignore[arg-type]
+        )
 
     def validate(self) -> None:
         """Raise HiyariError for impossible parameters or unreadable input files."""
@@ -108,9 +128,11 @@ class SimConfig:
             # SUMO's default counts a gap below minGap (2.5 m) as a collision: contact only
             "--collision.mingap-factor",
             "0",
-            "--time-to-teleport",
-            "-1",
         ]
+        if self.config is None:
+            # hiyari's own demand never teleports; a user's scenario keeps its own setting
+            # (city scenarios rely on teleports to clear the jams of their demand)
+            args += ["--time-to-teleport", "-1"]
         if self.end_time is not None:
             args += ["--end", repr(self.end_time)]
         if self.ignore_route_errors:
@@ -157,6 +179,8 @@ class Simulation(Commands):
                 "per process (close it first, or run the second in another process)"
             )
         os.environ.setdefault("SUMO_HOME", str(sumo_home()))
+        for key, value in proj_env().items():  # geo-referenced (OpenStreetMap) nets
+            os.environ.setdefault(key, value)
         self._preflight()
         self._tmpdir = tempfile.TemporaryDirectory(prefix="hiyari-sumo-")
         self._trap = StderrTrap()

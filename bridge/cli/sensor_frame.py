@@ -60,8 +60,8 @@ class FrameRequest:
 def _sumo_frame(req: FrameRequest) -> tuple[SceneMesh, WorldState, str]:
     import tempfile
 
-    from hiyari.net.mesh.road_mesh import build_scene_mesh
-    from hiyari.net.road.geometry import RoadGeometry
+    from hiyari.net.mesh.road_mesh import network_scene_mesh
+    from hiyari.net.road.network import RoadNetwork
     from hiyari.sumo_tools import check_net_loads
     from hiyari.traffic.demand import DemandConfig, write_demand
     from hiyari.traffic.simulation import SimConfig, Simulation
@@ -69,7 +69,7 @@ def _sumo_frame(req: FrameRequest) -> tuple[SceneMesh, WorldState, str]:
     if req.time_s <= 0:
         raise HiyariError(f"--time must be positive, got {req.time_s} s")
     check_net_loads(req.net)  # SUMO's own check first: its loader crashes on some broken nets
-    mesh = build_scene_mesh(RoadGeometry.from_net(req.net), buildings=True)
+    mesh = network_scene_mesh(RoadNetwork(req.net), buildings=True)
     with tempfile.TemporaryDirectory(prefix="hiyari-sensors-") as tmp:
         routes = list(req.routes)
         generated = []

@@ -13,7 +13,7 @@ from hiyari.bridge.loop.stack.aeb import AEBStage
 from hiyari.bridge.loop.stack.interfaces import EgoStack, EgoStep
 from hiyari.bridge.loop.stack.perception_sensors import SensorPerception
 from hiyari.bridge.record.recorder import Recorder, RecorderConfig, SensorMount
-from hiyari.net.mesh.road_mesh import build_scene_mesh
+from hiyari.net.mesh.road_mesh import network_scene_mesh
 from hiyari.net.road.network import RoadNetwork
 from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.outputs import CameraFrame, PointCloud, RadarDetections
@@ -97,7 +97,7 @@ def open_recorder(
     if isinstance(perception, SensorPerception):
         mesh = perception.scene.static_mesh
     else:
-        mesh = build_scene_mesh(geometry)
+        mesh = network_scene_mesh(network)
     rec.write_static_mesh(mesh)
     rec.write_road(geometry, mesh, signal_links)
     return rec

@@ -23,7 +23,7 @@ from hiyari.bridge.loop.stack.perception_sensors import SensorPerception
 from hiyari.bridge.loop.stack.perception_truth import NoPerception, PerfectPerception
 from hiyari.bridge.loop.warm import WarmCache
 from hiyari.bridge.openscenario.engine import ScenarioEngine
-from hiyari.bridge.openscenario.presets.scenarios import build_scenario
+from hiyari.bridge.openscenario.presets.scenarios import World, build_scenario
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.errors import HiyariError
 from hiyari.net.road.network import RoadNetwork
@@ -98,6 +98,7 @@ def run_concrete(
     options: RunOptions | None = None,
     on_step: OnStep | None = None,
     warm: WarmCache | None = None,
+    world: World | None = None,
 ) -> RunResult:
     """Run one concrete scenario in this process (one libsumo simulation at a time): its
     type's preset of the scenario model, run by the ScenarioEngine in the closed loop every
@@ -105,6 +106,7 @@ def run_concrete(
 
     ``warm``: take the road, its ray-cast scene and the sensor rig from this process's cache
     (built by the first run on that road) instead of building them; same results.
+    ``world``: a city run's map or SUMO scenario (None: the generated city).
     """
     # engine_run builds on this module (RunOptions, write_result): imported here
     from hiyari.bridge.loop.engine_run import EngineHooks, drive
@@ -112,19 +114,22 @@ def run_concrete(
     options = options or RunOptions()
     with tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
         work = options.out_dir / "roads" if options.out_dir else Path(tmp)
-        preset = build_scenario(cs, work, roads=warm)
+        preset = build_scenario(cs, work, roads=warm, world=world)
         network = preset.network
         stack = build_stack(cs, network, warm)
         net = network.path
-        cfg = SimConfig(
-            net=net,
-            routes=preset.routes,
-            step_length=cs.step_length,
-            seed=cs.seed,
-            generated=(net, *preset.routes),
-        )
+        if preset.sumo is not None:  # the user's scenario as SUMO runs it, at the run's step
+            cfg = SimConfig.from_sumocfg(preset.sumo.config, cs.step_length, cs.seed)
+        else:
+            cfg = SimConfig(
+                net=net,
+                routes=preset.routes,
+                step_length=cs.step_length,
+                seed=cs.seed,
+                generated=(net, *preset.routes) if world is None else preset.routes,
+            )
         with Simulation(cfg) as sim:
-            sim.fast_forward(preset.warmup)
+            sim.fast_forward(sim.time + preset.warmup)
             engine = ScenarioEngine(preset.scenario, preset.roads, cs.step_length)
             hooks = EngineHooks(engine, sim, preset.scoring)
             decided = None

@@ -17,7 +17,7 @@ from collections.abc import Callable, Hashable, Sequence
 from pathlib import Path
 from typing import Any
 
-from hiyari.net.mesh.road_mesh import build_scene_mesh
+from hiyari.net.mesh.road_mesh import network_scene_mesh
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.net.road.sumo_roads import sumo_road_lanes
@@ -61,7 +61,7 @@ class WarmCache:
         """The RayScene of ``network``'s static mesh (``workers`` cast threads)."""
         key = (network.path, buildings, workers)
         if key not in self._scenes:
-            mesh = build_scene_mesh(network.geometry, buildings=buildings)
+            mesh = network_scene_mesh(network, buildings=buildings)
             self._scenes[key] = RayScene(mesh, workers=workers)
         return self._scenes[key]
 

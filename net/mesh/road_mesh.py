@@ -12,7 +12,10 @@ Parts (material):
 - sidewalks and walking areas as closed solids standing ``kerb_height`` above the road, whose
   road-side faces are the kerbs (concrete);
 - guard rails as closed beams beside the shoulders (barrier metal);
-- optional buildings on the city blocks (building) and a ground plane (grass).
+- mapped buildings (an OpenStreetMap import's footprints and heights, hiyari.net.road.buildings)
+  as closed prisms standing on the ground at the nearest road height (building);
+- optional generated buildings on the city blocks of a net without mapped ones (building) and
+  a ground plane (grass).
 
 Surfaces face up; solids are closed with outward faces. Coordinates are SUMO network metres,
 z up. The mesh builder is vectorised over lanes: each part is one numpy pass over all
@@ -21,6 +24,7 @@ polylines of that kind.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,11 +42,13 @@ from hiyari.net.mesh.primitives import (
     strip,
 )
 from hiyari.net.mesh.scene_mesh import SceneMesh
+from hiyari.net.road.buildings import Building
 from hiyari.net.road.geometry import Edge, Lane, LaneKind, RoadGeometry
+from hiyari.net.road.network import RoadNetwork
 from hiyari.net.road.polylines import Polylines
 from hiyari.net.sumo.lane_types import LANE_TYPES, lane_type
 
-__all__ = ["MeshParams", "build_scene_mesh", "export_mesh"]
+__all__ = ["MeshParams", "build_scene_mesh", "export_mesh", "network_scene_mesh"]
 
 
 @dataclass(frozen=True)
@@ -81,9 +87,13 @@ class MeshParams:
 
 
 def build_scene_mesh(
-    geometry: RoadGeometry, buildings: bool = False, params: MeshParams | None = None
+    geometry: RoadGeometry,
+    buildings: bool = False,
+    params: MeshParams | None = None,
+    mapped: Sequence[Building] = (),
 ) -> SceneMesh:
-    """Triangulate the road scene of ``geometry`` (see the module docstring for the parts)."""
+    """Triangulate the road scene of ``geometry`` (see the module docstring for the parts):
+    ``mapped`` buildings as given, generated ones on the blocks with ``buildings``."""
     p = params or MeshParams()
     parts = [
         _surfaces(geometry, p),
@@ -92,12 +102,22 @@ def build_scene_mesh(
         _markings(geometry, p),
         _crossings(geometry, p),
         _pedestrian_solids(geometry, p),
+        _mapped_buildings(geometry, mapped),
     ]
     if buildings:
         parts.append(_buildings(geometry, p))
     if p.ground:
         parts.append(_ground(geometry, p))
     return _drop_degenerate(SceneMesh.concatenate(parts))
+
+
+def network_scene_mesh(
+    network: RoadNetwork, buildings: bool = False, params: MeshParams | None = None
+) -> SceneMesh:
+    """The scene of a run's road: its geometry with its mapped buildings; ``buildings`` adds
+    generated ones only to a net that has none mapped (they would stand in the real ones)."""
+    mapped = network.buildings
+    return build_scene_mesh(network.geometry, buildings and not mapped, params, mapped)
 
 
 def _strip_of(lanes: list[Lane], material: Material) -> SceneMesh:
@@ -407,6 +427,23 @@ def _buildings(g: RoadGeometry, p: MeshParams) -> SceneMesh:
     base = road_pts[nearest, 2]
     rng = np.random.default_rng(p.seed)
     height = rng.uniform(p.building_height_min, p.building_height_max, len(polys))
+    z0 = base[polys.vertex_owner]
+    return polygon_prism(polys, z0, z0 + height[polys.vertex_owner], Material.BUILDING)
+
+
+def _mapped_buildings(g: RoadGeometry, mapped: Sequence[Building]) -> SceneMesh:
+    """Each building's footprint extruded to its height from the road height nearest to it."""
+    if not mapped:
+        return SceneMesh.concatenate([])
+    outlines = [np.column_stack([b.outline, np.zeros(len(b.outline))]) for b in mapped]
+    polys = PolygonSet.from_outlines(outlines)
+    if not len(polys):
+        return SceneMesh.concatenate([])
+    road_pts = np.concatenate([np.concatenate([ln.left, ln.right]) for ln in g.lanes.values()])
+    centroids = shapely.get_coordinates(shapely.centroid(polys.polygons))
+    _, nearest = cKDTree(road_pts[:, :2]).query(centroids)
+    base = road_pts[nearest, 2]
+    height = np.array([b.height for b in mapped])[polys.source]
     z0 = base[polys.vertex_owner]
     return polygon_prism(polys, z0, z0 + height[polys.vertex_owner], Material.BUILDING)
 

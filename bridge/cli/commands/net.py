@@ -1,14 +1,18 @@
-"""``hiyari net``: build road networks, import OpenDRIVE maps, triangulate the 3D road scene.
+"""``hiyari net``: build road networks, import OpenDRIVE and OpenStreetMap maps, triangulate
+the 3D road scene.
 
 hiyari net build {expressway,city,intersection,r157} -o NET [--param value ...]
 hiyari net import MAP.xodr -o MAP.net.xml [--all-lanes] [--junction-shapes auto|file|computed]
+hiyari net import MAP.osm|MAP.osm.pbf -o MAP.net.xml [--bbox W,S,E,N] [--no-buildings]
 hiyari net mesh NET -o scene.glb [-o scene.npz ...] [--buildings]
+  (the mapped buildings of NET's polygon file, MAP.poly.xml beside MAP.net.xml, are always in)
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import math
 import sys
 import time
 from collections import Counter
@@ -71,7 +75,42 @@ def _warn(message: str) -> None:
     print(f"hiyari: warning: {message}", file=sys.stderr)
 
 
+def is_osm(path: str) -> bool:
+    """Whether ``path`` names an OpenStreetMap extract (.osm, .osm.xml, .osm.pbf, .pbf)."""
+    name = path.lower()
+    return name.endswith((".osm", ".osm.xml", ".pbf"))
+
+
+def parse_bbox(text: str) -> tuple[float, float, float, float]:
+    """``'W,S,E,N'`` in degrees -> a tuple; ArgumentTypeError otherwise."""
+    parts = text.split(",")
+    try:
+        values = tuple(float(p) for p in parts)
+    except ValueError:
+        values = ()
+    if len(values) != 4 or not all(math.isfinite(v) for v in values):
+        raise argparse.ArgumentTypeError(
+            f"expected west,south,east,north in degrees (four numbers), got {text!r}"
+        )
+    return values  # type: ignore[return-value]
+
+
 def _run_import(args: argparse.Namespace) -> None:
+    if is_osm(args.map):
+        from hiyari.net.sumo.osm import OsmImportOptions, import_osm
+
+        net = import_osm(
+            args.map, args.out, OsmImportOptions(bbox=args.bbox, buildings=args.buildings), _warn
+        )
+        print(f"network: {net} ({_summary(net)})")
+        if args.buildings:
+            from hiyari.net.road.buildings import poly_path, read_buildings
+
+            poly = poly_path(net)
+            print(f"buildings: {poly} ({len(read_buildings(poly))} buildings)")
+        return
+    if args.bbox is not None:
+        raise HiyariError(f"{args.map}: --bbox applies to OpenStreetMap extracts (.osm, .osm.pbf)")
     from hiyari.net.sumo.opendrive import ImportOptions, import_opendrive
 
     opts = ImportOptions(
@@ -79,15 +118,15 @@ def _run_import(args: argparse.Namespace) -> None:
         curve_resolution=args.curve_resolution,
         internal_shapes=JUNCTION_SHAPES[args.junction_shapes],
     )
-    net = import_opendrive(args.xodr, args.out, opts, warn=_warn)
+    net = import_opendrive(args.map, args.out, opts, warn=_warn)
     print(f"network: {net} ({_summary(net)})")
 
 
 def _run_mesh(args: argparse.Namespace) -> None:
     from hiyari.net.mesh.export import SUFFIXES, export_mesh
     from hiyari.net.mesh.materials import Material
-    from hiyari.net.mesh.road_mesh import MeshParams, build_scene_mesh
-    from hiyari.net.road.geometry import RoadGeometry
+    from hiyari.net.mesh.road_mesh import MeshParams, network_scene_mesh
+    from hiyari.net.road.network import RoadNetwork
     from hiyari.net.sumo.files import check_net
     from hiyari.sumo_tools import check_net_loads
 
@@ -97,9 +136,10 @@ def _run_mesh(args: argparse.Namespace) -> None:
     t0 = time.perf_counter()
     check_net(args.net)
     check_net_loads(args.net)  # nothing is built from a net SUMO itself rejects
-    geometry = RoadGeometry.from_net(args.net)
-    mesh = build_scene_mesh(
-        geometry, buildings=args.buildings, params=MeshParams(ground=args.ground, seed=args.seed)
+    mesh = network_scene_mesh(
+        RoadNetwork(args.net),
+        buildings=args.buildings,
+        params=MeshParams(ground=args.ground, seed=args.seed),
     )
     dt = time.perf_counter() - t0
     counts = Counter(Material(int(m)).name.lower() for m in mesh.material)
@@ -131,7 +171,9 @@ def _add_params(parser: argparse.ArgumentParser, cls: type) -> None:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("net", help="road networks: build, import OpenDRIVE, 3D scene mesh")
+    p = sub.add_parser(
+        "net", help="road networks: build, import OpenDRIVE / OpenStreetMap, 3D scene mesh"
+    )
     p.set_defaults(func=run)
     nsub = p.add_subparsers(dest="net_command", required=True, metavar="NET_COMMAND")
 
@@ -142,22 +184,39 @@ def register(sub: argparse._SubParsersAction) -> None:
         kp.add_argument("-o", "--out", required=True, help="output .net.xml")
         _add_params(kp, cls)
 
-    i = nsub.add_parser("import", help="convert an OpenDRIVE map (.xodr) to a SUMO net")
-    i.add_argument("xodr", help="OpenDRIVE file")
+    i = nsub.add_parser(
+        "import", help="convert an OpenDRIVE (.xodr) or OpenStreetMap (.osm, .osm.pbf) map"
+    )
+    i.add_argument("map", help="OpenDRIVE file, or OpenStreetMap extract (.osm, .osm.pbf)")
     i.add_argument("-o", "--out", required=True, help="output .net.xml")
+    i.add_argument(
+        "--bbox",
+        type=parse_bbox,
+        default=None,
+        help="OSM: cut the area west,south,east,north (degrees) out of the extract",
+    )
+    i.add_argument(
+        "--buildings",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="OSM: write the buildings beside the net (MAP.poly.xml) for the 3D scene",
+    )
     i.add_argument(
         "--all-lanes",
         action="store_true",
-        help="also import the verge lane types (border, curb, median ...), closed to traffic",
+        help="OpenDRIVE: also import the verge lane types (border, curb, median ...), closed "
+        "to traffic",
     )
     i.add_argument(
         "--junction-shapes",
         choices=list(JUNCTION_SHAPES),
         default="auto",
-        help="lanes inside junctions: the file's connecting roads (file), netconvert's computed "
+        help="OpenDRIVE: lanes inside junctions: the file's connecting roads (file), netconvert's computed "
         "shapes (computed), or the file's unless they disagree with SUMO's junction logic (auto)",
     )
-    i.add_argument("--curve-resolution", type=float, default=2.0, help="point spacing on curves, m")
+    i.add_argument(
+        "--curve-resolution", type=float, default=2.0, help="OpenDRIVE: point spacing on curves, m"
+    )
 
     m = nsub.add_parser("mesh", help="triangulate a SUMO net into the 3D road scene")
     m.add_argument("net", help="SUMO .net.xml")
@@ -168,7 +227,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         required=True,
         help="output file, repeatable: .glb / .gltf / .ply (viewers) or .npz (arrays)",
     )
-    m.add_argument("--buildings", action="store_true", help="simple buildings on enclosed blocks")
+    m.add_argument(
+        "--buildings",
+        action="store_true",
+        help="simple generated buildings on enclosed blocks (nets without mapped buildings)",
+    )
     m.add_argument(
         "--ground", action=argparse.BooleanOptionalAction, default=True, help="grass ground plane"
     )

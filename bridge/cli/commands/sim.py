@@ -64,15 +64,19 @@ def run(args: argparse.Namespace) -> int:
             )
             with about(args.net):
                 generated.append(write_demand(args.net, Path(tmp) / "demand.rou.xml", demand))
-        config = SimConfig(
-            net=Path(args.net) if args.net else None,
-            config=Path(args.config) if args.config else None,
-            routes=[*routes, *generated],
-            step_length=args.step,
-            seed=args.seed,
-            generated=generated,
-            preflight=True,
-        )
+        if args.config:  # the user's scenario over its own time window, its files checked
+            config = SimConfig.from_sumocfg(
+                args.config, args.step, args.seed, routes=routes, preflight=True
+            )
+        else:
+            config = SimConfig(
+                net=Path(args.net),
+                routes=[*routes, *generated],
+                step_length=args.step,
+                seed=args.seed,
+                generated=generated,
+                preflight=True,
+            )
         summary = run_traffic(config, args.duration, progress=not args.quiet)
     d = summary.as_dict()
     print(

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from hiyari.kinematics import Pose
-from hiyari.net.mesh.road_mesh import build_scene_mesh
+from hiyari.net.mesh.road_mesh import network_scene_mesh
 from hiyari.net.road.network import RoadNetwork
 from hiyari.sensors.camera.sensor import Camera
 from hiyari.sensors.environment.presets import DisturbancePreset, disturbance_preset
@@ -63,7 +63,7 @@ class SensorPerception:
         """The default rig, only the sensors named in ``sensors``, on the road of ``network``
         under the disturbance preset ``environment``; the simulation steps every ``step`` s;
         ray casts split over ``workers`` threads (same results for any number)."""
-        scene = RayScene(build_scene_mesh(network.geometry, buildings=buildings), workers=workers)
+        scene = RayScene(network_scene_mesh(network, buildings=buildings), workers=workers)
         rig = SensorRig.default()
         rig.sensors = [s for s in rig.sensors if s.name in sensors]
         preset = disturbance_preset(environment)

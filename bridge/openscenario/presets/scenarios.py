@@ -66,6 +66,7 @@ from hiyari.bridge.openscenario.model.storyboard import (
 )
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.errors import HiyariError
+from hiyari.net.road.buildings import poly_path
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.net.road.sumo_roads import sumo_lane_id, sumo_road_lanes
@@ -77,8 +78,10 @@ from hiyari.net.sumo.build import (
     build_intersection,
     build_r157_road,
 )
+from hiyari.net.sumo.files import check_net
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.demand import DemandConfig, write_demand
+from hiyari.traffic.sumocfg import SumoScenario, read_sumocfg
 from hiyari.units import G, kmh_to_mps
 
 #: Init speeds and positions apply at once.
@@ -118,11 +121,41 @@ class ScenarioConstants:
 
 
 @dataclass(frozen=True)
+class World:
+    """Where a city run drives instead of the generated grid: a map (``net``, e.g. an
+    OpenStreetMap import, with generated demand), or a user's SUMO scenario (``sumo``: its
+    own net, demand, additional files and time window; hiyari adds only the ego)."""
+
+    net: Path
+    sumo: SumoScenario | None = None
+
+    @staticmethod
+    def of_net(path: str | Path) -> World:
+        """A map: the SUMO net ``path`` (its buildings from the polygon file beside it)."""
+        check_net(path)
+        return World(Path(path))
+
+    @staticmethod
+    def of_sumocfg(path: str | Path) -> World:
+        """A user's SUMO scenario, read from its .sumocfg (one-line HiyariError when broken)."""
+        sc = read_sumocfg(path)
+        check_net(sc.net)
+        return World(sc.net, sc)
+
+    def network(self) -> RoadNetwork:
+        """The run's road: buildings from the scenario's polygon (additional) files and the
+        polygon file beside the net, where there are any."""
+        beside = poly_path(self.net)
+        polygons = [*(self.sumo.additional if self.sumo else ()), beside]
+        return RoadNetwork(self.net, [p for p in dict.fromkeys(polygons) if p.is_file()])
+
+
+@dataclass(frozen=True)
 class PresetRun:
     """A preset ready to run through the ScenarioEngine: the model ``scenario``, its road
     (``network`` and the road / lane / s frame ``roads`` the engine resolves positions in),
-    SUMO's own demand files ``routes`` run for ``warmup`` s before the scenario starts, and how
-    the run is scored (``scoring``)."""
+    SUMO's own demand files ``routes`` (or the user's scenario ``sumo``) run for ``warmup`` s
+    before the scenario starts, and how the run is scored (``scoring``)."""
 
     scenario: Scenario
     network: RoadNetwork
@@ -130,6 +163,7 @@ class PresetRun:
     scoring: Scoring
     routes: tuple[Path, ...] = ()
     warmup: float = 0.0
+    sumo: SumoScenario | None = None
 
 
 @dataclass(frozen=True)
@@ -244,6 +278,7 @@ class _Build:
     duration: float
     dt: float
     roads: RoadCache | None = None  # reuse roads built earlier in this process
+    world: World | None = None  # city runs: a map or a SUMO scenario instead of the grid
 
     def road(self, name: str, build: Callable[[Path, Any], Path], params: Hashable) -> RoadNetwork:
         """The network ``build(workdir / name, params)`` writes (or the cache's copy)."""
@@ -478,19 +513,32 @@ def _dart_out(p: DartOut, b: _Build) -> PresetRun:
 
 
 def _city(p: City, b: _Build) -> PresetRun:
-    net = build_city_grid(b.workdir / "city.net.xml", CityGridParams())
-    routes = write_demand(
-        net,
-        b.workdir / "demand.rou.xml",
-        DemandConfig(
-            vehicles_per_hour=p.vehicles_per_hour,
-            persons_per_hour=p.persons_per_hour,
-            end=p.warmup + b.duration + 60.0,
-            seed=b.seed,
-            vehicle_mix={"car": 0.85, "truck": 0.05, "bus": 0.05, "motorcycle": 0.05},
-        ),
-    )
-    network = RoadNetwork(net)
+    world = b.world
+    if world is None:
+        network = RoadNetwork(build_city_grid(b.workdir / "city.net.xml", CityGridParams()))
+    else:
+        network = world.network()
+    sumo = world.sumo if world is not None else None
+    routes: tuple[Path, ...] = ()
+    if sumo is None:  # a SUMO scenario brings its own demand; other roads get generated demand
+        routes = (
+            write_demand(
+                network.path,
+                b.workdir / "demand.rou.xml",
+                DemandConfig(
+                    vehicles_per_hour=p.vehicles_per_hour,
+                    persons_per_hour=p.persons_per_hour,
+                    end=p.warmup + b.duration + 60.0,
+                    seed=b.seed,
+                    vehicle_mix={"car": 0.85, "truck": 0.05, "bus": 0.05, "motorcycle": 0.05},
+                ),
+            ),
+        )
+    elif sumo.end is not None and sumo.begin + p.warmup + b.duration > sumo.end:
+        raise HiyariError(
+            f"{sumo.config}: the run (warmup {p.warmup:g} s + {b.duration:g} s from begin "
+            f"{sumo.begin:g} s) ends after the scenario's end {sumo.end:g} s"
+        )
     edges = [network.sumo.getEdge(e) for e in _long_route(network)]
 
     def on(edge: object, s: float) -> LanePosition:
@@ -507,7 +555,7 @@ def _city(p: City, b: _Build) -> PresetRun:
     ego = replace(b.entity("ego", "ego"), controller=mode)
     sc = _scenario("city", [ego], init, [])
     scoring = Scoring("", None, math.inf, 0.0)
-    return PresetRun(sc, network, b.lanes(network), scoring, (routes,), p.warmup)
+    return PresetRun(sc, network, b.lanes(network), scoring, routes, p.warmup, sumo)
 
 
 #: The scenario types: typed parameters -> Scenario (the one registry of builders).
@@ -527,22 +575,35 @@ def build_scenario(
     k: ScenarioConstants | None = None,
     sizes: ActorSizes | None = None,
     roads: RoadCache | None = None,
+    world: World | None = None,
 ) -> PresetRun:
     """The preset run of one concrete scenario; road files are written into ``workdir``, or
-    taken from ``roads`` (built there once per process) when given."""
+    taken from ``roads`` (built there once per process) when given. ``world``: the map or
+    SUMO scenario a city run drives in (other types refuse one)."""
     params = typed_parameters(cs)
+    if world is not None and not isinstance(params, City):
+        raise HiyariError(
+            f"a {cs.type} scenario runs on its own road: only city scenarios run on a map or "
+            "a SUMO scenario"
+        )
     workdir.mkdir(parents=True, exist_ok=True)
     k, z = k or ScenarioConstants(), sizes or ActorSizes()
-    b = _Build(workdir, k, z, cs.seed, cs.duration, cs.step_length, roads)
+    b = _Build(workdir, k, z, cs.seed, cs.duration, cs.step_length, roads, world)
     return BUILDERS[type(params)](params, b)
 
 
+#: Edges tried at each end of the ego's route on a net without fringe edges.
+_ROUTE_CANDIDATES = 20
+
+
 def _long_route(network: RoadNetwork) -> list[str]:
-    """A long car route across the network: between the most distant boundary edges."""
+    """A long car route across the network: between the most distant boundary edges (on a
+    net whose edges all lead on, as imported maps with U-turns at dead ends: between the
+    edges farthest from the network's centre)."""
     n = network.sumo
     cars = [e for e in n.getEdges() if e.allows("passenger") and not e.isSpecial()]
-    starts = [e for e in cars if not e.getIncoming()]
-    ends = [e for e in cars if not e.getOutgoing()]
+    starts = [e for e in cars if not e.getIncoming()] or _outermost(cars)
+    ends = [e for e in cars if not e.getOutgoing()] or _outermost(cars)
     pairs = sorted(
         ((a, b) for a in starts for b in ends if a.getFromNode() is not b.getToNode()),
         key=lambda ab: -math.dist(ab[0].getFromNode().getCoord(), ab[1].getToNode().getCoord()),
@@ -552,3 +613,10 @@ def _long_route(network: RoadNetwork) -> list[str]:
         if path:
             return [e.getID() for e in path]
     raise HiyariError(f"{network.path}: no route across the network for the ego")
+
+
+def _outermost(edges: list) -> list:
+    """The ``_ROUTE_CANDIDATES`` edges whose middle lies farthest from the edges' centre."""
+    mid = np.array([np.mean([p[:2] for p in e.getShape()], axis=0) for e in edges])
+    far = np.argsort(-np.linalg.norm(mid - mid.mean(axis=0), axis=1), kind="stable")
+    return [edges[i] for i in far[:_ROUTE_CANDIDATES]]

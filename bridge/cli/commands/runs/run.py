@@ -17,14 +17,35 @@ if TYPE_CHECKING:
     from hiyari.bridge.loop.engine_run import EgoSetup
     from hiyari.bridge.loop.result import RunResult
     from hiyari.bridge.loop.run import RunOptions
+    from hiyari.bridge.openscenario.presets.scenarios import World
 
 
 def run(args: argparse.Namespace) -> int:
     # the work is imported in _run so that `hiyari --help` and the other commands start fast
+    if args.scenario is None:
+        if args.sumocfg is None and args.map is None:
+            args.run_parser.error(
+                "the following arguments are required: scenario (or a world: --sumocfg, --map)"
+            )
+        return _run(args)
     with about(args.scenario, Path(args.scenario).resolve()):
         if Path(args.scenario).suffix.lower() == ".xosc":
+            if args.sumocfg or args.map:
+                raise HiyariError(f"{args.scenario}: an OpenSCENARIO file runs on its own road "
+                                  "(--sumocfg and --map apply to city scenarios)")  # fmt: skip
             return _run_xosc(args)
         return _run(args)
+
+
+def _world(args: argparse.Namespace) -> World | None:
+    """The map or SUMO scenario a city run drives in (None: the generated city)."""
+    from hiyari.bridge.openscenario.presets.scenarios import World
+
+    if args.sumocfg is not None:
+        return World.of_sumocfg(args.sumocfg)
+    if args.map is not None:
+        return World.of_net(args.map)
+    return None
 
 
 def ego_setup(args: argparse.Namespace) -> EgoSetup:
@@ -119,12 +140,22 @@ def _write_table(out: Path, rows: list[dict]) -> None:
 
 def _run(args: argparse.Namespace) -> int:
     from dataclasses import replace
+    from functools import partial
 
     from hiyari.bridge.loop.run import run_concrete
-    from hiyari.bridge.openscenario.presets.toml_file import load_scenario
+    from hiyari.bridge.openscenario.presets.toml_file import load_scenario, parse_scenario
     from hiyari.bridge.studies.sweep import count_runs
 
-    logical = load_scenario(args.scenario)
+    world = _world(args)  # a broken world is named before the scenario expands
+    if args.scenario is None:  # free city driving with the city defaults in that world
+        logical = parse_scenario({"scenario": {"type": "city"}}, "--sumocfg/--map")
+    else:
+        logical = load_scenario(args.scenario)
+    if world is not None and logical.type != "city":
+        raise HiyariError(
+            f"{args.scenario}: a {logical.type} scenario runs on its own road (--sumocfg and "
+            "--map apply to city scenarios)"
+        )
     n = count_runs(logical)
     if n > args.max_runs:
         raise HiyariError(
@@ -138,7 +169,7 @@ def _run(args: argparse.Namespace) -> int:
         return _dry_run(runs)
     if args.perception:
         runs = [replace(cs, perception=args.perception) for cs in runs]
-    _run_each(runs, run_concrete, args)
+    _run_each(runs, partial(run_concrete, world=world), args)
     return 0
 
 
@@ -146,8 +177,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run a scenario file (one concrete run or a small grid)")
     p.add_argument(
         "scenario",
+        nargs="?",
         help="scenario file: hiyari TOML, or OpenSCENARIO .xosc (a scenario or a "
-        "ParameterValueDistribution)",
+        "ParameterValueDistribution); optional with --sumocfg / --map (free city driving)",
+    )
+    world = p.add_mutually_exclusive_group()
+    world.add_argument(
+        "--sumocfg",
+        help="city runs: drive inside this SUMO scenario (its net, demand, additional files "
+        "and time window; hiyari adds only the ego)",
+    )
+    world.add_argument(
+        "--map",
+        help="city runs: drive on this SUMO net (e.g. from 'hiyari net import map.osm') with "
+        "generated vehicles and pedestrians",
     )
     p.add_argument("-o", "--out", default="out/run", help="output folder")
     p.add_argument(
@@ -165,7 +208,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     add_xosc_options(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, run_parser=p)
 
 
 def add_xosc_options(p: argparse.ArgumentParser) -> None:

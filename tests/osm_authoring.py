@@ -1,0 +1,113 @@
+"""Small OpenStreetMap files written in tests: nodes placed in local metres, tagged ways.
+
+Tagged as OSM maps them (highway=*, sidewalk=*, highway=traffic_signals on a junction node,
+highway=crossing on a node of the street, building=* closed ways with height or
+building:levels), so the importer is exercised on OSM's conventions, not on a private dialect.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from lxml import etree
+
+#: Metres per degree of latitude (spherical Earth of SUMO's projection radius, close enough
+#: for placing nodes; the tests measure distances in the converted net, not here).
+M_PER_DEG = 6378137.0 * math.pi / 180.0
+
+
+class OsmDoc:
+    """An OSM XML document under construction; positions in metres east / north of
+    (``lat0``, ``lon0``)."""
+
+    def __init__(self, lat0: float = 52.5200, lon0: float = 13.4050) -> None:
+        self.lat0, self.lon0 = lat0, lon0
+        self.root = etree.Element("osm", version="0.6", generator="hiyari tests")
+        self._next = 1
+        self.ids: dict[str, int] = {}  # named elements of the layout functions below
+
+    def latlon(self, x: float, y: float) -> tuple[float, float]:
+        """Latitude and longitude of the point ``x`` m east, ``y`` m north of the origin."""
+        lat = self.lat0 + y / M_PER_DEG
+        lon = self.lon0 + x / (M_PER_DEG * math.cos(math.radians(self.lat0)))
+        return lat, lon
+
+    def node(self, x: float, y: float, **tags: str) -> int:
+        """Add a node at (``x``, ``y``) m; return its id."""
+        nid = self._next
+        self._next += 1
+        lat, lon = self.latlon(x, y)
+        el = etree.SubElement(
+            self.root, "node", id=str(nid), version="1", lat=f"{lat:.7f}", lon=f"{lon:.7f}"
+        )
+        _tags(el, tags)
+        return nid
+
+    def way(self, nodes: list[int], **tags: str) -> int:
+        """Add a way through ``nodes``; tag keys with ':' are written with '__' (``building__levels``)."""
+        wid = self._next
+        self._next += 1
+        el = etree.SubElement(self.root, "way", id=str(wid), version="1")
+        for n in nodes:
+            etree.SubElement(el, "nd", ref=str(n))
+        _tags(el, tags)
+        return wid
+
+    def building(self, x0: float, y0: float, x1: float, y1: float, **tags: str) -> int:
+        """A closed building way around the box (x0, y0)-(x1, y1) m, ``building=yes`` unless
+        given."""
+        ring = [self.node(x0, y0), self.node(x1, y0), self.node(x1, y1), self.node(x0, y1)]
+        return self.way([*ring, ring[0]], **{"building": "yes", **tags})
+
+    def write(self, path: str | Path) -> Path:
+        """Write the document and return its path."""
+        etree.ElementTree(self.root).write(
+            str(path), xml_declaration=True, encoding="UTF-8", pretty_print=True
+        )
+        return Path(path)
+
+
+def _tags(el: etree._Element, tags: dict[str, str]) -> None:
+    for k, v in tags.items():
+        etree.SubElement(el, "tag", k=k.replace("__", ":"), v=v)
+
+
+def town(doc: OsmDoc | None = None) -> OsmDoc:
+    """A few city blocks (see the layout below), every way tagged as OSM would map it.
+
+    Streets (x east, y north, metres)::
+
+        y=100  A-------B-------C        North Street: residential, maxspeed=30, sidewalk=both
+               |       |       |
+        y=0    D---x---E-------F        Main Street: primary, lanes=4, maxspeed=50, sidewalk=both
+               |       |       |        E: highway=traffic_signals; x: a zebra crossing node
+        y=-100 G-------H-------I        South Street: residential, no sidewalk tag (guessed)
+            x=-100    x=0    x=100
+
+    North-south streets are residential with ``sidewalk=both``, except F-I: ``sidewalk=no``.
+    The zebra crossing node sits on D-E at x = -50. Two buildings: ``height=12 m`` on the
+    block x 20..60, y 20..60 and ``building:levels=5`` on x -60..-20, y -60..-20. ``ids``
+    names the elements: the grid nodes "A".."I", "crossing", the streets "north", "main",
+    "south", "F-I" and the buildings "tall" (height) and "levels".
+    """
+    doc = doc or OsmDoc()
+    names = {"A": (-100, 100), "B": (0, 100), "C": (100, 100), "D": (-100, 0), "E": (0, 0),
+             "F": (100, 0), "G": (-100, -100), "H": (0, -100), "I": (100, -100)}  # fmt: skip
+    ids = doc.ids
+    for name, (x, y) in names.items():
+        tags = {"highway": "traffic_signals"} if name == "E" else {}
+        ids[name] = doc.node(float(x), float(y), **tags)
+    ids["crossing"] = doc.node(-50.0, 0.0, highway="crossing", crossing="zebra")
+    n = {k: ids[k] for k in names}
+    ids["north"] = doc.way([n["A"], n["B"], n["C"]], highway="residential",
+                           name="North Street", maxspeed="30", sidewalk="both")  # fmt: skip
+    ids["main"] = doc.way([n["D"], ids["crossing"], n["E"], n["F"]], highway="primary",
+                          name="Main Street", lanes="4", maxspeed="50", sidewalk="both")  # fmt: skip
+    ids["south"] = doc.way([n["G"], n["H"], n["I"]], highway="residential", name="South Street")
+    for a, b in (("A", "D"), ("D", "G"), ("B", "E"), ("E", "H"), ("C", "F"), ("F", "I")):
+        sidewalk = "no" if (a, b) == ("F", "I") else "both"
+        ids[f"{a}-{b}"] = doc.way([n[a], n[b]], highway="residential", sidewalk=sidewalk)
+    ids["tall"] = doc.building(20.0, 20.0, 60.0, 60.0, height="12 m")
+    ids["levels"] = doc.building(-60.0, -60.0, -20.0, -20.0, building__levels="5")
+    return doc
