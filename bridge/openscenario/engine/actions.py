@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from hiyari.bridge.openscenario.engine.global_actions import is_global, run_global
 from hiyari.bridge.openscenario.engine.kernels.shapes import lateral_duration, span
 from hiyari.bridge.openscenario.engine.motion import (
     Actor,
@@ -85,6 +86,9 @@ class ActionStarter:
         """Start ``action`` on ``actor`` at scenario time ``now``."""
         body = action.body
         eng = self.e
+        if is_global(body):
+            run_global(eng, body, action.source or action.name)
+            return Instance(element, actor, (), finished=True)
         if isinstance(body, AssignControllerAction | ActivateControllerAction):
             self._controller(actor, body)
             return Instance(element, actor, (), finished=True)

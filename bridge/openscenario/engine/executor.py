@@ -35,6 +35,7 @@ from hiyari.bridge.openscenario.engine.elements import (
     active_triggers,
     ends_bottom_up,
 )
+from hiyari.bridge.openscenario.engine.global_actions import is_global
 from hiyari.bridge.openscenario.engine.kernels.command_kernel import command_step
 from hiyari.bridge.openscenario.engine.kernels.snapshot import (
     F_ACCEL,
@@ -57,8 +58,10 @@ from hiyari.bridge.openscenario.engine.motion import (
     read_targets,
 )
 from hiyari.bridge.openscenario.engine.positions import Pose, PoseResolver
+from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.actions import AssignRouteAction
 from hiyari.bridge.openscenario.model.entities import EntityKind
+from hiyari.bridge.openscenario.model.global_actions import Environment
 from hiyari.bridge.openscenario.model.storyboard import Scenario
 from hiyari.errors import HiyariError
 from hiyari.net.road.opendrive_lanes import RoadLanes
@@ -134,11 +137,15 @@ class ScenarioEngine:
         self.tree = ElementTree(scenario.storyboard)
         self.resolver = PoseResolver(roads.odr, self.pose_of)
         self.starter = ActionStarter(self)
+        #: Variables and parameters as they are now (actions may change them).
+        self.values = ValueStore(scenario.variables, scenario.parameters, scenario.parameter_types)
+        #: The environment the latest EnvironmentAction set (None: none yet).
+        self.environment: Environment | None = None
         self.bank = ConditionBank(
             self.tree.triggers,
             self.index,
             self.tree.index,
-            scenario.parameters,
+            self.values,
             self.resolver.resolve,
             step_length,
         )
@@ -286,6 +293,7 @@ class ScenarioEngine:
         for ai in self.tree.elements[self.tree.init_event].children:
             ia = self.tree.elements[ai].model
             self._start_action(ai, ia.action, ia.entity, 0.0, init=True)
+        self.bank.refresh_values()
         for name, a in self.actors.items():
             if not a.road and not a.free:
                 raise HiyariError(f"{self.scenario.source}: entity {name!r} has no Init position")
@@ -546,8 +554,10 @@ class ScenarioEngine:
             tree.start(i, self.now)
             group = tree.elements[tree.elements[ev.parent].parent].model
             for ai in ev.children:
-                for actor in group.actors:
-                    self._start_action(ai, tree.elements[ai].model, actor, self.now)
+                action = tree.elements[ai].model
+                for actor in ("",) if is_global(action.body) else group.actors:
+                    self._start_action(ai, action, actor, self.now)
+        self.bank.refresh_values()
 
     def _stop(self, i: int) -> None:
         """Stop element ``i`` with its subtree, releasing the actors' domains."""

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from hiyari.bridge.openscenario.model.entities import ControllerSpec
+from hiyari.bridge.openscenario.model.global_actions import GlobalActionBody
 from hiyari.bridge.openscenario.model.positions import Position
 
 __all__ = [
@@ -250,8 +251,9 @@ ActionBody = (
 
 @dataclass(frozen=True)
 class Action:
-    """A named storyboard action (``source``: file:line it came from, for messages)."""
+    """A named storyboard action (``source``: file:line it came from, for messages): a private
+    action (run on each actor of its maneuver group) or a global one (run once)."""
 
     name: str
-    body: ActionBody
+    body: ActionBody | GlobalActionBody
     source: str = ""

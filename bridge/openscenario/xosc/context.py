@@ -23,6 +23,7 @@ class Scope:
 
     values: dict[str, str] = field(default_factory=dict)
     parent: Scope | None = None
+    types: dict[str, str] = field(default_factory=dict)
 
     def get(self, name: str) -> str:
         """The value of ``name`` here or in an enclosing scope; KeyError when undeclared."""
@@ -34,8 +35,9 @@ class Scope:
         raise KeyError(name)
 
 
-def _canonical(value: object, ptype: str, where: str, name: str) -> str:
-    """A parameter value as text in the form its declared type takes."""
+def canonical(value: object, ptype: str, where: str, name: str) -> str:
+    """A parameter's or variable's value as text in the form its declared type takes (one-line
+    HiyariError naming ``where`` when it is not of that type)."""
     text = _to_text(value)
     try:
         if ptype in _INT_TYPES:
@@ -160,7 +162,8 @@ class Ctx:
                 value: object = overrides[name]
             else:
                 value = inner.text(d, "value", "")
-            scope.values[name] = _canonical(value, ptype, inner.where(d), name)
+            scope.values[name] = canonical(value, ptype, inner.where(d), name)
+            scope.types[name] = ptype
             declared.append((name, ptype, d))
         unknown = set(overrides or ()) - {n for n, _, _ in declared}
         if unknown:
