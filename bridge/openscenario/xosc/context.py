@@ -72,6 +72,9 @@ class Ctx:
         self.file = file
         self.scope = scope
         self.catalogs = catalogs
+        #: The element whose scope this context is (entering it again keeps this scope: a
+        #: catalog entry is entered with its reference's assignments when resolved).
+        self.entered: etree._Element | None = None
 
     def where(self, el: etree._Element) -> str:
         """'file:line' of ``el``."""
@@ -148,7 +151,10 @@ class Ctx:
     # ------------------------------------------------------------------ scopes
     def enter(self, el: etree._Element, overrides: Mapping[str, str] | None = None) -> Ctx:
         """The context inside ``el``: its ParameterDeclarations (if any) declared in a new
-        scope, ``overrides`` replacing declared values; constraints checked."""
+        scope, ``overrides`` replacing declared values; constraints checked. Entering the
+        element this context already is keeps it."""
+        if self.entered is el and not overrides:
+            return self
         decls = el.find("ParameterDeclarations")
         if decls is None and not overrides:
             return self
@@ -173,6 +179,7 @@ class Ctx:
             )
         for name, ptype, d in declared:
             inner._check_constraints(name, ptype, d)
+        inner.entered = el
         return inner
 
     def _check_constraints(self, name: str, ptype: str, decl: etree._Element) -> None:
