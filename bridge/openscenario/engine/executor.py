@@ -51,6 +51,7 @@ from hiyari.bridge.openscenario.engine.kernels.step_kernel import quiet_step
 from hiyari.bridge.openscenario.engine.motion import (
     Actor,
     ActorTable,
+    PathMotion,
     advance_road_actors,
     finish_pass,
     forward,
@@ -155,6 +156,9 @@ class ScenarioEngine:
         self.active_domains = {
             e.name: {"lateral": True, "longitudinal": True} for e in scenario.entities
         }
+        #: The path the storyboard gives a stack-driven ego to steer along (its speed stays
+        #: the stack's), None when it steers on its SUMO route.
+        self.ego_path: PathMotion | None = None
         self.t0 = 0.0
         self.now = 0.0
         self.finished = False
@@ -239,6 +243,16 @@ class ScenarioEngine:
             and ctrl.drives == "storyboard"
             and any(self.active_domains[name].values())
         )
+
+    def travel_direction(self, name: str) -> float:
+        """+1 when entity ``name`` travels towards increasing road s, else -1 (its lane's
+        direction; a scripted actor's own, which a wrong-way heading turns)."""
+        a = self.actors[name]
+        if self.storyboard_drives(name) and a.road and not a.free:
+            self.table.refresh(self.roads.odr)
+            return float(self.table.direction[a.k])
+        p = self.pose_of(name)
+        return forward(self.roads.odr, p.road, p.lane) if p.road else 1.0
 
     def _driven(self) -> np.ndarray:
         """(E,) whether the storyboard moves each entity (all but a stack-driven ego)."""
@@ -605,10 +619,8 @@ class ScenarioEngine:
         changed = advance_road_actors(
             self.roads.odr, self._actor_list, on_road, nxt, self.dt, None if on_path else command
         )
-        for k in on_path:
-            a = self._actor_list[k]
-            if a.path is not None:
-                self.starter.follow_path(a, nxt)
+        if on_path:
+            self.starter.follow_paths(on_path, nxt)
         return changed
 
     def _finish_actions(self, now: float) -> None:

@@ -8,3 +8,4 @@ from hiyari.bridge.openscenario.model.entities import *  # noqa: F403
 from hiyari.bridge.openscenario.model.global_actions import *  # noqa: F403
 from hiyari.bridge.openscenario.model.positions import *  # noqa: F403
 from hiyari.bridge.openscenario.model.storyboard import *  # noqa: F403
+from hiyari.bridge.openscenario.model.trajectories import *  # noqa: F403
