@@ -22,6 +22,7 @@ from hiyari.bridge.openscenario.engine.kernels.snapshot import (
     gather_entities,
 )
 from hiyari.bridge.openscenario.engine.positions import Pose
+from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model import (
     Condition,
     CoordinateSystem,
@@ -44,6 +45,8 @@ from hiyari.bridge.openscenario.model.conditions import (
 from hiyari.bridge.openscenario.model.positions import WorldPosition
 from hiyari.kinematics import footprint_corners, footprint_distance
 from hiyari.net.road.opendrive_lanes import OpenDriveMap
+
+NO_VALUES = ValueStore({}, {}, {})  # no variables or parameters
 
 E, DT = 6, 0.1
 
@@ -146,7 +149,7 @@ def test_batched_evaluation_equals_one_condition_at_a_time() -> None:
         return Pose(p.x, p.y, 0.0, 0.0, "", 0, 0.0, 0.0)
 
     def bank(conds: list[Condition]) -> ConditionBank:
-        return ConditionBank([((c,),) for c in conds], index, lambda *a: 0, {}, resolve, DT)
+        return ConditionBank([((c,),) for c in conds], index, lambda *a: 0, NO_VALUES, resolve, DT)
 
     batched, singles = bank(conditions), [bank([c]) for c in conditions]
     none = np.zeros(0, np.int8)
@@ -198,7 +201,7 @@ def test_gathering_in_the_trigger_call_equals_gathering_first() -> None:
     fired_total = 0
     for conds in (no_points, conditions):
         banks = [
-            ConditionBank([((c,),) for c in conds], index, lambda *a: 0, {}, resolve, DT)
+            ConditionBank([((c,),) for c in conds], index, lambda *a: 0, NO_VALUES, resolve, DT)
             for _ in range(2)
         ]
         for step in range(10):

@@ -12,6 +12,7 @@ import pytest
 from hiyari.bridge.openscenario.engine.conditions import ConditionBank, Snapshot
 from hiyari.bridge.openscenario.engine.kernels import measures as M
 from hiyari.bridge.openscenario.engine.kernels.snapshot import F_HEADING, gather_entities
+from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model import (
     Condition,
     CoordinateSystem,
@@ -28,6 +29,7 @@ from hiyari.kinematics import footprint_distance, footprint_extent, unrotate_xy,
 
 #: compiled kernels against numpy formulas: CI runs these again with numpy's dispatch limited
 pytestmark = pytest.mark.kernels
+NO_VALUES = ValueStore({}, {}, {})  # no variables or parameters
 
 DT = 0.1
 
@@ -151,7 +153,7 @@ def _snap(t: float, speed: float) -> Snapshot:
 
 
 def _fired_steps(conditions: list[Condition], speed: list[float]) -> list[int]:
-    bank = ConditionBank([((c,),) for c in conditions], {"a": 0, "b": 1}, lambda *a: 0, {},
+    bank = ConditionBank([((c,),) for c in conditions], {"a": 0, "b": 1}, lambda *a: 0, NO_VALUES,
                          lambda p: None, DT)  # fmt: skip
     none = np.zeros(0, np.int8)
     out = []

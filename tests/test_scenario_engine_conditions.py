@@ -5,7 +5,10 @@ from __future__ import annotations
 import numpy as np
 
 from hiyari.bridge.openscenario.engine.conditions import ConditionBank, Snapshot
+from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model import Condition, Edge, Rule, SimulationTimeCondition
+
+NO_VALUES = ValueStore({}, {}, {})  # no variables or parameters
 
 DT = 0.1
 
@@ -26,7 +29,7 @@ def _fired(edge: Edge, delay: float = 0.0, active_from: float = 0.0) -> list[flo
         trig = ((Condition("f", SimulationTimeCondition(2.0, Rule.LESS_THAN), edge, delay),),)
     if edge == Edge.RISING_OR_FALLING:
         trig = ((Condition("rf", SimulationTimeCondition(1.0, Rule.GREATER_THAN), edge, delay),),)
-    bank = ConditionBank([trig], {}, lambda *a: 0, {}, lambda p: None, DT)
+    bank = ConditionBank([trig], {}, lambda *a: 0, NO_VALUES, lambda p: None, DT)
     out = []
     for k in range(40):
         t = round(k * DT, 10)

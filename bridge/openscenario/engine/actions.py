@@ -14,16 +14,22 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from hiyari.bridge.openscenario.engine.global_actions import is_global, run_global
+from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
 from hiyari.bridge.openscenario.engine.kernels.shapes import lateral_duration, span
 from hiyari.bridge.openscenario.engine.motion import (
     Actor,
     LateralTransition,
     PathMotion,
     SpeedTransition,
+    end_long,
     forward,
     place_actor,
+    read_targets,
 )
+from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.engine.positions import Pose, lane_shift
+from hiyari.bridge.openscenario.engine.synchronize import Synchronizer
 from hiyari.bridge.openscenario.model.actions import (
     AbsoluteLane,
     AbsoluteOffset,
@@ -40,10 +46,12 @@ from hiyari.bridge.openscenario.model.actions import (
     LongitudinalDistanceAction,
     Shape,
     SpeedAction,
+    SynchronizeAction,
     TeleportAction,
 )
 from hiyari.bridge.openscenario.model.entities import EntityKind
-from hiyari.bridge.openscenario.model.positions import Position
+from hiyari.bridge.openscenario.model.positions import WorldPosition
+from hiyari.bridge.openscenario.model.trajectories import Route
 from hiyari.errors import HiyariError
 
 if TYPE_CHECKING:
@@ -51,6 +59,7 @@ if TYPE_CHECKING:
 
 _MOTION = (
     SpeedAction,
+    SynchronizeAction,
     LongitudinalDistanceAction,
     LaneChangeAction,
     LaneOffsetAction,
@@ -59,8 +68,6 @@ _MOTION = (
     AssignRouteAction,
     AcquirePositionAction,
 )
-#: Sample spacing of route paths along a lane, m.
-ROUTE_STEP = 1.0
 
 
 @dataclass
@@ -72,6 +79,7 @@ class Instance:
     domains: tuple[str, ...]
     obj: object = None
     finished: bool = False
+    until: Callable[[], bool] | None = None  # for an action that ends itself: whether it has
 
 
 class ActionStarter:
@@ -85,6 +93,9 @@ class ActionStarter:
         """Start ``action`` on ``actor`` at scenario time ``now``."""
         body = action.body
         eng = self.e
+        if is_global(body):
+            run_global(eng, body, action.source or action.name)
+            return Instance(element, actor, (), finished=True)
         if isinstance(body, AssignControllerAction | ActivateControllerAction):
             self._controller(actor, body)
             return Instance(element, actor, (), finished=True)
@@ -103,6 +114,11 @@ class ActionStarter:
         if inst.finished:
             return True
         a = self.e.actors[inst.actor]
+        if inst.until is not None and inst.until():
+            if a.long is inst.obj:
+                a.long = None
+            inst.finished = True
+            return True
         if inst.obj is not None and inst.obj not in (a.long, a.lat, a.path):
             inst.finished = True
         return inst.finished
@@ -145,6 +161,12 @@ class ActionStarter:
             return Instance(element, a.name, (), finished=True)
         if isinstance(body, SpeedAction):
             return self._speed(element, a, body, now)
+        if isinstance(body, SynchronizeAction):
+            sync = Synchronizer(self.e, a.name, body)
+            self._claim(element, a.name, ("longitudinal",))
+            tr = SpeedTransition(a.v, a.v, sync.goal, Shape.STEP, 0.0, False, True, now)
+            a.long, a.long_travelled = tr, 0.0
+            return Instance(element, a.name, ("longitudinal",), tr, until=lambda: sync.done)
         if isinstance(body, LongitudinalDistanceAction):
             self._claim(element, a.name, ("longitudinal",))
             self._gap(a, body)
@@ -155,8 +177,10 @@ class ActionStarter:
             return self._lane_offset(element, a, body, now)
         if isinstance(body, FollowTrajectoryAction):
             return self._trajectory(element, a, body, now)
-        waypoints = body.waypoints if isinstance(body, AssignRouteAction) else (body.position,)
-        return self._route(element, a, waypoints)
+        if isinstance(body, AssignRouteAction):
+            return self._route(element, a, body.route)
+        here = WorldPosition(a.x, a.y, a.z, a.h)
+        return self._route(element, a, Route("AcquirePositionAction", (here, body.position)))
 
     def _teleport(self, a: Actor, p: Pose) -> None:
         a.x, a.y, a.z, a.h = p.x, p.y, p.z, p.h
@@ -301,59 +325,87 @@ class ActionStarter:
     def _trajectory(
         self, element: int, a: Actor, body: FollowTrajectoryAction, now: float
     ) -> Instance:
-        poses = [self.e.resolver.resolve(v.position) for v in body.trajectory.vertices]
-        pts = np.array([[p.x, p.y] for p in poses])
+        start = Pose(a.x, a.y, a.z, a.h, "" if a.free else a.road, a.lane, a.s, a.t)
+        path = self.e.resolver.trajectory(body.trajectory, start)
         times = None
-        vt = [v.time for v in body.trajectory.vertices]
-        if body.timing is not None and all(t is not None for t in vt):
+        if body.timing is not None and path.times is not None:
             tm = body.timing
             base = 0.0 if tm.absolute else now
-            times = base + tm.scale * np.array(vt, dtype=float) + tm.offset
-        headings = np.array([p.h for p in poses])
-        path = PathMotion(pts, times, headings, stop_at_end=times is not None)
-        return self._follow(element, a, path)
+            times = base + tm.scale * path.times + tm.offset
+        motion = PathMotion(path, times, False, body.initial_distance_offset, a.v < 0)
+        return self._follow(element, a, motion, now)
 
-    def _route(self, element: int, a: Actor, waypoints: tuple[Position, ...]) -> Instance:
-        start = Pose(a.x, a.y, a.z, a.h, "" if a.free else a.road, a.lane, a.s, a.t)
-        poses = [start, *(self.e.resolver.resolve(w) for w in waypoints)]
-        pts = [np.array([[start.x, start.y]])]
-        for p0, p1 in zip(poses[:-1], poses[1:], strict=True):
-            pts.append(self._leg(p0, p1))
-        path = PathMotion(
-            np.concatenate(pts), None, None, stop_at_end=a.entity.kind == EntityKind.PEDESTRIAN
-        )
-        return self._follow(element, a, path)
+    def _route(self, element: int, a: Actor, route: Route) -> Instance:
+        """Follow ``route`` from where the actor is on it, at its lateral place there (straight
+        lines through the waypoints when no road connects them)."""
+        odr = self.e.roads.odr
+        try:
+            legs = self.e.resolver.route(route)
+            s0, t0 = legs.sampled(odr, 0.0).project(a.x, a.y)
+            path = legs.sampled(odr, t0)
+        except HiyariError:
+            pts = [[a.x, a.y]] + [[p.x, p.y] for p in map(self.e.resolver.resolve, route.waypoints)]
+            path, s0 = SampledPath.through(np.array(pts)), 0.0
+        stop = a.entity.kind == EntityKind.PEDESTRIAN
+        return self._follow(element, a, PathMotion(path, None, stop, s0, a.v < 0), None)
 
-    def _leg(self, p0: Pose, p1: Pose) -> np.ndarray:
-        """Points after ``p0`` up to ``p1``: along the lane on one road and lane, else straight."""
-        if p0.road and p0.road == p1.road and p0.lane == p1.lane:
-            n = max(2, int(abs(p1.s - p0.s) / ROUTE_STEP) + 1)
-            s = np.linspace(p0.s, p1.s, n)[1:]
-            t = np.linspace(p0.t, p1.t, n)[1:]
-            x, y, _, _ = self.e.roads.odr.road_pose(p0.road, s, t)
-            return np.column_stack([x, y])
-        return np.array([[p1.x, p1.y]])
+    def _follow(self, element: int, a: Actor, path: PathMotion, now: float | None) -> Instance:
+        """Put ``a`` on ``path``: at its start pose when ``now`` is given (a trajectory places
+        its actor), where the actor is otherwise. A timed path holds both domains, an untimed
+        one the lateral only (the speed stays the longitudinal actions')."""
+        domains = ("longitudinal", "lateral") if path.times is not None else ("lateral",)
+        self._claim(element, a.name, domains)
+        if path.times is not None:
+            a.long = None
+        a.lat, a.path, a.free = None, path, True
+        if now is not None:
+            a.x, a.y, a.h = path.start(now)
+        return Instance(element, a.name, domains, path)
 
-    def _follow(self, element: int, a: Actor, path: PathMotion) -> Instance:
-        self._claim(element, a.name, ("longitudinal", "lateral"))
-        a.long, a.lat, a.path, a.free = None, None, path, True
-        return Instance(element, a.name, ("longitudinal", "lateral"), path)
+    def follow_paths(self, rows: list[int], now: float) -> None:
+        """Advance the free actors of table ``rows`` along their paths to scenario time
+        ``now``: speeds from their longitudinal transitions (untimed paths) in the motion
+        kernel's own pass, then the distance that speed covers along the path."""
+        tb = self.e.table
+        actors = [self.e._actor_list[k] for k in rows]
+        r = np.array(rows, dtype=np.intp)
+        read_targets(tb)
+        tb.kappa[r] = 0.0
+        before = tb.long_travelled[r].copy()
+        ended = MK.advance_long(
+            r, now, self.e.dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par,
+            tb.long_done,
+        )  # fmt: skip
+        ds = tb.long_travelled[r] - before
+        for a, d in zip(actors, ds.tolist(), strict=True):
+            if a.path is not None:
+                self._along(a, now, d)
+        end_long(self.e._actor_list, r, ended)
 
-    def follow_path(self, a: Actor, now: float) -> None:
-        """Advance a free actor along its path to scenario time ``now``."""
+    def _along(self, a: Actor, now: float, ds: float) -> None:
         path = a.path
-        x, y, h, v, done = path.advance(now, a.v, self.e.dt)
-        a.accel = (v - a.v) / self.e.dt
-        a.x, a.y, a.h, a.v = x, y, h, v
+        x, y, h, v, done = path.advance(now, ds)
+        if v is not None:
+            a.accel = (v - a.v) / self.e.dt
+            a.v = v
+        a.x, a.y, a.h = x, y, h
         if not done:
             return
         a.path = None
         if path.stop_at_end:
             a.accel, a.v = 0.0, 0.0
             return
+        # on: along the road it ends on, else straight ahead at its speed
         p = self.e.resolver.at_xy(a.x, a.y, a.h)
-        if p.road:
+        if p.road and abs(p.t - self.e.roads.odr.road(p.road).lane_t(p.lane, p.s)) < 2.0:
             self._teleport(a, p)
+            return
+        c, s_ = (
+            math.cos(path.path.direction(path.path.length)),
+            math.sin(path.path.direction(path.path.length)),
+        )
+        ahead = SampledPath.through(np.array([[a.x, a.y], [a.x + 1e4 * c, a.y + 1e4 * s_]]))
+        a.path = PathMotion(ahead, None, False, 0.0, path.reverse)
 
 
 def _instant(body: object) -> bool:

@@ -18,9 +18,10 @@ import numpy as np
 
 from hiyari.bridge.openscenario.engine.kernels import measures as M
 from hiyari.bridge.openscenario.engine.kernels import trigger_kernel as K
-from hiyari.bridge.openscenario.engine.kernels.measures import EntityRows, holds
+from hiyari.bridge.openscenario.engine.kernels.measures import EntityRows
 from hiyari.bridge.openscenario.engine.kernels.snapshot import Snapshot, gather_entities
 from hiyari.bridge.openscenario.engine.positions import Pose
+from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.conditions import (
     AccelerationCondition,
     CollisionCondition,
@@ -42,7 +43,9 @@ from hiyari.bridge.openscenario.model.conditions import (
     StoryboardElementStateCondition,
     TimeHeadwayCondition,
     TimeToCollisionCondition,
+    TraveledDistanceCondition,
     Trigger,
+    VariableCondition,
 )
 from hiyari.errors import HiyariError
 
@@ -61,11 +64,12 @@ class ConditionBank:
         triggers: list[Trigger],
         entity_index: dict[str, int],
         element_index: Callable[[str, str, str], int],
-        parameters: dict[str, object],
+        values: ValueStore,
         resolve: Callable[[object], Pose],
         dt: float,
     ) -> None:
         self.entity_index = entity_index
+        self.values = values
         self.resolve = resolve
         self.conditions: list[Condition] = []
         cond_trigger: list[int] = []
@@ -84,17 +88,17 @@ class ConditionBank:
         self.trigger_group = np.array([*trigger_group, len(group_start)], dtype=np.int64)
         self.cond_trigger = np.array(cond_trigger, dtype=np.int64)
         self.prev = np.full(len(self.conditions), -1, dtype=np.int8)  # -1: not evaluated
-        self._compile(element_index, parameters, dt)
+        self._compile(element_index, dt)
 
     # ------------------------------------------------------------------ compile
-    def _compile(
-        self, element_index: Callable[[str, str, str], int], parameters: dict, dt: float
-    ) -> None:
+    def _compile(self, element_index: Callable[[str, str, str], int], dt: float) -> None:
         n = len(self.conditions)
         cond = np.zeros((n, 7), dtype=np.int64)
         cond[:, K.C_TRIGGER] = self.cond_trigger
         self.time_value = np.zeros(n)
         self.static = np.zeros(n, dtype=bool)
+        #: Conditions on variables / parameters: (condition index, kind, body, source).
+        self.value_conditions: list[tuple[int, str, object, str]] = []
         rows: list[tuple] = []
         for i, c in enumerate(self.conditions):
             b = c.body
@@ -107,9 +111,10 @@ class ConditionBank:
                 cond[i, K.C_KIND] = K.STATE
                 cond[i, K.C_ELEMENT] = element_index(b.element_type, b.element, c.source)
                 cond[i, K.C_CODE] = _STATE_CODES[b.state]
-            elif isinstance(b, ParameterCondition):
+            elif isinstance(b, ParameterCondition | VariableCondition):
                 cond[i, K.C_KIND] = K.STATIC
-                self.static[i] = _param_holds(parameters, b, c.source)
+                kind = "parameter" if isinstance(b, ParameterCondition) else "variable"
+                self.value_conditions.append((i, kind, b, c.source))
             elif isinstance(b, EntityCondition):
                 cond[i, K.C_KIND], cond[i, K.C_RULE] = K.ENTITY, b.rule != "all"
                 rows += self._entity_rows(i, c, b)
@@ -126,7 +131,7 @@ class ConditionBank:
         self.needs_on_net = bool((self.rows.kind == M.END_OF_ROAD).any())
         self.needs_contacts = bool((self.rows.kind == M.COLLISION).any())
         self.row_trigger = self.cond_trigger[self.rows.owner]
-        self.since = np.full(len(self.rows), np.nan)
+        self.since = np.full((len(self.rows), 2), np.nan)  # tracked state per row
         self.points = np.full((len(self.rows), 2), np.nan)
         self.fixed: dict[int, tuple[float, float]] = {}
         self.point_rows = np.flatnonzero(np.isin(self.rows.kind, M.POINT_KINDS))
@@ -137,6 +142,18 @@ class ConditionBank:
         self._flags = np.zeros((2, n), dtype=bool)
         self._fired = np.zeros(self.n_triggers, dtype=bool)
         self.n_fired = 0
+        self._values_version = -1
+        self.refresh_values()
+
+    def refresh_values(self) -> None:
+        """Re-read the conditions on variables and parameters when a value changed (their
+        truth is a static column of the condition table between changes)."""
+        if self._values_version == self.values.version:
+            return
+        self._values_version = self.values.version
+        for i, kind, b, where in self.value_conditions:
+            name = b.parameter if kind == "parameter" else b.variable
+            self.static[i] = self.values.holds(kind, name, b.rule, b.value, where)
 
     @staticmethod
     def _check_state(state: str, where: str) -> None:
@@ -256,21 +273,6 @@ _STATE_CODES = {
 }
 
 
-def _param_holds(parameters: dict, b: ParameterCondition, where: str) -> bool:
-    if b.parameter not in parameters:
-        raise HiyariError(f"{where}: unknown parameter {b.parameter!r} in ParameterCondition")
-    have = str(parameters[b.parameter])
-    try:
-        a, v = float(have), float(b.value)
-        return bool(holds(a, v, _RULES.index(b.rule)))
-    except ValueError:
-        if b.rule == Rule.EQUAL_TO:
-            return have == b.value
-        if b.rule == Rule.NOT_EQUAL_TO:
-            return have != b.value
-        raise HiyariError(f"{where}: ParameterCondition {b.rule} needs numbers") from None
-
-
 def _classify(b: object) -> tuple[int, object, float, Rule | None]:
     """(row kind, reference entity or None, value, rule) of an entity condition."""
     if isinstance(b, RelativeDistanceCondition):
@@ -291,6 +293,8 @@ def _classify(b: object) -> tuple[int, object, float, Rule | None]:
         return M.ACCEL, None, b.value, b.rule
     if isinstance(b, StandStillCondition):
         return M.STANDSTILL, None, b.duration, Rule.GREATER_OR_EQUAL
+    if isinstance(b, TraveledDistanceCondition):
+        return M.TRAVELED, None, b.value, Rule.GREATER_OR_EQUAL
     if isinstance(b, EndOfRoadCondition):
         return M.END_OF_ROAD, None, b.duration, Rule.GREATER_OR_EQUAL
     if isinstance(b, CollisionCondition):

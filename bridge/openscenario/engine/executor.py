@@ -35,6 +35,7 @@ from hiyari.bridge.openscenario.engine.elements import (
     active_triggers,
     ends_bottom_up,
 )
+from hiyari.bridge.openscenario.engine.global_actions import is_global
 from hiyari.bridge.openscenario.engine.kernels.command_kernel import command_step
 from hiyari.bridge.openscenario.engine.kernels.snapshot import (
     F_ACCEL,
@@ -50,6 +51,7 @@ from hiyari.bridge.openscenario.engine.kernels.step_kernel import quiet_step
 from hiyari.bridge.openscenario.engine.motion import (
     Actor,
     ActorTable,
+    PathMotion,
     advance_road_actors,
     finish_pass,
     forward,
@@ -57,8 +59,10 @@ from hiyari.bridge.openscenario.engine.motion import (
     read_targets,
 )
 from hiyari.bridge.openscenario.engine.positions import Pose, PoseResolver
+from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.actions import AssignRouteAction
 from hiyari.bridge.openscenario.model.entities import EntityKind
+from hiyari.bridge.openscenario.model.global_actions import Environment
 from hiyari.bridge.openscenario.model.storyboard import Scenario
 from hiyari.errors import HiyariError
 from hiyari.net.road.opendrive_lanes import RoadLanes
@@ -134,11 +138,15 @@ class ScenarioEngine:
         self.tree = ElementTree(scenario.storyboard)
         self.resolver = PoseResolver(roads.odr, self.pose_of)
         self.starter = ActionStarter(self)
+        #: Variables and parameters as they are now (actions may change them).
+        self.values = ValueStore(scenario.variables, scenario.parameters, scenario.parameter_types)
+        #: The environment the latest EnvironmentAction set (None: none yet).
+        self.environment: Environment | None = None
         self.bank = ConditionBank(
             self.tree.triggers,
             self.index,
             self.tree.index,
-            scenario.parameters,
+            self.values,
             self.resolver.resolve,
             step_length,
         )
@@ -148,6 +156,9 @@ class ScenarioEngine:
         self.active_domains = {
             e.name: {"lateral": True, "longitudinal": True} for e in scenario.entities
         }
+        #: The path the storyboard gives a stack-driven ego to steer along (its speed stays
+        #: the stack's), None when it steers on its SUMO route.
+        self.ego_path: PathMotion | None = None
         self.t0 = 0.0
         self.now = 0.0
         self.finished = False
@@ -233,6 +244,16 @@ class ScenarioEngine:
             and any(self.active_domains[name].values())
         )
 
+    def travel_direction(self, name: str) -> float:
+        """+1 when entity ``name`` travels towards increasing road s, else -1 (its lane's
+        direction; a scripted actor's own, which a wrong-way heading turns)."""
+        a = self.actors[name]
+        if self.storyboard_drives(name) and a.road and not a.free:
+            self.table.refresh(self.roads.odr)
+            return float(self.table.direction[a.k])
+        p = self.pose_of(name)
+        return forward(self.roads.odr, p.road, p.lane) if p.road else 1.0
+
     def _driven(self) -> np.ndarray:
         """(E,) whether the storyboard moves each entity (all but a stack-driven ego)."""
         return self._view().driven
@@ -286,6 +307,7 @@ class ScenarioEngine:
         for ai in self.tree.elements[self.tree.init_event].children:
             ia = self.tree.elements[ai].model
             self._start_action(ai, ia.action, ia.entity, 0.0, init=True)
+        self.bank.refresh_values()
         for name, a in self.actors.items():
             if not a.road and not a.free:
                 raise HiyariError(f"{self.scenario.source}: entity {name!r} has no Init position")
@@ -546,8 +568,10 @@ class ScenarioEngine:
             tree.start(i, self.now)
             group = tree.elements[tree.elements[ev.parent].parent].model
             for ai in ev.children:
-                for actor in group.actors:
-                    self._start_action(ai, tree.elements[ai].model, actor, self.now)
+                action = tree.elements[ai].model
+                for actor in ("",) if is_global(action.body) else group.actors:
+                    self._start_action(ai, action, actor, self.now)
+        self.bank.refresh_values()
 
     def _stop(self, i: int) -> None:
         """Stop element ``i`` with its subtree, releasing the actors' domains."""
@@ -595,10 +619,8 @@ class ScenarioEngine:
         changed = advance_road_actors(
             self.roads.odr, self._actor_list, on_road, nxt, self.dt, None if on_path else command
         )
-        for k in on_path:
-            a = self._actor_list[k]
-            if a.path is not None:
-                self.starter.follow_path(a, nxt)
+        if on_path:
+            self.starter.follow_paths(on_path, nxt)
         return changed
 
     def _finish_actions(self, now: float) -> None:

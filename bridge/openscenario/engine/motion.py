@@ -24,6 +24,7 @@ import numpy as np
 from hiyari.bridge.openscenario.engine.kernels import command_kernel as CK
 from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
 from hiyari.bridge.openscenario.engine.kernels.shapes import SHAPE_CODE
+from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.model.actions import Shape
 from hiyari.bridge.openscenario.model.entities import Entity
 from hiyari.net.road.lane_profile import LaneProfile, lane_profile
@@ -78,45 +79,45 @@ class LateralTransition:
                 self.continuous, self.t_start, self.lane, road_code]  # fmt: skip
 
 
-@dataclass
+@dataclass(eq=False)
 class PathMotion:
-    """Motion along a polyline (x, y per vertex): by vertex times (``times``, s of scenario
-    time) or at the actor's speed; ``headings`` (rad) per vertex or None (motion direction).
-    ``stop_at_end``: the actor stands at the last vertex afterwards."""
+    """Motion along a sampled path: by scenario times (``times``, s, one per path point: the
+    actor is where the path says when) or by the distance the actor's speed covers (None).
+    ``travelled``: m along the path now; ``reverse``: the actor backs along it (it faces
+    against the direction of travel); ``stop_at_end``: it stands at the end afterwards."""
 
-    points: np.ndarray  # (n, 2)
+    path: SampledPath
     times: np.ndarray | None
-    headings: np.ndarray | None
-    stop_at_end: bool
+    stop_at_end: bool = False
     travelled: float = 0.0
+    reverse: bool = False
 
-    def __post_init__(self) -> None:
-        seg = np.linalg.norm(np.diff(self.points, axis=0), axis=1)
-        self.cum = np.concatenate([[0.0], np.cumsum(seg)])
+    def pose(self) -> tuple[float, float, float]:
+        """(x, y, heading) where the actor is now on the path."""
+        x, y, h = self.path.pose(self.travelled)
+        return x, y, math.remainder(h + math.pi, 2 * math.pi) if self.reverse else h
 
-    def advance(self, now: float, v: float, dt: float) -> tuple[float, float, float, float, bool]:
-        """(x, y, heading, speed, done) at ``now`` after a step of ``dt`` at speed ``v``."""
+    def start(self, now: float) -> tuple[float, float, float]:
+        """(x, y, heading) at the start: at scenario time ``now`` on a timed path."""
         if self.times is not None:
-            tt = self.times
-            d = float(np.interp(now, tt, self.cum))
+            self.travelled = float(np.interp(now, self.times, self.path.s))
+        return self.pose()
+
+    def advance(self, now: float, ds: float) -> tuple[float, float, float, float | None, bool]:
+        """(x, y, heading, speed or None, done) at ``now``, after moving ``ds`` m when untimed
+        (the speed is then the actor's own: None)."""
+        speed = None
+        if self.times is not None:
+            tt, s = self.times, self.path.s
+            self.travelled = float(np.interp(now, tt, s))
             k = int(np.clip(np.searchsorted(tt, now, side="right") - 1, 0, len(tt) - 2))
             dur = tt[k + 1] - tt[k]
-            speed = (self.cum[k + 1] - self.cum[k]) / dur if dur > 0 and now < tt[-1] else 0.0
+            speed = (s[k + 1] - s[k]) / dur if dur > 0 and now < tt[-1] else 0.0
             done = now >= tt[-1] - 1e-9
         else:
-            self.travelled = min(self.cum[-1], self.travelled + v * dt)
-            d, speed = self.travelled, v
-            done = self.travelled >= self.cum[-1] - 1e-9
-        x = float(np.interp(d, self.cum, self.points[:, 0]))
-        y = float(np.interp(d, self.cum, self.points[:, 1]))
-        k = int(np.clip(np.searchsorted(self.cum, d, side="right") - 1, 0, len(self.cum) - 2))
-        if self.headings is not None:
-            frac = (d - self.cum[k]) / max(self.cum[k + 1] - self.cum[k], 1e-12)
-            h0, h1 = self.headings[k], self.headings[k + 1]
-            h = h0 + frac * math.remainder(h1 - h0, 2 * math.pi)
-        else:
-            seg = self.points[k + 1] - self.points[k]
-            h = math.atan2(seg[1], seg[0])
+            self.travelled = min(self.path.length, self.travelled + abs(ds))
+            done = self.travelled >= self.path.length - 1e-9
+        x, y, h = self.pose()
         return x, y, h, speed, done
 
 
@@ -401,7 +402,7 @@ def advance_road_actors(
     ended = MK.advance_long(
         rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par, tb.long_done
     )
-    _end_long(actors, rows, ended)
+    end_long(actors, rows, ended)
     if tb.n_lat:
         _advance_lateral(odr, actors, rows, now, dt)
     for road, r in groups:
@@ -422,7 +423,7 @@ def finish_pass(
     """After ``motion_kernel.advance_and_place`` of ``rows`` on ``road`` (its results): remove
     the ended transitions, and when it did not place the rows (a lateral transition ended or
     missed its lane), put them on their lanes and place them."""
-    _end_long(actors, rows, ended)
+    end_long(actors, rows, ended)
     if not placed:
         _end_lateral(odr, actors, rows, missing, lat_ended)
         place_on_road(odr, road, actors[0].table, rows)
@@ -462,7 +463,7 @@ def read_targets(table: ActorTable) -> None:
         table.long_par[k, MK.L_GOAL] = target()
 
 
-def _end_long(actors: list[Actor], rows: np.ndarray, ended: int) -> None:
+def end_long(actors: list[Actor], rows: np.ndarray, ended: int) -> None:
     """Remove the ``ended`` longitudinal transitions the pass marked done."""
     if ended:
         tb = actors[0].table

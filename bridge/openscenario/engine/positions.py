@@ -9,7 +9,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from hiyari.bridge.openscenario.engine.motion import curvature
+from hiyari.bridge.openscenario.engine.paths.route import RoutePath, route_path
+from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
+from hiyari.bridge.openscenario.engine.paths.trajectory import sample_trajectory
 from hiyari.bridge.openscenario.model.positions import (
+    GeoPosition,
     LanePosition,
     Orientation,
     Position,
@@ -18,10 +22,14 @@ from hiyari.bridge.openscenario.model.positions import (
     RelativeRoadPosition,
     RelativeWorldPosition,
     RoadPosition,
+    RoutePosition,
+    TrajectoryPosition,
     WorldPosition,
 )
+from hiyari.bridge.openscenario.model.trajectories import Route, Trajectory
 from hiyari.errors import HiyariError
 from hiyari.net.road.opendrive_lanes import OpenDriveMap
+from hiyari.net.road.topology import RoadGraph
 
 
 @dataclass(frozen=True)
@@ -57,6 +65,34 @@ class PoseResolver:
     def __init__(self, odr: OpenDriveMap, pose_of: Callable[[str], Pose]) -> None:
         self.odr = odr
         self.pose_of = pose_of
+        self._graph: RoadGraph | None = None
+        self._routes: dict[Route, RoutePath] = {}
+        self._paths: dict[Trajectory, SampledPath] = {}
+
+    # ------------------------------------------------------------------ paths
+    def route(self, route: Route) -> RoutePath:
+        """The legs of ``route`` on this map (found once per route)."""
+        found = self._routes.get(route)
+        if found is None:
+            if self._graph is None:
+                self._graph = RoadGraph.from_file(self.odr.path)
+            found = route_path(
+                route, self.odr, self._graph, self.resolve,
+                lambda r, ln: 1.0 if self.odr.road(r).drives_forward(ln) else -1.0,
+            )  # fmt: skip
+            self._routes[route] = found
+        return found
+
+    def trajectory(self, traj: Trajectory, start: Pose | None = None) -> SampledPath:
+        """The path of ``traj`` (``start``: the following entity's pose, for a trajectory
+        that starts where the entity is); kept when it depends on no entity."""
+        found = self._paths.get(traj)
+        if found is not None:
+            return found
+        path = sample_trajectory(traj, self.resolve, start)
+        if _fixed(traj):
+            self._paths[traj] = path
+        return path
 
     def at_lane(self, road: str, lane: int, s: float, offset: float, h_rel: float = 0.0) -> Pose:
         """Pose at a lane position, heading along the lane's driving direction + ``h_rel``."""
@@ -94,6 +130,17 @@ class PoseResolver:
             )
         if isinstance(pos, RoadPosition):
             return self._orient(self.at_road(pos.road, pos.s, pos.t), pos.orientation)
+        if isinstance(pos, TrajectoryPosition):
+            path = self.trajectory(pos.trajectory)
+            x, y, h = path.pose(pos.s, pos.t)
+            return self._orient(self.at_xy(x, y, h), pos.orientation)
+        if isinstance(pos, RoutePosition):
+            return self._route_position(pos)
+        if isinstance(pos, GeoPosition):
+            raise HiyariError(
+                "GeoPosition: hiyari maps no geographic coordinates (give a world, road or lane "
+                "position)"
+            )
         ref = self.pose_of(pos.entity)
         if isinstance(pos, RelativeLanePosition):
             return self._relative_lane(pos, ref)
@@ -108,6 +155,20 @@ class PoseResolver:
             p = self.at_xy(ref.x + pos.dx, ref.y + pos.dy, ref.h)
             return self._orient(p, pos.orientation, ref.h)
         raise HiyariError(f"position {type(pos).__name__} is not supported")
+
+    def _route_position(self, pos: RoutePosition) -> Pose:
+        if pos.entity is not None:
+            return self._orient(self.pose_of(pos.entity), pos.orientation)
+        road, s, direction = self.route(pos.route).road_at(pos.path_s)
+        if pos.lane is not None:
+            p = self.at_lane(road, pos.lane, s, pos.lane_offset)
+        else:
+            x, y, z, h = self.odr.road_pose(road, np.array([s]), np.array([pos.t * direction]))
+            lane = self.odr.locate(x, y, road)[0].lane
+            h_travel = float(h[0]) + (0.0 if direction > 0 else math.pi)
+            p = Pose(float(x[0]), float(y[0]), float(z[0]), _wrap(h_travel), road, lane, s,
+                     pos.t * direction)  # fmt: skip
+        return self._orient(p, pos.orientation)
 
     def _relative_lane(self, pos: RelativeLanePosition, ref: Pose) -> Pose:
         if not ref.road:
@@ -126,6 +187,21 @@ class PoseResolver:
             return p
         h = (p.h if base is None else base) + o.h if o.relative else o.h
         return Pose(p.x, p.y, p.z, _wrap(h), p.road, p.lane, p.s, p.t)
+
+
+def _fixed(traj: Trajectory) -> bool:
+    """Whether ``traj``'s positions stay where they are (none is relative to an entity, and
+    it does not start where its entity is)."""
+    shape = traj.shape
+    positions = [getattr(shape, "position", None)]
+    positions += [v.position for v in getattr(shape, "vertices", ())]
+    positions += [c.position for c in getattr(shape, "control_points", ())]
+    segs = getattr(shape, "segments", ())
+    if segs and segs[0].position_start is None:
+        return False
+    positions += [g.position_start for g in segs]
+    fixed = (WorldPosition, LanePosition, RoadPosition)
+    return all(p is None or isinstance(p, fixed) for p in positions)
 
 
 def _wrap(h: float) -> float:

@@ -6,7 +6,9 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from hiyari.bridge.openscenario.model.entities import ControllerSpec
+from hiyari.bridge.openscenario.model.global_actions import GlobalActionBody
 from hiyari.bridge.openscenario.model.positions import Position
+from hiyari.bridge.openscenario.model.trajectories import Route, Trajectory
 
 __all__ = [
     "AbsoluteLane",
@@ -28,11 +30,10 @@ __all__ = [
     "RelativeSpeed",
     "Shape",
     "SpeedAction",
+    "SynchronizeAction",
     "TeleportAction",
     "Timing",
-    "Trajectory",
     "TransitionDynamics",
-    "Vertex",
 ]
 
 
@@ -105,6 +106,25 @@ class LongitudinalDistanceAction:
 
 
 @dataclass(frozen=True)
+class SynchronizeAction:
+    """Reach ``target`` when the ``master`` entity reaches ``master_target`` (each within its
+    tolerance, m), adjusting only the actor's speed. ``final_speed`` (m/s; None: not
+    given): absolute, or with ``final_relative`` "delta" / "factor" relative to the master's
+    speed; ``steady_distance`` m (or ``steady_time`` s) before the target the actor is at
+    the final speed and holds it."""
+
+    master: str
+    master_target: Position
+    target: Position
+    final_speed: float | None = None
+    final_relative: str = ""
+    steady_distance: float | None = None
+    steady_time: float | None = None
+    master_tolerance: float = 0.0
+    tolerance: float = 0.0
+
+
+@dataclass(frozen=True)
 class AbsoluteLane:
     """Target lane by OpenDRIVE lane id."""
 
@@ -163,23 +183,6 @@ class TeleportAction:
 
 
 @dataclass(frozen=True)
-class Vertex:
-    """A polyline vertex: ``time`` (s, None when the trajectory has no timing) and where."""
-
-    time: float | None
-    position: Position
-
-
-@dataclass(frozen=True)
-class Trajectory:
-    """A polyline trajectory."""
-
-    name: str
-    vertices: tuple[Vertex, ...]
-    closed: bool = False
-
-
-@dataclass(frozen=True)
 class Timing:
     """How vertex times map to simulation time: absolute (t_sim = scale * t + offset) or
     relative to the action's start."""
@@ -191,8 +194,11 @@ class Timing:
 
 @dataclass(frozen=True)
 class FollowTrajectoryAction:
-    """Follow ``trajectory``; with ``timing`` the vertex times set where the actor is when,
-    without it the actor moves along the polyline at its current speed."""
+    """Follow ``trajectory``; with ``timing`` its times set where the actor is when (both
+    domains), without it the actor moves along it at the speed its longitudinal actions give
+    (the lateral domain only). ``following_mode``: "position" or "follow" (a scripted actor
+    follows exactly either way); ``initial_distance_offset``: m along the trajectory where
+    the actor starts."""
 
     trajectory: Trajectory
     timing: Timing | None
@@ -202,12 +208,18 @@ class FollowTrajectoryAction:
 
 @dataclass(frozen=True)
 class AssignRouteAction:
-    """Drive / walk through ``waypoints`` in order at the actor's speed (the path follows the
-    lane between waypoints on one road and lane, straight lines elsewhere)."""
+    """Drive / walk through ``waypoints`` in order at the actor's speed, along the roads (the
+    shortest way by road length) keeping its lateral place on them; straight lines where no
+    road connects two waypoints."""
 
     name: str
     waypoints: tuple[Position, ...]
     closed: bool = False
+
+    @property
+    def route(self) -> Route:
+        """The route assigned."""
+        return Route(self.name, self.waypoints, self.closed)
 
 
 @dataclass(frozen=True)
@@ -236,6 +248,7 @@ class ActivateControllerAction:
 
 ActionBody = (
     SpeedAction
+    | SynchronizeAction
     | LongitudinalDistanceAction
     | LaneChangeAction
     | LaneOffsetAction
@@ -250,8 +263,9 @@ ActionBody = (
 
 @dataclass(frozen=True)
 class Action:
-    """A named storyboard action (``source``: file:line it came from, for messages)."""
+    """A named storyboard action (``source``: file:line it came from, for messages): a private
+    action (run on each actor of its maneuver group) or a global one (run once)."""
 
     name: str
-    body: ActionBody
+    body: ActionBody | GlobalActionBody
     source: str = ""

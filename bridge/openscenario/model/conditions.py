@@ -32,7 +32,9 @@ __all__ = [
     "StoryboardElementStateCondition",
     "TimeHeadwayCondition",
     "TimeToCollisionCondition",
+    "TraveledDistanceCondition",
     "Trigger",
+    "VariableCondition",
 ]
 
 
@@ -99,6 +101,15 @@ class ParameterCondition:
     """Parameter ``parameter`` compared with ``value`` (numbers numerically, else as text)."""
 
     parameter: str
+    value: str
+    rule: Rule
+
+
+@dataclass(frozen=True)
+class VariableCondition:
+    """Variable ``variable`` compared with ``value`` (numbers numerically, else as text)."""
+
+    variable: str
     value: str
     rule: Rule
 
@@ -196,6 +207,14 @@ class StandStillCondition:
 
 
 @dataclass(frozen=True)
+class TraveledDistanceCondition:
+    """The distance travelled since the scenario started (m, the integral of the speed's
+    magnitude) is at least ``value``."""
+
+    value: float
+
+
+@dataclass(frozen=True)
 class EndOfRoadCondition:
     """Off every road (no SUMO lane under the reference point) for at least ``duration`` s."""
 
@@ -219,6 +238,7 @@ EntityConditionBody = (
     | RelativeSpeedCondition
     | AccelerationCondition
     | StandStillCondition
+    | TraveledDistanceCondition
     | EndOfRoadCondition
     | CollisionCondition
 )
@@ -234,7 +254,11 @@ class EntityCondition:
 
 
 ConditionBody = (
-    SimulationTimeCondition | StoryboardElementStateCondition | ParameterCondition | EntityCondition
+    SimulationTimeCondition
+    | StoryboardElementStateCondition
+    | ParameterCondition
+    | VariableCondition
+    | EntityCondition
 )
 
 

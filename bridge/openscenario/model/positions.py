@@ -8,8 +8,13 @@ lane ``offset`` from the lane's centre line in the road's t direction; lane ids 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from hiyari.bridge.openscenario.model.trajectories import Route, Trajectory
 
 __all__ = [
+    "GeoPosition",
     "LanePosition",
     "Orientation",
     "Position",
@@ -18,6 +23,8 @@ __all__ = [
     "RelativeRoadPosition",
     "RelativeWorldPosition",
     "RoadPosition",
+    "RoutePosition",
+    "TrajectoryPosition",
     "WorldPosition",
 ]
 
@@ -108,6 +115,44 @@ class RelativeWorldPosition:
     orientation: Orientation | None = None
 
 
+@dataclass(frozen=True)
+class TrajectoryPosition:
+    """``s`` m along ``trajectory`` and ``t`` m to its left; heading along the trajectory
+    (+ ``orientation`` when relative)."""
+
+    trajectory: Trajectory
+    s: float
+    t: float = 0.0
+    orientation: Orientation | None = None
+
+
+@dataclass(frozen=True)
+class RoutePosition:
+    """A position on ``route``: ``path_s`` m along it from its first waypoint, then ``t`` m to
+    the left of its reference line (road coordinates), or, with ``lane``, ``lane_offset`` m
+    from that lane's centre on the road there; with ``entity``: where that entity is (its
+    projection on the route)."""
+
+    route: Route
+    path_s: float = 0.0
+    t: float = 0.0
+    lane: int | None = None
+    lane_offset: float = 0.0
+    entity: str | None = None
+    orientation: Orientation | None = None
+
+
+@dataclass(frozen=True)
+class GeoPosition:
+    """WGS84 ``latitude`` / ``longitude`` (rad) and ``altitude`` (m), mapped through the
+    road's geoReference."""
+
+    latitude: float
+    longitude: float
+    altitude: float = 0.0
+    orientation: Orientation | None = None
+
+
 Position = (
     WorldPosition
     | LanePosition
@@ -116,4 +161,7 @@ Position = (
     | RelativeRoadPosition
     | RelativeObjectPosition
     | RelativeWorldPosition
+    | TrajectoryPosition
+    | RoutePosition
+    | GeoPosition
 )

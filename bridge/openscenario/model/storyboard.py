@@ -24,7 +24,8 @@ __all__ = [
 
 @dataclass(frozen=True)
 class InitAction:
-    """An Init action on ``entity`` (applied before the first step)."""
+    """An Init action on ``entity`` ('' for a global action), applied before the first
+    step."""
 
     entity: str
     action: Action
@@ -96,7 +97,9 @@ class Scenario:
     """A concrete scenario: parameters resolved, catalogs expanded, SI units.
 
     ``ego`` names the entity driven by the ego stack (None: no ego); ``road_network`` is the
-    OpenDRIVE file (None: the caller supplies the net).
+    OpenDRIVE file (None: the caller supplies the net). ``parameters``: the top-level
+    parameters' values (canonical text) and ``parameter_types`` their declared types;
+    ``variables``: the declared variables, name -> (type, initial value as canonical text).
     """
 
     name: str
@@ -106,6 +109,8 @@ class Scenario:
     road_network: Path | None = None
     parameters: dict[str, object] = field(default_factory=dict)
     source: Path | None = None
+    parameter_types: dict[str, str] = field(default_factory=dict)
+    variables: dict[str, tuple[str, str]] = field(default_factory=dict)
 
     def entity(self, name: str) -> Entity:
         """The entity called ``name``; KeyError when absent."""

@@ -36,9 +36,7 @@ from hiyari.bridge.openscenario.model.actions import (
     SpeedAction,
     TeleportAction,
     Timing,
-    Trajectory,
     TransitionDynamics,
-    Vertex,
 )
 from hiyari.bridge.openscenario.model.conditions import (
     Condition,
@@ -64,6 +62,7 @@ from hiyari.bridge.openscenario.model.storyboard import (
     Story,
     Storyboard,
 )
+from hiyari.bridge.openscenario.model.trajectories import Polyline, Trajectory, Vertex
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.errors import HiyariError
 from hiyari.net.road.buildings import poly_path
@@ -476,12 +475,14 @@ def _dart_out(p: DartOut, b: _Build) -> PresetRun:
     across = Orientation(math.pi / 2)
     walk = Trajectory(
         "walk",
-        (
-            Vertex(b.scenario_time(t_go), LanePosition("w_in", lane, s_path, d_start, across)),
-            Vertex(
-                b.scenario_time(t_end),
-                LanePosition("w_in", lane, s_path, d_start + vp * (t_end - t_go), across),
-            ),
+        Polyline(
+            (
+                Vertex(b.scenario_time(t_go), LanePosition("w_in", lane, s_path, d_start, across)),
+                Vertex(
+                    b.scenario_time(t_end),
+                    LanePosition("w_in", lane, s_path, d_start + vp * (t_end - t_go), across),
+                ),
+            )
         ),
     )
     ego_s = k.ego_start_s - z.ego_length / 2

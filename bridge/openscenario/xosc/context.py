@@ -23,6 +23,7 @@ class Scope:
 
     values: dict[str, str] = field(default_factory=dict)
     parent: Scope | None = None
+    types: dict[str, str] = field(default_factory=dict)
 
     def get(self, name: str) -> str:
         """The value of ``name`` here or in an enclosing scope; KeyError when undeclared."""
@@ -34,8 +35,9 @@ class Scope:
         raise KeyError(name)
 
 
-def _canonical(value: object, ptype: str, where: str, name: str) -> str:
-    """A parameter value as text in the form its declared type takes."""
+def canonical(value: object, ptype: str, where: str, name: str) -> str:
+    """A parameter's or variable's value as text in the form its declared type takes (one-line
+    HiyariError naming ``where`` when it is not of that type)."""
     text = _to_text(value)
     try:
         if ptype in _INT_TYPES:
@@ -70,6 +72,9 @@ class Ctx:
         self.file = file
         self.scope = scope
         self.catalogs = catalogs
+        #: The element whose scope this context is (entering it again keeps this scope: a
+        #: catalog entry is entered with its reference's assignments when resolved).
+        self.entered: etree._Element | None = None
 
     def where(self, el: etree._Element) -> str:
         """'file:line' of ``el``."""
@@ -146,7 +151,10 @@ class Ctx:
     # ------------------------------------------------------------------ scopes
     def enter(self, el: etree._Element, overrides: Mapping[str, str] | None = None) -> Ctx:
         """The context inside ``el``: its ParameterDeclarations (if any) declared in a new
-        scope, ``overrides`` replacing declared values; constraints checked."""
+        scope, ``overrides`` replacing declared values; constraints checked. Entering the
+        element this context already is keeps it."""
+        if self.entered is el and not overrides:
+            return self
         decls = el.find("ParameterDeclarations")
         if decls is None and not overrides:
             return self
@@ -160,7 +168,8 @@ class Ctx:
                 value: object = overrides[name]
             else:
                 value = inner.text(d, "value", "")
-            scope.values[name] = _canonical(value, ptype, inner.where(d), name)
+            scope.values[name] = canonical(value, ptype, inner.where(d), name)
+            scope.types[name] = ptype
             declared.append((name, ptype, d))
         unknown = set(overrides or ()) - {n for n, _, _ in declared}
         if unknown:
@@ -170,6 +179,7 @@ class Ctx:
             )
         for name, ptype, d in declared:
             inner._check_constraints(name, ptype, d)
+        inner.entered = el
         return inner
 
     def _check_constraints(self, name: str, ptype: str, decl: etree._Element) -> None:

@@ -1,11 +1,14 @@
 """OpenSCENARIO ``${...}`` expressions, evaluated by a small parser (never Python's eval).
 
-The grammar of OpenSCENARIO 1.2 / 1.3 (section "Expressions"): numbers, ``$name`` parameter
-references, ``true`` / ``false``, parentheses, unary ``-`` and ``not``, ``* / %``, ``+ -``,
-comparisons ``== != < <= > >=``, ``and``, ``or`` (lowest), and the functions ``round``,
-``floor``, ``ceil``, ``sqrt`` (one argument) and ``pow`` (two). ``round`` rounds halves away
-from zero; ``%`` is the remainder with the sign of the dividend (as in C's fmod). Booleans
-count as 1 / 0 in arithmetic. Results are floats (or bools from comparisons and logic).
+The grammar of OpenSCENARIO 1.2 / 1.3 (section 9.2 "Expressions"): numbers, ``$name``
+parameter references, ``true`` / ``false``, parentheses, unary ``-`` and ``not``, ``* / %``,
+``+ -``, comparisons ``== != < <= > >=``, ``and``, ``or`` (lowest), the functions ``round``,
+``floor``, ``ceil``, ``sqrt``, ``sin``, ``cos``, ``tan``, ``asin``, ``acos``, ``atan``,
+``sign``, ``abs`` (one argument), ``pow``, ``max``, ``min`` (two), and the constant ``pi``
+(which the Euro NCAP files of ../shared use; radians throughout). ``round`` rounds halves away
+from zero; ``sign`` of 0 is 0; ``%`` is the remainder with the sign of the dividend (as in C's
+fmod). Booleans count as 1 / 0 in arithmetic. Results are floats (or bools from comparisons
+and logic).
 """
 
 from __future__ import annotations
@@ -34,13 +37,37 @@ def _sqrt(x: float) -> float:
     return math.sqrt(x)
 
 
+def _inverse(name: str, fn: Callable[[float], float]) -> Callable[[float], float]:
+    def call(x: float) -> float:
+        if not -1.0 <= x <= 1.0:
+            raise ValueError(f"{name} of {x:g}, outside [-1, 1]")
+        return fn(x)
+
+    return call
+
+
+def _sign(x: float) -> float:
+    return 1.0 if x > 0 else (-1.0 if x < 0 else 0.0)
+
+
 _FUNCTIONS: dict[str, tuple[int, Callable[..., float]]] = {
     "round": (1, _round),
     "floor": (1, lambda x: float(math.floor(x))),
     "ceil": (1, lambda x: float(math.ceil(x))),
     "sqrt": (1, _sqrt),
+    "sin": (1, math.sin),
+    "cos": (1, math.cos),
+    "tan": (1, math.tan),
+    "asin": (1, _inverse("asin", math.asin)),
+    "acos": (1, _inverse("acos", math.acos)),
+    "atan": (1, math.atan),
+    "sign": (1, _sign),
+    "abs": (1, abs),
     "pow": (2, lambda x, y: float(math.pow(x, y))),
+    "max": (2, max),
+    "min": (2, min),
 }
+_CONSTANTS = {"pi": math.pi}
 
 _COMPARE: dict[str, Callable[[float, float], bool]] = {
     "==": lambda a, b: a == b,
@@ -169,6 +196,8 @@ class _Parser:
             return value
         if kind == "name" and text in ("true", "false"):
             return text == "true"
+        if kind == "name" and text in _CONSTANTS:
+            return _CONSTANTS[text]
         if kind == "name" and text in _FUNCTIONS:
             n_args, fn = _FUNCTIONS[text]
             self._take("(")

@@ -23,15 +23,15 @@ from hiyari.bridge.openscenario.model.actions import (
     RelativeSpeed,
     Shape,
     SpeedAction,
+    SynchronizeAction,
     TeleportAction,
     Timing,
-    Trajectory,
     TransitionDynamics,
-    Vertex,
 )
 from hiyari.bridge.openscenario.model.entities import ControllerSpec
 from hiyari.bridge.openscenario.xosc.context import Ctx
 from hiyari.bridge.openscenario.xosc.read_positions import read_position
+from hiyari.bridge.openscenario.xosc.read_trajectories import read_route, read_trajectory
 
 
 def read_private_action(ctx: Ctx, el: etree._Element) -> ActionBody:
@@ -39,6 +39,8 @@ def read_private_action(ctx: Ctx, el: etree._Element) -> ActionBody:
     kind = ctx.one(el)
     if kind.tag == "TeleportAction":
         return TeleportAction(read_position(ctx, ctx.child(kind, "Position")))
+    if kind.tag == "SynchronizeAction":
+        return _synchronize(ctx, kind)
     if kind.tag == "ActivateControllerAction":  # 1.0 placement, deprecated
         return _activate(ctx, kind)
     group = {
@@ -79,6 +81,30 @@ def _speed(ctx: Ctx, el: etree._Element) -> ActionBody:
             ctx.flag(target, "continuous", False),
         )
     return SpeedAction(read_dynamics(ctx, ctx.child(el, "SpeedActionDynamics")), tgt)
+
+
+def _synchronize(ctx: Ctx, el: etree._Element) -> ActionBody:
+    final = el.find("FinalSpeed")
+    speed, relative, steady_d, steady_t = None, "", None, None
+    if final is not None:
+        f = ctx.one(final)
+        speed = ctx.num(f, "value")
+        if f.tag == "RelativeSpeedToMaster":
+            relative = ctx.text(f, "speedTargetValueType")
+        d, t = f.find("TargetDistanceSteadyState"), f.find("TargetTimeSteadyState")
+        steady_d = None if d is None else ctx.num(d, "distance")
+        steady_t = None if t is None else ctx.num(t, "time")
+    return SynchronizeAction(
+        ctx.text(el, "masterEntityRef"),
+        read_position(ctx, ctx.child(el, "TargetPositionMaster")),
+        read_position(ctx, ctx.child(el, "TargetPosition")),
+        speed,
+        relative,
+        steady_d,
+        steady_t,
+        ctx.num(el, "targetToleranceMaster", 0.0),
+        ctx.num(el, "targetTolerance", 0.0),
+    )
 
 
 def _long_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
@@ -166,20 +192,6 @@ def _activate(ctx: Ctx, el: etree._Element) -> ActionBody:
     return ActivateControllerAction(ctx.opt_flag(el, "lateral"), ctx.opt_flag(el, "longitudinal"))
 
 
-def _trajectory(ctx: Ctx, el: etree._Element) -> Trajectory:
-    if el.tag == "CatalogReference":
-        el, ctx = ctx.catalogs.resolve(ctx, el)
-    ctx = ctx.enter(el)
-    shape = ctx.one(ctx.child(el, "Shape"))
-    if shape.tag != "Polyline":
-        raise ctx.unsupported(shape, "only polyline trajectories")
-    vertices = tuple(
-        Vertex(ctx.opt_num(v, "time"), read_position(ctx, ctx.child(v, "Position")))
-        for v in shape.findall("Vertex")
-    )
-    return Trajectory(ctx.text(el, "name"), vertices, ctx.flag(el, "closed", False))
-
-
 def _follow_trajectory(ctx: Ctx, el: etree._Element) -> ActionBody:
     ref = el.find("TrajectoryRef")
     if ref is not None:
@@ -199,20 +211,14 @@ def _follow_trajectory(ctx: Ctx, el: etree._Element) -> ActionBody:
         )
     mode = el.find("TrajectoryFollowingMode")
     following = "position" if mode is None else ctx.text(mode, "followingMode")
-    if following != "position":
-        raise ctx.unsupported(el, f"followingMode {following}: scripted actors follow positions")
     return FollowTrajectoryAction(
-        _trajectory(ctx, src), timing, following, ctx.num(el, "initialDistanceOffset", 0.0)
+        read_trajectory(ctx, src), timing, following, ctx.num(el, "initialDistanceOffset", 0.0)
     )
 
 
 def _assign_route(ctx: Ctx, el: etree._Element) -> ActionBody:
-    src = ctx.one(el)
-    if src.tag == "CatalogReference":
-        src, ctx = ctx.catalogs.resolve(ctx, src)
-    ctx = ctx.enter(src)
-    waypoints = tuple(read_position(ctx, ctx.child(w, "Position")) for w in src.findall("Waypoint"))
-    return AssignRouteAction(ctx.text(src, "name"), waypoints, ctx.flag(src, "closed", False))
+    route = read_route(ctx, ctx.one(el))
+    return AssignRouteAction(route.name, route.waypoints, route.closed)
 
 
 _LONGITUDINAL = {"SpeedAction": _speed, "LongitudinalDistanceAction": _long_distance}

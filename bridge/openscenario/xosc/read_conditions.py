@@ -27,7 +27,9 @@ from hiyari.bridge.openscenario.model.conditions import (
     StoryboardElementStateCondition,
     TimeHeadwayCondition,
     TimeToCollisionCondition,
+    TraveledDistanceCondition,
     Trigger,
+    VariableCondition,
 )
 from hiyari.bridge.openscenario.xosc.context import Ctx
 from hiyari.bridge.openscenario.xosc.read_positions import read_position
@@ -89,6 +91,8 @@ def _by_value(ctx: Ctx, el: etree._Element) -> ConditionBody:
         return ParameterCondition(
             ctx.text(el, "parameterRef"), ctx.text(el, "value"), _rule(ctx, el)
         )
+    if el.tag == "VariableCondition":
+        return VariableCondition(ctx.text(el, "variableRef"), ctx.text(el, "value"), _rule(ctx, el))
     raise ctx.unsupported(el)
 
 
@@ -195,6 +199,7 @@ _ENTITY_READERS = {
         ctx.text(el, "entityRef"), ctx.num(el, "value"), _rule(ctx, el)
     ),
     "StandStillCondition": lambda ctx, el: StandStillCondition(ctx.num(el, "duration")),
+    "TraveledDistanceCondition": lambda ctx, el: TraveledDistanceCondition(ctx.num(el, "value")),
     "EndOfRoadCondition": lambda ctx, el: EndOfRoadCondition(ctx.num(el, "duration")),
 }
 

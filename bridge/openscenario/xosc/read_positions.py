@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import math
+
 from lxml import etree
 
 from hiyari.bridge.openscenario.model.positions import (
+    GeoPosition,
     LanePosition,
     Orientation,
     Position,
@@ -13,6 +16,8 @@ from hiyari.bridge.openscenario.model.positions import (
     RelativeRoadPosition,
     RelativeWorldPosition,
     RoadPosition,
+    RoutePosition,
+    TrajectoryPosition,
     WorldPosition,
 )
 from hiyari.bridge.openscenario.xosc.context import Ctx
@@ -96,6 +101,48 @@ def _rel_world(ctx: Ctx, p: etree._Element) -> Position:
     )
 
 
+def _trajectory(ctx: Ctx, p: etree._Element) -> Position:
+    from hiyari.bridge.openscenario.xosc.read_trajectories import read_trajectory_ref
+
+    return TrajectoryPosition(
+        read_trajectory_ref(ctx, ctx.child(p, "TrajectoryRef")),
+        ctx.num(p, "s"),
+        ctx.num(p, "t", 0.0),
+        _orientation(ctx, p),
+    )
+
+
+def _route(ctx: Ctx, p: etree._Element) -> Position:
+    from hiyari.bridge.openscenario.xosc.read_trajectories import read_route
+
+    route = read_route(ctx, ctx.one(ctx.child(p, "RouteRef")))
+    where = ctx.one(ctx.child(p, "InRoutePosition"))
+    o = _orientation(ctx, p)
+    if where.tag == "FromCurrentEntity":
+        return RoutePosition(route, entity=ctx.text(where, "entityRef"), orientation=o)
+    if where.tag == "FromRoadCoordinates":
+        return RoutePosition(route, ctx.num(where, "pathS"), ctx.num(where, "t"), orientation=o)
+    return RoutePosition(
+        route,
+        ctx.num(where, "pathS"),
+        lane=ctx.int(where, "laneId"),
+        lane_offset=ctx.num(where, "laneOffset", 0.0),
+        orientation=o,
+    )
+
+
+def _geo(ctx: Ctx, p: etree._Element) -> Position:
+    lat, lon = ctx.opt_num(p, "latitudeDeg"), ctx.opt_num(p, "longitudeDeg")
+    if lat is not None and lon is not None:
+        lat, lon = math.radians(lat), math.radians(lon)
+    else:  # the deprecated attributes, in radians
+        lat, lon = ctx.num(p, "latitude"), ctx.num(p, "longitude")
+    alt = ctx.opt_num(p, "altitude")
+    return GeoPosition(
+        lat, lon, alt if alt is not None else ctx.num(p, "height", 0.0), _orientation(ctx, p)
+    )
+
+
 _READERS = {
     "WorldPosition": _world,
     "LanePosition": _lane,
@@ -104,4 +151,7 @@ _READERS = {
     "RelativeRoadPosition": _rel_road,
     "RelativeObjectPosition": _rel_object,
     "RelativeWorldPosition": _rel_world,
+    "TrajectoryPosition": _trajectory,
+    "RoutePosition": _route,
+    "GeoPosition": _geo,
 }

@@ -31,6 +31,7 @@ from hiyari.bridge.openscenario.xosc.catalogs import Catalogs
 from hiyari.bridge.openscenario.xosc.context import Ctx, Scope
 from hiyari.bridge.openscenario.xosc.read_actions import read_controller, read_private_action
 from hiyari.bridge.openscenario.xosc.read_conditions import read_trigger
+from hiyari.bridge.openscenario.xosc.read_global import read_global_action, read_variables
 from hiyari.errors import HiyariError
 from hiyari.traffic.actor_class import ActorClass
 
@@ -48,7 +49,13 @@ _VEHICLE_CLASS = {
 }
 #: Entity names taken as the ego when the caller does not name one (case-insensitive).
 EGO_NAMES = ("ego", "hero")
-_IGNORED_ROOT = ("FileHeader", "ParameterDeclarations", "CatalogLocations", "RoadNetwork")
+_IGNORED_ROOT = (
+    "FileHeader",
+    "ParameterDeclarations",
+    "VariableDeclarations",
+    "CatalogLocations",
+    "RoadNetwork",
+)
 
 
 def read_scenario(
@@ -72,6 +79,7 @@ def read_scenario(
     overrides = {k: _text(v) for k, v in (parameters or {}).items()}
     ctx = Ctx(path, Scope()).enter(root, overrides)
     ctx.catalogs = Catalogs.from_locations(ctx, root.find("CatalogLocations"))
+    variables = read_variables(ctx, root.find("VariableDeclarations"))
     road = _road_network(ctx, root.find("RoadNetwork"))
     entities = tuple(_entity(ctx, o) for o in ctx.child(root, "Entities"))
     names = [e.name for e in entities]
@@ -85,6 +93,8 @@ def read_scenario(
         road_network=road,
         parameters=dict(ctx.scope.values),
         source=path,
+        parameter_types=dict(ctx.scope.types),
+        variables=variables,
     )
 
 
@@ -182,6 +192,11 @@ def _storyboard(ctx: Ctx, sb: etree._Element, entities: set[str]) -> Storyboard:
     init: list[InitAction] = []
     actions = ctx.child(ctx.child(sb, "Init"), "Actions")
     for el in actions:
+        if el.tag == "GlobalAction":
+            k = len(init)
+            body = read_global_action(ctx, el)
+            init.append(InitAction("", Action(f"Init:global:{k}", body, ctx.where(el))))
+            continue
         if el.tag != "Private":
             raise ctx.unsupported(el)
         who = ctx.text(el, "entityRef")
@@ -246,11 +261,13 @@ def _maneuver(ctx: Ctx, el: etree._Element) -> Maneuver:
         actions = []
         for a in ev.findall("Action"):
             kind = ctx.one(a)
-            if kind.tag != "PrivateAction":
+            if kind.tag == "PrivateAction":
+                body = read_private_action(ctx, kind)
+            elif kind.tag == "GlobalAction":
+                body = read_global_action(ctx, kind)
+            else:
                 raise ctx.unsupported(kind)
-            actions.append(
-                Action(ctx.text(a, "name"), read_private_action(ctx, kind), ctx.where(a))
-            )
+            actions.append(Action(ctx.text(a, "name"), body, ctx.where(a)))
         priority = ctx.text(ev, "priority", "override")
         events.append(
             Event(

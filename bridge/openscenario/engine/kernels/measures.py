@@ -31,7 +31,9 @@ SPEED, ACCEL, REL_SPEED = 3, 4, 5
 STANDSTILL, END_OF_ROAD = 6, 7
 DISTANCE, REACH, TTC_POINT = 8, 9, 10
 COLLISION = 11
-DURATION_KINDS = (STANDSTILL, END_OF_ROAD)
+TRAVELED = 12
+#: Kinds tracked every step, whether their trigger is evaluated or not.
+DURATION_KINDS = (STANDSTILL, END_OF_ROAD, TRAVELED)
 POINT_KINDS = (DISTANCE, REACH, TTC_POINT)
 #: Positions that do not depend on where the entities are: resolved once.
 FIXED_POSITIONS = (WorldPosition, LanePosition, RoadPosition)
@@ -344,6 +346,20 @@ def duration_measure(
     else:
         since = math.nan
     return (now - since if present else math.nan), since
+
+
+@njit(cache=True, inline="always")
+def traveled_measure(
+    now: float, present: bool, speed: float, travelled: float, last: float
+) -> tuple[float, float, float]:
+    """Metres an entity has travelled by ``now`` (the integral of its speed's magnitude over
+    the steps it was present, from its first evaluation), and the distance and time to keep
+    (``travelled``, ``last``: kept so far, NaN before the first evaluation)."""
+    if travelled != travelled:
+        return 0.0, 0.0, now
+    if present:
+        travelled += abs(speed) * (now - last)
+    return travelled, travelled, now
 
 
 @njit(cache=True, inline="always")

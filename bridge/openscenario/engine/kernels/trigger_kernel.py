@@ -25,6 +25,7 @@ from hiyari.bridge.openscenario.engine.kernels.measures import (
     REL_SPEED,
     SPEED,
     STANDSTILL,
+    TRAVELED,
     TTC,
     TTC_POINT,
     duration_measure,
@@ -34,6 +35,7 @@ from hiyari.bridge.openscenario.engine.kernels.measures import (
     pair_measure,
     point_measure,
     single_measure,
+    traveled_measure,
     ttc_above,
 )
 from hiyari.bridge.openscenario.engine.kernels.snapshot import (
@@ -72,20 +74,26 @@ def _row_holds(
     eb: tuple,
     on_net_a: bool,
     since: float,
+    last: float,
     px: float,
     py: float,
-) -> tuple[bool, float]:
+) -> tuple[bool, float, float]:
     """Whether an entity row (not a collision row) of ``kind`` holds against ``value`` now,
-    and its duration state's start time to keep (``since``, see measures.duration_measure),
-    given its entities' presence and fields (``ea``, ``eb``: measures.entity_scalars; ``eb``
-    is any entity's when the row has none) and its point (``px``, ``py``). An absent entity
-    measures NaN, which no rule holds for. Scalars only: a compiled helper inlined with
-    array arguments pays a reference count per array and row."""
+    and its tracked state to keep (``since``, ``last``: a duration state's start time, see
+    measures.duration_measure, or the distance travelled and the time it was measured at,
+    see measures.traveled_measure), given its entities' presence and fields (``ea``, ``eb``:
+    measures.entity_scalars; ``eb`` is any entity's when the row has none) and its point
+    (``px``, ``py``). An absent entity measures NaN, which no rule holds for. Scalars only: a
+    compiled helper inlined with array arguments pays a reference count per array and
+    row."""
     if STANDSTILL <= kind <= END_OF_ROAD:
         m, since = duration_measure(kind, now, present_a, ea[E_V], on_net_a, since)
-        return holds(m, value, rule), since
+        return holds(m, value, rule), since, last
+    if kind == TRAVELED:
+        m, since, last = traveled_measure(now, present_a, ea[E_V], since, last)
+        return holds(m, value, rule), since, last
     if not present_a or ((kind < SPEED or kind == REL_SPEED) and not present_b):
-        return False, since
+        return False, since, last
     if kind < SPEED:
         if (
             kind == TTC
@@ -95,13 +103,13 @@ def _row_holds(
             and value < math.inf
             and ttc_above(value, ea, eb)
         ):  # certainly above the value: every rule decides as for an infinite TTC
-            return holds(math.inf, value, rule), since
-        return holds(pair_measure(kind, fs, dtype, road, ea, eb), value, rule), since
+            return holds(math.inf, value, rule), since, last
+        return holds(pair_measure(kind, fs, dtype, road, ea, eb), value, rule), since, last
     if kind <= REL_SPEED:
-        return holds(single_measure(kind, ea, eb[E_V]), value, rule), since
+        return holds(single_measure(kind, ea, eb[E_V]), value, rule), since, last
     if DISTANCE <= kind <= TTC_POINT:
-        return holds(point_measure(kind, ea, px, py, fs), value, rule), since
-    return False, since
+        return holds(point_measure(kind, ea, px, py, fs), value, rule), since, last
+    return False, since, last
 
 
 @njit(cache=True)
@@ -156,11 +164,11 @@ def _condition_values(
             res = contact[a, b] if b >= 0 else contact_any[a]
         else:
             a, b = rows[r, R_A], rows[r, R_B]
-            res, since[r] = _row_holds(
+            res, since[r, 0], since[r, 1] = _row_holds(
                 rows[r, R_KIND], rows[r, R_RULE], row_value[r], now, rows[r, R_FS] != 0,
                 rows[r, R_DTYPE], rows[r, R_ROAD] != 0, present[a], b >= 0 and present[b],
-                entity_scalars(a, work), entity_scalars(max(b, 0), work), on_net[a], since[r],
-                points[r, 0], points[r, 1],
+                entity_scalars(a, work), entity_scalars(max(b, 0), work), on_net[a],
+                since[r, 0], since[r, 1], points[r, 0], points[r, 1],
             )  # fmt: skip
         if on:
             count[owner] += 1

@@ -1,0 +1,86 @@
+"""Executing global actions: one function per kind, each acting once (not per actor) and
+ending at once (OpenSCENARIO: variable, parameter and environment actions are immediate)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+from hiyari.bridge.openscenario.model.global_actions import (
+    Environment,
+    EnvironmentAction,
+    GlobalActionBody,
+    ParameterModifyAction,
+    ParameterSetAction,
+    VariableModifyAction,
+    VariableSetAction,
+)
+from hiyari.errors import HiyariError
+
+if TYPE_CHECKING:
+    from hiyari.bridge.openscenario.engine.executor import ScenarioEngine
+
+GLOBAL_KINDS = (
+    VariableSetAction,
+    VariableModifyAction,
+    ParameterSetAction,
+    ParameterModifyAction,
+    EnvironmentAction,
+)
+
+
+def is_global(body: object) -> bool:
+    """Whether an action body is a global action (run once, not per actor)."""
+    return isinstance(body, GLOBAL_KINDS)
+
+
+def run_global(engine: ScenarioEngine, body: GlobalActionBody, where: str) -> None:
+    """Apply global action ``body`` (``where``: file:line for messages)."""
+    run = _RUNNERS.get(type(body))
+    if run is None:
+        raise HiyariError(f"{where}: global action {type(body).__name__} is not supported")
+    run(engine, body, where)
+
+
+def _variable_set(engine: ScenarioEngine, b: VariableSetAction, where: str) -> None:
+    engine.values.set("variable", b.variable, b.value, where)
+
+
+def _variable_modify(engine: ScenarioEngine, b: VariableModifyAction, where: str) -> None:
+    engine.values.modify("variable", b.variable, b.op, b.value, where)
+
+
+def _parameter_set(engine: ScenarioEngine, b: ParameterSetAction, where: str) -> None:
+    engine.values.set("parameter", b.parameter, b.value, where)
+
+
+def _parameter_modify(engine: ScenarioEngine, b: ParameterModifyAction, where: str) -> None:
+    engine.values.modify("parameter", b.parameter, b.op, b.value, where)
+
+
+def _environment(engine: ScenarioEngine, b: EnvironmentAction, where: str) -> None:
+    engine.environment = merge_environment(engine.environment, b.environment)
+
+
+def merge_environment(old: Environment | None, new: Environment) -> Environment:
+    """``new`` with the parts it does not give kept from ``old`` (an EnvironmentAction changes
+    what it names)."""
+    if old is None:
+        return new
+    return replace(
+        new,
+        time_of_day=new.time_of_day if new.time_of_day is not None else old.time_of_day,
+        animated=new.animated if new.time_of_day is not None else old.animated,
+        weather=new.weather if new.weather is not None else old.weather,
+        road=new.road if new.road is not None else old.road,
+    )
+
+
+_RUNNERS: dict[type, Callable[..., None]] = {
+    VariableSetAction: _variable_set,
+    VariableModifyAction: _variable_modify,
+    ParameterSetAction: _parameter_set,
+    ParameterModifyAction: _parameter_modify,
+    EnvironmentAction: _environment,
+}

@@ -1,0 +1,145 @@
+"""Storyboard actions on the world rather than on one entity (OpenSCENARIO GlobalAction):
+variables and (deprecated) parameters, the environment. SI units: m, s, lux, radians."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = [
+    "Environment",
+    "EnvironmentAction",
+    "Fog",
+    "GlobalActionBody",
+    "ParameterModifyAction",
+    "ParameterSetAction",
+    "Precipitation",
+    "RoadCondition",
+    "Sun",
+    "VariableModifyAction",
+    "VariableSetAction",
+    "Weather",
+    "Wind",
+]
+
+
+@dataclass(frozen=True)
+class VariableSetAction:
+    """Set variable ``variable`` to ``value`` (text, converted to the variable's type)."""
+
+    variable: str
+    value: str
+
+
+@dataclass(frozen=True)
+class VariableModifyAction:
+    """Change numeric variable ``variable``: ``op`` "add" adds ``value``, "multiply" multiplies
+    by it."""
+
+    variable: str
+    op: str
+    value: float
+
+
+@dataclass(frozen=True)
+class ParameterSetAction:
+    """Deprecated since 1.2 (VariableSetAction replaces it): set parameter ``parameter`` to
+    ``value`` at run time. Attributes that referenced the parameter were resolved when the
+    file was read; ParameterConditions see the new value."""
+
+    parameter: str
+    value: str
+
+
+@dataclass(frozen=True)
+class ParameterModifyAction:
+    """Deprecated since 1.2: ``op`` "add" / "multiply" a numeric parameter by ``value``."""
+
+    parameter: str
+    op: str
+    value: float
+
+
+@dataclass(frozen=True)
+class Sun:
+    """Sun position and light as OpenSCENARIO gives them: ``azimuth`` (rad from north,
+    clockwise: pi / 2 is east), ``elevation`` (rad above the horizon), ``illuminance`` (lux;
+    None: not given)."""
+
+    azimuth: float
+    elevation: float
+    illuminance: float | None = None
+
+
+@dataclass(frozen=True)
+class Fog:
+    """Fog with a visual range, m."""
+
+    visual_range: float
+
+
+@dataclass(frozen=True)
+class Precipitation:
+    """``kind``: dry, rain or snow; ``intensity`` mm/h (None: not given)."""
+
+    kind: str
+    intensity: float | None = None
+
+
+@dataclass(frozen=True)
+class Wind:
+    """Wind from ``direction`` (rad) at ``speed`` m/s."""
+
+    direction: float
+    speed: float
+
+
+@dataclass(frozen=True)
+class Weather:
+    """Weather: each part None when the file does not give it. ``cloud_cover``: the file's
+    fractionalCloudCover (zeroOktas ... nineOktas) or deprecated cloudState; ``temperature``
+    K; ``pressure`` Pa."""
+
+    sun: Sun | None = None
+    fog: Fog | None = None
+    precipitation: Precipitation | None = None
+    wind: Wind | None = None
+    cloud_cover: str = ""
+    temperature: float | None = None
+    pressure: float | None = None
+
+
+@dataclass(frozen=True)
+class RoadCondition:
+    """Road friction relative to the nominal (``friction_scale``, 1 = dry asphalt) and the
+    file's wetness word ('' when not given)."""
+
+    friction_scale: float
+    wetness: str = ""
+
+
+@dataclass(frozen=True)
+class Environment:
+    """Time of day (ISO date-time text, ``animated``: the clock runs with the simulation),
+    weather and road condition; a part is None when the file does not give it."""
+
+    name: str
+    time_of_day: str | None = None
+    animated: bool = False
+    weather: Weather | None = None
+    road: RoadCondition | None = None
+
+
+@dataclass(frozen=True)
+class EnvironmentAction:
+    """Set the environment (the parts it gives replace the current ones)."""
+
+    environment: Environment
+
+
+GlobalActionBody = (
+    VariableSetAction
+    | VariableModifyAction
+    | ParameterSetAction
+    | ParameterModifyAction
+    | EnvironmentAction
+)
