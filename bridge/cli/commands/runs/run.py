@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from hiyari.atomic import atomic_path
-from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli import numbers, status
 from hiyari.errors import HiyariError, about
 
 if TYPE_CHECKING:
@@ -57,8 +57,7 @@ def _run_xosc(args: argparse.Namespace) -> int:
     with tempfile.TemporaryDirectory(prefix="hiyari-road-") as tmp:
         # the road is imported before anything is written: a bad road leaves no output
         runs = plan.with_road_imported(Path(tmp)).expand()
-        _run_each(runs, run_xosc, args)
-    return 0
+        return _run_each(runs, run_xosc, args)
 
 
 def _dry_run(runs: Sequence[Any]) -> int:
@@ -71,9 +70,10 @@ def _dry_run(runs: Sequence[Any]) -> int:
 
 def _run_each(
     runs: Sequence[Any], run_one: Callable[[Any, RunOptions], RunResult], args: argparse.Namespace
-) -> None:
+) -> int:
     """Run every concrete run (a ConcreteScenario or an .xosc run: ``index``, ``seed``,
-    ``params``, ``label()``) into its folder, print each verdict and write results.csv."""
+    ``params``, ``label()``) into its folder, print each verdict and write results.csv; the
+    exit status (VERDICT_FAIL when the ego collided in a run)."""
     from hiyari.bridge.loop.run import RunOptions
     from hiyari.bridge.studies.report.timeseries import plot_timeseries
 
@@ -91,6 +91,7 @@ def _run_each(
         rows.append({"index": run.index, "seed": run.seed, **run.params, **res.row()})
         _print_run(run.label(), res, folder, record)
     _write_table(out, rows)
+    return status.verdict(not any(r["collision"] for r in rows))
 
 
 def _print_run(label: str, res: RunResult, folder: Path, record: bool) -> None:
@@ -138,12 +139,16 @@ def _run(args: argparse.Namespace) -> int:
         return _dry_run(runs)
     if args.perception:
         runs = [replace(cs, perception=args.perception) for cs in runs]
-    _run_each(runs, run_concrete, args)
-    return 0
+    return _run_each(runs, run_concrete, args)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("run", help="run a scenario file (one concrete run or a small grid)")
+    p = sub.add_parser(
+        "run",
+        help="run a scenario file (one concrete run or a small grid)",
+        description="Runs each concrete scenario in closed loop; exit status 3 when the ego "
+        "collided in a run.",
+    )
     p.add_argument(
         "scenario",
         help="scenario file: hiyari TOML, or OpenSCENARIO .xosc (a scenario or a "
