@@ -82,16 +82,25 @@ def _run_each(
     rows = []
     for run in runs:
         folder = out / f"run{run.index:04d}" if len(runs) > 1 else out
-        res = run_one(
-            run,
-            RunOptions(
-                out_dir=folder, progress=not args.quiet, record=record, plot=plot_timeseries
-            ),
+        options = RunOptions(
+            out_dir=folder, progress=not args.quiet, record=record, plot=plot_timeseries
         )
+        try:
+            res = run_one(run, options)
+        except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: say what is (not) kept
+            exc.args = (_unfinished(run.label(), folder),)
+            raise
         rows.append({"index": run.index, "seed": run.seed, **run.params, **res.row()})
         _print_run(run.label(), res, folder, record)
     _write_table(out, rows)
     return status.verdict(not any(r["collision"] for r in rows))
+
+
+def _unfinished(label: str, folder: Path) -> str:
+    """What an interrupted ``run`` keeps, in one line."""
+    part = folder / "run.mcap.part"
+    kept = f"; {part} holds its recording so far" if part.is_file() else ""
+    return f"{label} not finished: nothing of it is written under a final name{kept}"
 
 
 def _print_run(label: str, res: RunResult, folder: Path, record: bool) -> None:
