@@ -10,6 +10,7 @@ import sys
 import threading
 
 from hiyari import __version__
+from hiyari.bridge.cli import status
 from hiyari.bridge.cli.parser import Parser
 from hiyari.errors import HiyariError
 
@@ -51,8 +52,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point; returns the exit status (1 for a HiyariError or a usage error, 130 on
-    Ctrl-C, 143 on SIGTERM)."""
+    """Entry point; returns the exit status (bridge.cli.status: 0 passed, 1 for a HiyariError
+    or a usage error, 3 when a verdict failed, 130 on Ctrl-C, 143 on SIGTERM)."""
     # the one place that picks matplotlib's backend: files only, no display needed; set
     # without importing matplotlib, which most commands never load
     if "matplotlib" in sys.modules:
@@ -64,15 +65,15 @@ def main(argv: list[str] | None = None) -> int:
         previous = signal.signal(signal.SIGTERM, _terminate)
     try:
         args = build_parser().parse_args(argv)
-        return int(args.func(args) or 0)
+        return int(args.func(args) or status.OK)
     except HiyariError as exc:
         print(f"hiyari: error: {exc}", file=sys.stderr)
-        return 1
+        return status.ERROR
     except KeyboardInterrupt as exc:
         # a command may say what was kept and how to resume in the exception's message
         detail = f": {exc}" if str(exc) else ""
         print(f"hiyari: interrupted{detail}", file=sys.stderr)
-        return 143 if isinstance(exc, Terminated) else 130
+        return status.TERMINATED if isinstance(exc, Terminated) else status.INTERRUPTED
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)

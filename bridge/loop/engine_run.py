@@ -12,9 +12,10 @@ Use::
 
 from __future__ import annotations
 
+import contextlib
 import math
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -27,7 +28,7 @@ from hiyari.bridge.loop.closed_loop import (
     run_closed_loop,
 )
 from hiyari.bridge.loop.result import RunResult
-from hiyari.bridge.loop.run import RunOptions, chain, write_result
+from hiyari.bridge.loop.run import RunOptions, chain, run_folder, write_result
 from hiyari.bridge.loop.stack.aeb import ACCConfig, AEBConfig, AEBPlanner
 from hiyari.bridge.loop.stack.fusion import KalmanFusion
 from hiyari.bridge.loop.stack.interfaces import EgoStack
@@ -180,35 +181,65 @@ def run_scenario(
     ``options.out_dir / "roads"`` or a temporary folder). ``stack_factory`` builds the ego
     stack (None: :func:`default_stack`). Ends at the stop trigger, a collision of the ego,
     the ego leaving the network or ``setup.max_duration``. With ``options.out_dir``:
-    result.json, timeseries.csv / .png, and run.mcap when ``options.record``.
+    result.json, timeseries.csv / .png, and run.mcap when ``options.record``; a run that fails
+    or is interrupted leaves no output under a final name (bridge.loop.run.run_folder).
     """
     options = options or RunOptions()
     setup = setup or EgoSetup()
-    if scenario.ego is None:
-        raise HiyariError(f"{scenario.source or scenario.name}: the scenario has no ego")
     doc = scenario_doc(scenario, setup)
-    with tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
+    with run_folder(options.out_dir), tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
         work = options.out_dir / "roads" if options.out_dir else Path(tmp)
-        net = net or import_road(scenario, work)
-        roads = RoadLanes.from_files(scenario.road_network, net)
-        network = RoadNetwork(net)
-        cfg = SimConfig(net=net, step_length=setup.step_length, seed=setup.seed, generated=(net,))
-        with Simulation(cfg) as sim:
-            engine = ScenarioEngine(scenario, roads, setup.step_length)
-            hooks = EngineHooks(engine, sim)
-            set_speed = setup.set_speed
-            if set_speed is None:
-                set_speed = engine.actors[scenario.ego].v
-            ctx = StackContext(network, setup, scenario.ego, set_speed, scenario)
-            stack = (stack_factory or default_stack)(ctx)
+        prepared = prepared_scenario(scenario, setup, work, net, stack_factory)
+        with prepared as (sim, hooks, stack, network):
             meta = {**doc, "scenario": scenario.name}
             result = drive(
                 sim, stack, hooks, scenario.name, setup.max_duration, options, network, meta,
                 on_step,
             )  # fmt: skip
-    if options.out_dir is not None:
-        write_result(result, doc, options.out_dir, plot=options.plot)
+        if options.out_dir is not None:
+            write_result(result, doc, options.out_dir, plot=options.plot)
     return result
+
+
+@contextlib.contextmanager
+def prepared_scenario(
+    scenario: Scenario,
+    setup: EgoSetup,
+    work: Path,
+    net: Path | None = None,
+    stack_factory: StackFactory | None = None,
+) -> Iterator[tuple[Simulation, EngineHooks, EgoStack, RoadNetwork]]:
+    """Everything a run of ``scenario`` does before its first step: the road imported into
+    ``work`` (unless ``net`` is given), SUMO started, the Init actions applied and the
+    storyboard's statically decided actions checked (ScenarioEngine.start), the ego stack
+    built; SUMO is closed on leaving."""
+    if scenario.ego is None:
+        raise HiyariError(f"{scenario.source or scenario.name}: the scenario has no ego")
+    net = net or import_road(scenario, work)
+    roads = RoadLanes.from_files(scenario.road_network, net)
+    network = RoadNetwork(net)
+    cfg = SimConfig(net=net, step_length=setup.step_length, seed=setup.seed, generated=(net,))
+    with Simulation(cfg) as sim:
+        engine = ScenarioEngine(scenario, roads, setup.step_length)
+        hooks = EngineHooks(engine, sim)
+        set_speed = setup.set_speed
+        if set_speed is None:
+            set_speed = engine.actors[scenario.ego].v
+        ctx = StackContext(network, setup, scenario.ego, set_speed, scenario)
+        yield sim, hooks, (stack_factory or default_stack)(ctx), network
+
+
+def check_scenario(
+    scenario: Scenario,
+    setup: EgoSetup | None = None,
+    net: Path | None = None,
+    stack_factory: StackFactory | None = None,
+) -> None:
+    """Every check a run of ``scenario`` makes before its first step
+    (:func:`prepared_scenario`), in a temporary folder: nothing is written, nothing is run."""
+    with tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
+        with prepared_scenario(scenario, setup or EgoSetup(), Path(tmp), net, stack_factory):
+            pass
 
 
 def drive(

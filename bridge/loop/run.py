@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import json
+import shutil
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -23,8 +25,9 @@ from hiyari.bridge.loop.stack.perception_sensors import SensorPerception
 from hiyari.bridge.loop.stack.perception_truth import NoPerception, PerfectPerception
 from hiyari.bridge.loop.warm import WarmCache
 from hiyari.bridge.openscenario.engine import ScenarioEngine
-from hiyari.bridge.openscenario.presets.scenarios import World, build_scenario
+from hiyari.bridge.openscenario.presets.scenarios import PresetRun, World, build_scenario
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
+from hiyari.bridge.record.format import PART_SUFFIX
 from hiyari.errors import HiyariError
 from hiyari.net.road.network import RoadNetwork
 from hiyari.sensors.environment.presets import disturbance_preset
@@ -32,6 +35,7 @@ from hiyari.traffic.simulation import SimConfig, Simulation
 from hiyari.units import kmh_to_mps
 
 if TYPE_CHECKING:
+    from hiyari.bridge.loop.engine_run import EngineHooks
     from hiyari.bridge.record.recorder import RecorderConfig
 
 #: Draws a finished run's figure into a PNG file and returns its path.
@@ -106,44 +110,89 @@ def run_concrete(
 
     ``warm``: take the road, its ray-cast scene and the sensor rig from this process's cache
     (built by the first run on that road) instead of building them; same results.
-    ``world``: a city run's map or SUMO scenario (None: the generated city).
+    ``world``: a city run's map or SUMO scenario (None: the generated city). A run that
+    fails or is interrupted leaves no output under a final name (see :func:`run_folder`).
     """
     # engine_run builds on this module (RunOptions, write_result): imported here
-    from hiyari.bridge.loop.engine_run import EngineHooks, drive
+    from hiyari.bridge.loop.engine_run import drive
 
     options = options or RunOptions()
-    with tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
+    with run_folder(options.out_dir), tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
         work = options.out_dir / "roads" if options.out_dir else Path(tmp)
-        preset = build_scenario(cs, work, roads=warm, world=world)
-        network = preset.network
-        stack = build_stack(cs, network, warm)
-        net = network.path
-        if preset.sumo is not None:  # the user's scenario as SUMO runs it, at the run's step
-            cfg = SimConfig.from_sumocfg(preset.sumo.config, cs.step_length, cs.seed)
-        else:
-            cfg = SimConfig(
-                net=net,
-                routes=preset.routes,
-                step_length=cs.step_length,
-                seed=cs.seed,
-                generated=(net, *preset.routes) if world is None else preset.routes,
-            )
-        with Simulation(cfg) as sim:
-            sim.fast_forward(sim.time + preset.warmup)
-            engine = ScenarioEngine(preset.scenario, preset.roads, cs.step_length)
-            hooks = EngineHooks(engine, sim, preset.scoring)
+        with prepared_concrete(cs, work, warm, world) as (preset, sim, hooks, stack):
             decided = None
             if options.end_when_decided:
                 decided = decided_end(
-                    engine, preset.routes, stack, cs.step_length, preset.scoring.target
+                    hooks.engine, preset.routes, stack, cs.step_length, preset.scoring.target
                 )
             result = drive(
-                sim, stack, hooks, cs.label(), cs.duration, options, network,
+                sim, stack, hooks, cs.label(), cs.duration, options, preset.network,
                 concrete_metadata(cs), on_step, decided,
             )  # fmt: skip
-    if options.out_dir is not None:
-        write_result(result, cs, options.out_dir, plot=options.plot)
+        if options.out_dir is not None:
+            write_result(result, cs, options.out_dir, plot=options.plot)
     return result
+
+
+@contextlib.contextmanager
+def prepared_concrete(
+    cs: ConcreteScenario, work: Path, warm: WarmCache | None = None, world: World | None = None
+) -> Iterator[tuple[PresetRun, Simulation, EngineHooks, EgoStack]]:
+    """Everything a run of ``cs`` does before its first step: the preset's road built in
+    ``work``, the ego stack, SUMO started and warmed up, the Init actions applied and the
+    storyboard's statically decided actions checked (ScenarioEngine.start); SUMO is closed
+    on leaving."""
+    from hiyari.bridge.loop.engine_run import EngineHooks
+
+    preset = build_scenario(cs, work, roads=warm, world=world)
+    network = preset.network
+    stack = build_stack(cs, network, warm)
+    net = network.path
+    if preset.sumo is not None:  # the user's scenario as SUMO runs it, at the run's step
+        cfg = SimConfig.from_sumocfg(preset.sumo.config, cs.step_length, cs.seed)
+    else:
+        cfg = SimConfig(
+            net=net,
+            routes=preset.routes,
+            step_length=cs.step_length,
+            seed=cs.seed,
+            generated=(net, *preset.routes) if world is None else preset.routes,
+        )
+    with Simulation(cfg) as sim:
+        sim.fast_forward(sim.time + preset.warmup)
+        engine = ScenarioEngine(preset.scenario, preset.roads, cs.step_length)
+        yield preset, sim, EngineHooks(engine, sim, preset.scoring), stack
+
+
+def check_concrete(cs: ConcreteScenario, world: World | None = None) -> None:
+    """Every check a run of ``cs`` makes before its first step (:func:`prepared_concrete`),
+    in a temporary folder: nothing is written, nothing is run."""
+    with tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
+        with prepared_concrete(cs, Path(tmp), world=world):
+            pass
+
+
+@contextlib.contextmanager
+def run_folder(out_dir: Path | None) -> Iterator[None]:
+    """Around one run writing into ``out_dir``: when the run fails or is interrupted, remove
+    the road folder it made there (``roads/``); when it fails (an error, not an interrupt),
+    also the recording's ``run.mcap.part``, and ``out_dir`` when the run made it and nothing
+    else is in it. An interrupted run keeps ``run.mcap.part``: readable up to the interrupt
+    (``hiyari replay --recover``) and never taken for a finished recording."""
+    if out_dir is None:
+        yield
+        return
+    made_out, made_roads = not out_dir.exists(), not (out_dir / "roads").exists()
+    try:
+        yield
+    except BaseException as exc:
+        if made_roads:
+            shutil.rmtree(out_dir / "roads", ignore_errors=True)
+        if isinstance(exc, Exception):
+            (out_dir / f"run.mcap{PART_SUFFIX}").unlink(missing_ok=True)
+            if made_out and out_dir.is_dir() and not any(out_dir.iterdir()):
+                out_dir.rmdir()
+        raise
 
 
 def decided_end(

@@ -59,6 +59,7 @@ from hiyari.bridge.openscenario.engine.motion import (
     read_targets,
 )
 from hiyari.bridge.openscenario.engine.positions import Pose, PoseResolver
+from hiyari.bridge.openscenario.engine.preflight import check_decided_actions
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.actions import AssignRouteAction
 from hiyari.bridge.openscenario.model.entities import EntityKind
@@ -297,8 +298,9 @@ class ScenarioEngine:
 
     # ------------------------------------------------------------------ start
     def start(self, sim: Simulation) -> StepReport:
-        """Apply the Init actions and insert every entity into SUMO. The state after SUMO's
-        next step is scenario time 0 (the Init state)."""
+        """Apply the Init actions, check the story actions whose outcome they decide
+        (engine.preflight) and insert every entity into SUMO. The state after SUMO's next
+        step is scenario time 0 (the Init state)."""
         self.t0 = sim.time + self.dt
         group = self.tree.elements[self.tree.init].children[0]
         maneuver = self.tree.elements[group].children[0]
@@ -311,6 +313,8 @@ class ScenarioEngine:
         for name, a in self.actors.items():
             if not a.road and not a.free:
                 raise HiyariError(f"{self.scenario.source}: entity {name!r} has no Init position")
+        # an action the Init state already dooms fails now, before anything runs
+        check_decided_actions(self)
         for name in self.names:
             self._insert(sim, name)
         self._finish_actions(0.0)

@@ -10,7 +10,7 @@ import sys
 import time
 from pathlib import Path
 
-from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli import numbers, status
 
 
 def _versions() -> dict[str, str]:
@@ -101,13 +101,15 @@ def evaluate(args: argparse.Namespace) -> int:
     n_pass = sum(r["passed"] == "True" for r in rows)
     print(f"{len(rows)} runs, {n_pass} passed, {len(rows) - n_pass} failed; {wall:.1f} s wall")
     print(f"report: {html}")
-    return 0
+    return status.verdict(n_pass == len(rows))
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "evaluate",
         help="run the JAMA traffic-disturbance catalogue and write the safety-argument report",
+        description="Runs the catalogue's concrete cases, judges each against the C&C driver "
+        "and writes the report; exit status 3 when a run did not pass.",
     )
     p.add_argument("--catalogue", choices=["motorway", "general"], default="motorway")
     p.add_argument("--stack", default=None,

@@ -10,6 +10,7 @@ import argparse
 import os
 from pathlib import Path
 
+from hiyari.bridge.cli import status
 from hiyari.bridge.cli.commands.evaluation.boundary import add_model_options, model_params
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import Grid
@@ -112,14 +113,15 @@ def run_judge(args: argparse.Namespace) -> int:
             print(f"   ... and {s['failed'] - 10} more (see judge.csv)")
     for p in paths:
         print(f"   {p}")
-    return 0
+    return status.verdict(all(s["verdict"] == "pass" for s in report.summary().values()))
 
 
 def add_judge(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "judge",
         help="run test points through the closed loop and judge pass / fail",
-        description="Every Preventable point must be passed without a collision. The points' "
+        description="Every Preventable point must be passed without a collision (exit status "
+        "3 when a condition fails). The points' "
         "expected verdicts are checked against the C&C model: the one stored in a JSON points "
         "file (model options that differ from it are refused), else the model options given "
         "here.",

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from hiyari.atomic import atomic_path
-from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli import numbers, status
 from hiyari.errors import HiyariError, about
 
 if TYPE_CHECKING:
@@ -78,8 +78,7 @@ def _run_xosc(args: argparse.Namespace) -> int:
     with tempfile.TemporaryDirectory(prefix="hiyari-road-") as tmp:
         # the road is imported before anything is written: a bad road leaves no output
         runs = plan.with_road_imported(Path(tmp)).expand()
-        _run_each(runs, run_xosc, args)
-    return 0
+        return _run_each(runs, run_xosc, args)
 
 
 def _dry_run(runs: Sequence[Any]) -> int:
@@ -92,9 +91,10 @@ def _dry_run(runs: Sequence[Any]) -> int:
 
 def _run_each(
     runs: Sequence[Any], run_one: Callable[[Any, RunOptions], RunResult], args: argparse.Namespace
-) -> None:
+) -> int:
     """Run every concrete run (a ConcreteScenario or an .xosc run: ``index``, ``seed``,
-    ``params``, ``label()``) into its folder, print each verdict and write results.csv."""
+    ``params``, ``label()``) into its folder, print each verdict and write results.csv; the
+    exit status (VERDICT_FAIL when the ego collided in a run)."""
     from hiyari.bridge.loop.run import RunOptions
     from hiyari.bridge.studies.report.timeseries import plot_timeseries
 
@@ -103,15 +103,25 @@ def _run_each(
     rows = []
     for run in runs:
         folder = out / f"run{run.index:04d}" if len(runs) > 1 else out
-        res = run_one(
-            run,
-            RunOptions(
-                out_dir=folder, progress=not args.quiet, record=record, plot=plot_timeseries
-            ),
+        options = RunOptions(
+            out_dir=folder, progress=not args.quiet, record=record, plot=plot_timeseries
         )
+        try:
+            res = run_one(run, options)
+        except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: say what is (not) kept
+            exc.args = (_unfinished(run.label(), folder),)
+            raise
         rows.append({"index": run.index, "seed": run.seed, **run.params, **res.row()})
         _print_run(run.label(), res, folder, record)
     _write_table(out, rows)
+    return status.verdict(not any(r["collision"] for r in rows))
+
+
+def _unfinished(label: str, folder: Path) -> str:
+    """What an interrupted ``run`` keeps, in one line."""
+    part = folder / "run.mcap.part"
+    kept = f"; {part} holds its recording so far" if part.is_file() else ""
+    return f"{label} not finished: nothing of it is written under a final name{kept}"
 
 
 def _print_run(label: str, res: RunResult, folder: Path, record: bool) -> None:
@@ -169,12 +179,16 @@ def _run(args: argparse.Namespace) -> int:
         return _dry_run(runs)
     if args.perception:
         runs = [replace(cs, perception=args.perception) for cs in runs]
-    _run_each(runs, partial(run_concrete, world=world), args)
-    return 0
+    return _run_each(runs, partial(run_concrete, world=world), args)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("run", help="run a scenario file (one concrete run or a small grid)")
+    p = sub.add_parser(
+        "run",
+        help="run a scenario file (one concrete run or a small grid)",
+        description="Runs each concrete scenario in closed loop; exit status 3 when the ego "
+        "collided in a run.",
+    )
     p.add_argument(
         "scenario",
         nargs="?",

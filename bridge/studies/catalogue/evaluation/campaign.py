@@ -217,16 +217,31 @@ def run_catalogue(options: CatalogueOptions, out: Path,
         count = len(cases) - len(todo)
         if on_progress:
             on_progress(count, len(cases))
-        for _, row in run_all(run_row, [(c, options.run) for c in todo], options.pool):
-            f.write(_line(row))
-            f.flush()
-            done[row["run_id"]] = {k: str(v) for k, v in row.items()}
-            count += 1
-            if on_progress:
-                on_progress(count, len(cases))
+        try:
+            for _, row in run_all(run_row, [(c, options.run) for c in todo], options.pool):
+                f.write(_line(row))
+                f.flush()
+                done[row["run_id"]] = {k: str(v) for k, v in row.items()}
+                count += 1
+                if on_progress:
+                    on_progress(count, len(cases))
+        except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: the workers are stopped
+            exc.args = (
+                f"{count} of {len(cases)} runs are kept in {table}; run the same command "
+                "again to resume",
+            )
+            raise
     _sort_table(table, [c.run_id for c in cases])
     if options.record_failures:
-        record_failures(options, cases, done, out / "recordings")
+        try:
+            record_failures(options, cases, done, out / "recordings")
+        except KeyboardInterrupt as exc:
+            exc.args = (
+                f"all {len(cases)} runs are kept in {table}, not all recordings of failed runs "
+                "(an unfinished one keeps its .part name); run the same command again to "
+                "record them",
+            )
+            raise
     return [done[c.run_id] for c in cases]
 
 

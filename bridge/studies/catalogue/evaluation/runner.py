@@ -139,9 +139,13 @@ def run_case(case: ConcreteCase, config: RunConfig, factory: StackFactory | None
         try:
             result = run_closed_loop(sim, stack, hooks, setup.max_duration, label=case.run_id,
                                      on_step=on_step)  # fmt: skip
-        finally:
+        except BaseException:
+            # an interrupted or failed run keeps the .part name: never taken for the run
             if recorder is not None:
-                recorder.close()
+                recorder.close(complete=False)
+            raise
+        if recorder is not None:
+            recorder.close()
     return result
 
 
