@@ -11,9 +11,7 @@ import pytest
 from openscenario_files import (
     ALKS,
     scenario_xml,
-    story,
     teleport_speed,
-    time_condition,
     write,
 )
 
@@ -95,19 +93,3 @@ def test_bad_xosc_is_one_line_naming_file_and_line(tmp_path: Path, capsys, comma
 
     gone = write(tmp_path / "gone.xosc", scenario_xml({"Ego": ""}, "", road=tmp_path / "no.xodr"))
     _bad(tmp_path, capsys, [command, str(gone)], str(gone), "no.xodr not found")
-
-    sync = """<SynchronizeAction masterEntityRef="Ego"><TargetPositionMaster><WorldPosition x="0" y="0"/></TargetPositionMaster>
-<TargetPosition><WorldPosition x="10" y="0"/></TargetPosition><FinalSpeed><AbsoluteSpeed value="5"/></FinalSpeed></SynchronizeAction>"""
-    xml = scenario_xml(
-        {"Ego": "", "Car": ""},
-        teleport_speed("Ego", -4, 5.0, 10.0) + teleport_speed("Car", -5, 5.0, 10.0),
-        story("Car", sync, time_condition(1.0)),
-    )
-    unsupported = write(tmp_path / "sync.xosc", xml)
-    line = xml[: xml.index("<SynchronizeAction")].count("\n") + 1
-    _bad(
-        tmp_path,
-        capsys,
-        [command, str(unsupported)],
-        f"{unsupported}:{line}: <SynchronizeAction> is not supported",
-    )
