@@ -1,7 +1,7 @@
 """An imported OpenStreetMap town as the world: generated vehicles and pedestrians on real
-SUMO (sidewalks, crossings, the signalised junction), and its mapped buildings in the sensors'
+SUMO (sidewalks, crossings, the signalised junction), its mapped buildings in the sensors'
 scene (a LiDAR sees the tall building at its mapped distance and a pedestrian behind it is
-hidden)."""
+hidden), and a closed-loop city run on it whose recording carries the buildings."""
 
 from __future__ import annotations
 
@@ -10,6 +10,10 @@ import pytest
 import shapely
 from osm_authoring import town
 
+from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.openscenario.presets.scenarios import World
+from hiyari.bridge.openscenario.presets.toml_file import parse_scenario
+from hiyari.bridge.record.reader import Recording
 from hiyari.net.mesh.materials import Material
 from hiyari.net.mesh.road_mesh import network_scene_mesh
 from hiyari.net.road.geometry import LaneKind, RoadGeometry
@@ -107,3 +111,20 @@ def test_lidar_sees_the_mapped_building_and_not_who_is_behind_it(town_world):
     north_pts = np.abs(az - 90.0) < 0.2
     assert north_pts.any() and (cloud.hit[north_pts] == HIT_STATIC).all()
     assert cloud.range[north_pts] == pytest.approx(expected, abs=0.1)
+
+
+def test_city_run_on_the_imported_map_records_its_buildings(town_world, tmp_path):
+    _, network = town_world
+    logical = parse_scenario(
+        {"scenario": {"type": "city", "duration": 4.0, "step_length": 0.1},
+         "parameters": {"warmup_s": 5.0, "vehicles_per_hour": 600, "persons_per_hour": 600}},
+        "city.toml",
+    )  # fmt: skip
+    (cs,) = logical.expand()
+    out = tmp_path / "run"
+    result = run_concrete(
+        cs, RunOptions(out_dir=out, record=True), world=World.of_net(network.path)
+    )
+    assert result.sim_seconds > 0 and not result.collision
+    mesh = Recording.open(out / "run.mcap").mesh()
+    assert (mesh.material == Material.BUILDING).sum() == 24  # the two mapped buildings, closed

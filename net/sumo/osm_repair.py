@@ -58,8 +58,8 @@ class Repair:
 
 @dataclass(frozen=True)
 class OsmExtract:
-    """What the pre-pass saw in the repaired copy: the nodes' extent (degrees, ``None``
-    without nodes), the number of ``highway=*`` ways and of ``building=*`` ways / relations."""
+    """What the pre-pass saw in the repaired copy: the nodes' extent (west, south, east,
+    north in degrees), the number of ``highway=*`` ways and of ``building=*`` ways / relations."""
 
     bounds: BBox
     highways: int
