@@ -14,7 +14,8 @@ from __future__ import annotations
 import argparse
 import time
 
-from hiyari.sensors.detection_range import perception_table, table_markdown, write_table
+from hiyari.bridge.studies.report.perception.detection_range import write_table
+from hiyari.sensors.detection_range import perception_table, table_markdown
 
 
 def main() -> None:

@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 from hiyari.bridge.cli.main import main
+from hiyari.bridge.studies.report.perception.detection_range import write_table
 from hiyari.errors import HiyariError
 from hiyari.net.mesh.materials import Material
-from hiyari.sensors.detection_range import RangeStudy, perception_table, table_markdown, write_table
+from hiyari.sensors.detection_range import RangeStudy, perception_table, table_markdown
 from hiyari.sensors.environment.conditions import Environment, Soiling, SoilingSpot
 from hiyari.sensors.environment.presets import PRESETS, disturbance_preset
 from hiyari.sensors.frames import Mount, sensor_to_world

@@ -12,6 +12,14 @@ from pathlib import Path
 
 import numpy as np
 
+from hiyari.bridge.studies.report.perception.sensor_views import (
+    plot_point_cloud,
+    plot_radar,
+    write_camera,
+    write_objects_csv,
+    write_point_cloud,
+    write_radar_csv,
+)
 from hiyari.errors import HiyariError
 from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.sensors.camera.config import CameraConfig
@@ -25,14 +33,6 @@ from hiyari.sensors.radar.config import RadarConfig
 from hiyari.sensors.radar.sensor import Radar
 from hiyari.sensors.scene.ray_scene import RayScene
 from hiyari.sensors.scene.synthetic import StraightRoad, street_scenario
-from hiyari.sensors.views import (
-    plot_point_cloud,
-    plot_radar,
-    write_camera,
-    write_objects_csv,
-    write_point_cloud,
-    write_radar_csv,
-)
 from hiyari.traffic.world_state import WorldState
 
 SENSOR_KINDS = ("lidar", "radar", "camera")

@@ -5,11 +5,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from hiyari.atomic import write_text_atomic
+from hiyari.bridge.studies.report.perception.coverage import coverage_figure
 from hiyari.errors import HiyariError
 from hiyari.sensors.coverage.coverage import merged_list, principle_coverage
 from hiyari.sensors.coverage.disturbances import load_disturbances
 from hiyari.sensors.coverage.matrices import SENSORS, load_matrices
-from hiyari.sensors.coverage.report import coverage_figure, coverage_markdown
+from hiyari.sensors.coverage.report import coverage_markdown
 
 
 def parse_sensors(text: str) -> tuple[str, ...]:

@@ -1,0 +1,1 @@
+"""Perception pages' figures and tables: coverage, detection range, single sensor frames."""
