@@ -8,6 +8,7 @@ import tempfile
 from pathlib import Path
 
 import pytest
+from durations import DurationLog
 
 from hiyari.net.sumo.build import IntersectionParams, build_intersection
 from hiyari.traffic.demand import DemandConfig, write_demand
@@ -28,17 +29,15 @@ def pytest_configure(config: pytest.Config) -> None:
     folder of its own, so leftovers are this suite's and not another program's.
 
     Under pytest-xdist the controller makes that folder before it starts the workers, which
-    inherit it (TMPDIR), and checks it once they have all finished. Each worker keeps its own
-    numba kernel cache: two workers compiling different signatures of one kernel at the same
-    moment can both number their entry 1 in numba's shared index, and the index and the data
-    file then come from different compilations."""
-    worker = _xdist_worker(config)
-    if worker is not None:
-        # in .pytest_cache the kernels compile once per worker and clone, not once per run
-        name = f"numba-{worker}"
-        cache = config.cache.mkdir(name) if hasattr(config, "cache") else None
-        os.environ["NUMBA_CACHE_DIR"] = str(cache or Path(tempfile.gettempdir()) / name)
+    inherit it (TMPDIR), and checks it once they have all finished. The workers share the
+    compiled kernels' cache with every other hiyari process (hiyari/jit.py makes it safe), so a
+    kernel compiles once, not once per worker."""
+    if _xdist_worker(config) is not None:
         return
+    config.pluginmanager.register(
+        DurationLog(Path(__file__).resolve().parents[1] / "out" / "test-durations.csv"),
+        "hiyari-durations",
+    )
     base = Path(tempfile.mkdtemp(prefix="hiyari-tests-"))
     config.stash[_TEMP_KEY] = (base, os.environ.get("TMPDIR"))
     os.environ["TMPDIR"] = str(base)
