@@ -99,6 +99,8 @@ class ActionStarter:
         if isinstance(body, AssignControllerAction | ActivateControllerAction):
             self._controller(actor, body)
             return Instance(element, actor, (), finished=True)
+        if isinstance(body, FollowTrajectoryAction) and not eng.storyboard_drives(actor):
+            return self._ego_trajectory(element, eng.actors[actor], body, now)
         initial_pose = init and isinstance(body, TeleportAction | SpeedAction) and _instant(body)
         if isinstance(body, _MOTION) and not eng.storyboard_drives(actor) and not initial_pose:
             eng._ego_requests.append(action.name)
@@ -334,6 +336,21 @@ class ActionStarter:
             times = base + tm.scale * path.times + tm.offset
         motion = PathMotion(path, times, False, body.initial_distance_offset, a.v < 0)
         return self._follow(element, a, motion, now)
+
+    def _ego_trajectory(
+        self, element: int, a: Actor, body: FollowTrajectoryAction, now: float
+    ) -> Instance:
+        """A stack-driven ego steers along the trajectory (its timing is not applied: the
+        stack keeps the speed); it starts at the trajectory's start + initial offset."""
+        start = Pose(a.x, a.y, a.z, a.h, "" if a.free else a.road, a.lane, a.s, a.t)
+        path = self.e.resolver.trajectory(body.trajectory, start)
+        motion = PathMotion(path, None, False, body.initial_distance_offset, a.v < 0)
+        a.x, a.y, a.h = motion.start(now)
+        a.free = True
+        self.e.ego_path = motion
+        return Instance(
+            element, a.name, (), motion, until=lambda: motion.travelled >= path.length - 1e-9
+        )
 
     def _route(self, element: int, a: Actor, route: Route) -> Instance:
         """Follow ``route`` from where the actor is on it, at its lateral place there (straight

@@ -58,6 +58,7 @@ from hiyari.bridge.openscenario.engine.motion import (
     quiet_motion,
     read_targets,
 )
+from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.engine.positions import Pose, PoseResolver
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.actions import AssignRouteAction
@@ -254,6 +255,28 @@ class ScenarioEngine:
         p = self.pose_of(name)
         return forward(self.roads.odr, p.road, p.lane) if p.road else 1.0
 
+    def drive_ego(self, sim: Simulation, speed: float, move: bool = True) -> None:
+        """Command the stack-driven ego's ``speed`` (m/s, >= 0) for the next step: SUMO drives
+        it on its route, or, when the storyboard gave it a path, it is moved that far along
+        the path (backwards when its Init speed was negative: SUMO then carries its box
+        turned round, so the stack sees the scene it backs into ahead of it). ``move``: False
+        places it where it is on its path (at the start)."""
+        m = self.ego_path
+        if m is None:
+            sim.set_speed(self.ego, speed)
+            return
+        x, y, h, _, done = m.advance(self.now, speed * self.dt if move else 0.0)
+        if done:
+            d = m.path.direction(m.path.length)
+            ahead = np.array([[x, y], [x + 1e4 * math.cos(d), y + 1e4 * math.sin(d)]])
+            self.ego_path = PathMotion(SampledPath.through(ahead), None, False, 0.0, m.reverse)
+        e = self.actors[self.ego].entity
+        c, s = math.cos(h), math.sin(h)
+        cx = x + e.centre[0] * c - e.centre[1] * s
+        cy = y + e.centre[0] * s + e.centre[1] * c
+        h_sumo = h + math.pi if m.reverse else h
+        sim.move_vehicle(self.ego, cx, cy, h_sumo, e.length, speed=speed)
+
     def _driven(self) -> np.ndarray:
         """(E,) whether the storyboard moves each entity (all but a stack-driven ego)."""
         return self._view().driven
@@ -283,6 +306,8 @@ class ScenarioEngine:
             return Pose(a.x, a.y, a.z, a.h, a.road, a.lane, a.s, a.t)
         e = self.actors[name].entity
         h = float(w.heading[row])
+        if name == self.ego and self.ego_path is not None and self.ego_path.reverse:
+            h = math.remainder(h + math.pi, 2 * math.pi)  # SUMO carries a backing ego turned
         x = float(w.xyz[row, 0]) - e.centre[0] * math.cos(h) + e.centre[1] * math.sin(h)
         y = float(w.xyz[row, 1]) - e.centre[0] * math.sin(h) - e.centre[1] * math.cos(h)
         origin = self.roads.origin_of(str(w.lane[row]))
@@ -313,6 +338,8 @@ class ScenarioEngine:
                 raise HiyariError(f"{self.scenario.source}: entity {name!r} has no Init position")
         for name in self.names:
             self._insert(sim, name)
+        if self.ego_path is not None and not self.storyboard_drives(self.ego):
+            self.drive_ego(sim, abs(self.actors[self.ego].v), move=False)
         self._finish_actions(0.0)
         self._command(sim)
         return self._report()
@@ -340,7 +367,7 @@ class ScenarioEngine:
         )
         edge, lane_index, pos = self._insertion_point(a)
         route = self._sumo_route(name, edge) if not scripted else [edge]
-        sim.add_vehicle(name, route, f"hiyari_{name}", lane_index, pos, a.v, scripted=True)
+        sim.add_vehicle(name, route, f"hiyari_{name}", lane_index, pos, abs(a.v), scripted=True)
         mode = e.controller.properties.get("hiyari:speed_mode") if e.controller else None
         if mode is not None and not scripted:  # SUMO's own checks under the stack's speed
             if not mode.isdigit():
