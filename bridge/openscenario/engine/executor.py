@@ -20,6 +20,7 @@ Use (the closed loop owns stepping)::
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -157,6 +158,9 @@ class ScenarioEngine:
         self.active_domains = {
             e.name: {"lateral": True, "longitudinal": True} for e in scenario.entities
         }
+        #: Continuous LongitudinalDistanceActions by actor: each step, after the motion, they
+        #: put their actor at its gap again.
+        self.keepers: dict[str, Callable[[], None]] = {}
         #: The path the storyboard gives a stack-driven ego to steer along (its speed stays
         #: the stack's), None when it steers on its SUMO route.
         self.ego_path: PathMotion | None = None
@@ -470,7 +474,7 @@ class ScenarioEngine:
             self._idle = (version if len(self.tree.log) == version else -1, self._idle[1])
         # when no action can end (see _finish_actions), the commands are computed in the
         # motion pass's compiled call
-        idle = (len(self.tree.log), self.table.motion_version) == self._idle[1]
+        idle = (len(self.tree.log), self.table.motion_version) == self._idle[1] and not self.keepers
         return self._command_and_send(sim, self._advance(self._command_args() if idle else None))
 
     def _command_and_send(self, sim: Simulation, changed: np.ndarray | None) -> StepReport:
@@ -509,6 +513,7 @@ class ScenarioEngine:
             version == self._idle[0] == self._cleared
             and self._idle[1] == (version, tb.motion_version)
             and not bank.needs_contacts and not bank.needs_on_net and not len(bank.point_rows)
+            and not self.keepers
         ):  # fmt: skip
             return None
         view = self._view()
@@ -648,6 +653,8 @@ class ScenarioEngine:
         )
         if on_path:
             self.starter.follow_paths(on_path, nxt)
+        for keep in list(self.keepers.values()):
+            keep()
         return changed
 
     def _finish_actions(self, now: float) -> None:

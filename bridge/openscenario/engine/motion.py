@@ -139,6 +139,8 @@ class ActorTable:
         self.lane = np.zeros(n, dtype=np.int64)
         self.free = np.zeros(n, dtype=bool)
         self.inserted = np.zeros(n, dtype=bool)
+        #: Rows driving against their lane's direction (facing the other way on it).
+        self.against = np.zeros(n, dtype=bool)
         self.has_long = np.zeros(n, dtype=bool)
         self.has_lat = np.zeros(n, dtype=bool)
         self.n_lat = 0  # rows with a running lateral transition
@@ -223,7 +225,8 @@ class ActorTable:
             return
         for k in np.flatnonzero(self.stale).tolist():
             road = self.road[k]
-            self.direction[k] = forward(odr, road, int(self.lane[k])) if road else 1.0
+            d = forward(odr, road, int(self.lane[k])) if road else 1.0
+            self.direction[k] = -d if self.against[k] else d
         self.stale[:] = False
         self.any_stale = False
 
@@ -267,6 +270,7 @@ class Actor:
     long_travelled = _Column(float)
     lat_travelled = _Column(float)
     lane = _Column(int, marks_stale=True)
+    against = _Column(bool, marks_stale=True)
     free = _Column(bool)
     inserted = _Column(bool)
 
