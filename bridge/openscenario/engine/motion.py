@@ -93,9 +93,12 @@ class PathMotion:
     reverse: bool = False
 
     def pose(self) -> tuple[float, float, float]:
-        """(x, y, heading) where the actor is now on the path."""
+        """(x, y, heading) where the actor is now on the path: the path's heading there, or,
+        backing, the opposite of its direction of travel."""
         x, y, h = self.path.pose(self.travelled)
-        return x, y, math.remainder(h + math.pi, 2 * math.pi) if self.reverse else h
+        if self.reverse:
+            h = math.remainder(self.path.direction(self.travelled) + math.pi, 2 * math.pi)
+        return x, y, h
 
     def start(self, now: float) -> tuple[float, float, float]:
         """(x, y, heading) at the start: at scenario time ``now`` on a timed path."""
