@@ -54,6 +54,11 @@ class ScenarioHooks:
         """Whether the ego stack's command moves the ego now (else the scenario does)."""
         return True
 
+    def drive_ego(self, sim: Simulation, ego_id: str, speed: float) -> None:
+        """Apply the stack's ``speed`` (m/s) to the ego for the next step: SUMO drives it on
+        its route (a scenario may steer it along its own path instead)."""
+        sim.set_speed(ego_id, speed)
+
     def gap_target(self, world: WorldState, row: int) -> int:
         """Row of the actor whose bumper gap is scored (-1: none): the scenario's target."""
         if self.target_id and self.target_id in world.ids:
@@ -121,7 +126,7 @@ def run_closed_loop(
                 res.stop_trigger = True
                 break
             if hooks.stack_drives_ego():
-                sim.set_speed(ego_id, max(0.0, ego.speed + step.command.accel * dt))
+                hooks.drive_ego(sim, ego_id, max(0.0, ego.speed + step.command.accel * dt))
             res.sim_seconds = world.time
             if hooks.done(world, ego, hooks.script_time(world.time)):
                 break

@@ -134,6 +134,9 @@ class EngineHooks(ScenarioHooks):
     def stack_drives_ego(self) -> bool:
         return not self.report.ego_storyboard_driven
 
+    def drive_ego(self, sim: Simulation, ego_id: str, speed: float) -> None:
+        self.engine.drive_ego(sim, speed)
+
     def done(self, world: WorldState, ego: Pose, script_time: float) -> bool:
         """True ``scoring.settle_after_stop`` s after the ego first stood still."""
         now, sc = self.report.time, self.scoring
@@ -223,8 +226,8 @@ def prepared_scenario(
         engine = ScenarioEngine(scenario, roads, setup.step_length)
         hooks = EngineHooks(engine, sim)
         set_speed = setup.set_speed
-        if set_speed is None:
-            set_speed = engine.actors[scenario.ego].v
+        if set_speed is None:  # a backing ego's speed is negative: the stack holds |v|
+            set_speed = abs(engine.actors[scenario.ego].v)
         ctx = StackContext(network, setup, scenario.ego, set_speed, scenario)
         yield sim, hooks, (stack_factory or default_stack)(ctx), network
 

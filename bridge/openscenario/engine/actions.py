@@ -99,6 +99,8 @@ class ActionStarter:
         if isinstance(body, AssignControllerAction | ActivateControllerAction):
             self._controller(actor, body)
             return Instance(element, actor, (), finished=True)
+        if isinstance(body, FollowTrajectoryAction) and not eng.storyboard_drives(actor):
+            return self._ego_trajectory(element, eng.actors[actor], body, now)
         initial_pose = init and isinstance(body, TeleportAction | SpeedAction) and _instant(body)
         if isinstance(body, _MOTION) and not eng.storyboard_drives(actor) and not initial_pose:
             eng._ego_requests.append(action.name)
@@ -132,6 +134,8 @@ class ActionStarter:
             a.lat = None
         if inst.obj is a.path:
             a.path = None
+        if self.e.keepers.get(inst.actor) is inst.obj:
+            del self.e.keepers[inst.actor]
         for d in inst.domains:
             self.e.owner.pop((inst.actor, d), None)
         inst.finished = True
@@ -170,7 +174,16 @@ class ActionStarter:
         if isinstance(body, LongitudinalDistanceAction):
             self._claim(element, a.name, ("longitudinal",))
             self._gap(a, body)
-            return Instance(element, a.name, ("longitudinal",), finished=True)
+            if not body.continuous:
+                return Instance(element, a.name, ("longitudinal",), finished=True)
+
+            def keep() -> None:
+                self._gap(a, body)
+                a.v = self.e.speed_of(body.entity)
+
+            a.long = None
+            self.e.keepers[a.name] = keep
+            return Instance(element, a.name, ("longitudinal",), keep)
         if isinstance(body, LaneChangeAction):
             return self._lane_change(element, a, body, now)
         if isinstance(body, LaneOffsetAction):
@@ -187,12 +200,16 @@ class ActionStarter:
         a.path, a.lat = None, None
         if p.road:
             a.road, a.lane, a.s, a.t, a.free = p.road, p.lane, p.s, p.t, False
-            base = self._lane_heading(a)
-            a.h_rel = math.remainder(p.h - base, 2 * math.pi)
+            # facing more than a right angle off its lane's direction: it drives the other way
+            lane_h = self._lane_heading(a)
+            h_rel = math.remainder(p.h - lane_h, 2 * math.pi)
+            a.against = abs(h_rel) > math.pi / 2 + 1e-9
+            a.h_rel = math.remainder(h_rel - math.pi, 2 * math.pi) if a.against else h_rel
         else:
             a.free = True
 
     def _lane_heading(self, a: Actor) -> float:
+        """Heading of ``a``'s lane's driving direction at its s (rad)."""
         odr = self.e.roads.odr
         h = float(odr.road(a.road).reference(np.array([a.s]))[2][0])
         return h if forward(odr, a.road, a.lane) > 0 else h + math.pi
@@ -237,7 +254,7 @@ class ActionStarter:
             else body.time_gap * self.e.speed_of(body.entity)
         )
         ent_ref = self.e.actors[body.entity].entity
-        direction = forward(self.e.roads.odr, ref.road, ref.lane)
+        direction = self.e.travel_direction(body.entity)
         cx_r, cx_a = ent_ref.centre[0], a.entity.centre[0]
         if body.displacement == "trailingReferencedEntity":
             lead = (
@@ -334,6 +351,21 @@ class ActionStarter:
             times = base + tm.scale * path.times + tm.offset
         motion = PathMotion(path, times, False, body.initial_distance_offset, a.v < 0)
         return self._follow(element, a, motion, now)
+
+    def _ego_trajectory(
+        self, element: int, a: Actor, body: FollowTrajectoryAction, now: float
+    ) -> Instance:
+        """A stack-driven ego steers along the trajectory (its timing is not applied: the
+        stack keeps the speed); it starts at the trajectory's start + initial offset."""
+        start = Pose(a.x, a.y, a.z, a.h, "" if a.free else a.road, a.lane, a.s, a.t)
+        path = self.e.resolver.trajectory(body.trajectory, start)
+        motion = PathMotion(path, None, False, body.initial_distance_offset, a.v < 0)
+        a.x, a.y, a.h = motion.start(now)
+        a.free = True
+        self.e.ego_path = motion
+        return Instance(
+            element, a.name, (), motion, until=lambda: motion.travelled >= path.length - 1e-9
+        )
 
     def _route(self, element: int, a: Actor, route: Route) -> Instance:
         """Follow ``route`` from where the actor is on it, at its lateral place there (straight

@@ -20,6 +20,7 @@ Use (the closed loop owns stepping)::
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -58,6 +59,7 @@ from hiyari.bridge.openscenario.engine.motion import (
     quiet_motion,
     read_targets,
 )
+from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.engine.positions import Pose, PoseResolver
 from hiyari.bridge.openscenario.engine.preflight import check_decided_actions
 from hiyari.bridge.openscenario.engine.values import ValueStore
@@ -157,6 +159,9 @@ class ScenarioEngine:
         self.active_domains = {
             e.name: {"lateral": True, "longitudinal": True} for e in scenario.entities
         }
+        #: Continuous LongitudinalDistanceActions by actor: each step, after the motion, they
+        #: put their actor at its gap again.
+        self.keepers: dict[str, Callable[[], None]] = {}
         #: The path the storyboard gives a stack-driven ego to steer along (its speed stays
         #: the stack's), None when it steers on its SUMO route.
         self.ego_path: PathMotion | None = None
@@ -255,6 +260,28 @@ class ScenarioEngine:
         p = self.pose_of(name)
         return forward(self.roads.odr, p.road, p.lane) if p.road else 1.0
 
+    def drive_ego(self, sim: Simulation, speed: float, move: bool = True) -> None:
+        """Command the stack-driven ego's ``speed`` (m/s, >= 0) for the next step: SUMO drives
+        it on its route, or, when the storyboard gave it a path, it is moved that far along
+        the path (backwards when its Init speed was negative: SUMO then carries its box
+        turned round, so the stack sees the scene it backs into ahead of it). ``move``: False
+        places it where it is on its path (at the start)."""
+        m = self.ego_path
+        if m is None:
+            sim.set_speed(self.ego, speed)
+            return
+        x, y, h, _, done = m.advance(self.now, speed * self.dt if move else 0.0)
+        if done:
+            d = m.path.direction(m.path.length)
+            ahead = np.array([[x, y], [x + 1e4 * math.cos(d), y + 1e4 * math.sin(d)]])
+            self.ego_path = PathMotion(SampledPath.through(ahead), None, False, 0.0, m.reverse)
+        e = self.actors[self.ego].entity
+        c, s = math.cos(h), math.sin(h)
+        cx = x + e.centre[0] * c - e.centre[1] * s
+        cy = y + e.centre[0] * s + e.centre[1] * c
+        h_sumo = h + math.pi if m.reverse else h
+        sim.move_vehicle(self.ego, cx, cy, h_sumo, e.length, speed=speed)
+
     def _driven(self) -> np.ndarray:
         """(E,) whether the storyboard moves each entity (all but a stack-driven ego)."""
         return self._view().driven
@@ -284,6 +311,8 @@ class ScenarioEngine:
             return Pose(a.x, a.y, a.z, a.h, a.road, a.lane, a.s, a.t)
         e = self.actors[name].entity
         h = float(w.heading[row])
+        if name == self.ego and self.ego_path is not None and self.ego_path.reverse:
+            h = math.remainder(h + math.pi, 2 * math.pi)  # SUMO carries a backing ego turned
         x = float(w.xyz[row, 0]) - e.centre[0] * math.cos(h) + e.centre[1] * math.sin(h)
         y = float(w.xyz[row, 1]) - e.centre[0] * math.sin(h) - e.centre[1] * math.cos(h)
         origin = self.roads.origin_of(str(w.lane[row]))
@@ -317,6 +346,8 @@ class ScenarioEngine:
         check_decided_actions(self)
         for name in self.names:
             self._insert(sim, name)
+        if self.ego_path is not None and not self.storyboard_drives(self.ego):
+            self.drive_ego(sim, abs(self.actors[self.ego].v), move=False)
         self._finish_actions(0.0)
         self._command(sim)
         return self._report()
@@ -344,7 +375,7 @@ class ScenarioEngine:
         )
         edge, lane_index, pos = self._insertion_point(a)
         route = self._sumo_route(name, edge) if not scripted else [edge]
-        sim.add_vehicle(name, route, f"hiyari_{name}", lane_index, pos, a.v, scripted=True)
+        sim.add_vehicle(name, route, f"hiyari_{name}", lane_index, pos, abs(a.v), scripted=True)
         mode = e.controller.properties.get("hiyari:speed_mode") if e.controller else None
         if mode is not None and not scripted:  # SUMO's own checks under the stack's speed
             if not mode.isdigit():
@@ -447,7 +478,7 @@ class ScenarioEngine:
             self._idle = (version if len(self.tree.log) == version else -1, self._idle[1])
         # when no action can end (see _finish_actions), the commands are computed in the
         # motion pass's compiled call
-        idle = (len(self.tree.log), self.table.motion_version) == self._idle[1]
+        idle = (len(self.tree.log), self.table.motion_version) == self._idle[1] and not self.keepers
         return self._command_and_send(sim, self._advance(self._command_args() if idle else None))
 
     def _command_and_send(self, sim: Simulation, changed: np.ndarray | None) -> StepReport:
@@ -486,6 +517,7 @@ class ScenarioEngine:
             version == self._idle[0] == self._cleared
             and self._idle[1] == (version, tb.motion_version)
             and not bank.needs_contacts and not bank.needs_on_net and not len(bank.point_rows)
+            and not self.keepers
         ):  # fmt: skip
             return None
         view = self._view()
@@ -625,6 +657,8 @@ class ScenarioEngine:
         )
         if on_path:
             self.starter.follow_paths(on_path, nxt)
+        for keep in list(self.keepers.values()):
+            keep()
         return changed
 
     def _finish_actions(self, now: float) -> None:

@@ -93,9 +93,12 @@ class PathMotion:
     reverse: bool = False
 
     def pose(self) -> tuple[float, float, float]:
-        """(x, y, heading) where the actor is now on the path."""
+        """(x, y, heading) where the actor is now on the path: the path's heading there, or,
+        backing, the opposite of its direction of travel."""
         x, y, h = self.path.pose(self.travelled)
-        return x, y, math.remainder(h + math.pi, 2 * math.pi) if self.reverse else h
+        if self.reverse:
+            h = math.remainder(self.path.direction(self.travelled) + math.pi, 2 * math.pi)
+        return x, y, h
 
     def start(self, now: float) -> tuple[float, float, float]:
         """(x, y, heading) at the start: at scenario time ``now`` on a timed path."""
@@ -139,6 +142,8 @@ class ActorTable:
         self.lane = np.zeros(n, dtype=np.int64)
         self.free = np.zeros(n, dtype=bool)
         self.inserted = np.zeros(n, dtype=bool)
+        #: Rows driving against their lane's direction (facing the other way on it).
+        self.against = np.zeros(n, dtype=bool)
         self.has_long = np.zeros(n, dtype=bool)
         self.has_lat = np.zeros(n, dtype=bool)
         self.n_lat = 0  # rows with a running lateral transition
@@ -223,7 +228,8 @@ class ActorTable:
             return
         for k in np.flatnonzero(self.stale).tolist():
             road = self.road[k]
-            self.direction[k] = forward(odr, road, int(self.lane[k])) if road else 1.0
+            d = forward(odr, road, int(self.lane[k])) if road else 1.0
+            self.direction[k] = -d if self.against[k] else d
         self.stale[:] = False
         self.any_stale = False
 
@@ -267,6 +273,7 @@ class Actor:
     long_travelled = _Column(float)
     lat_travelled = _Column(float)
     lane = _Column(int, marks_stale=True)
+    against = _Column(bool, marks_stale=True)
     free = _Column(bool)
     inserted = _Column(bool)
 

@@ -67,6 +67,7 @@ class PoseResolver:
         self.pose_of = pose_of
         self._graph: RoadGraph | None = None
         self._routes: dict[Route, RoutePath] = {}
+        self._lines: dict[Route, SampledPath] = {}
         self._paths: dict[Trajectory, SampledPath] = {}
 
     # ------------------------------------------------------------------ paths
@@ -81,6 +82,13 @@ class PoseResolver:
                 lambda r, ln: 1.0 if self.odr.road(r).drives_forward(ln) else -1.0,
             )  # fmt: skip
             self._routes[route] = found
+        return found
+
+    def route_line(self, route: Route) -> SampledPath:
+        """``route``'s reference line (t = 0), sampled (kept per route)."""
+        found = self._lines.get(route)
+        if found is None:
+            found = self._lines[route] = self.route(route).sampled(self.odr, 0.0)
         return found
 
     def trajectory(self, traj: Trajectory, start: Pose | None = None) -> SampledPath:
@@ -160,8 +168,8 @@ class PoseResolver:
         if pos.entity is not None:
             return self._orient(self.pose_of(pos.entity), pos.orientation)
         road, s, direction = self.route(pos.route).road_at(pos.path_s)
-        if pos.lane is not None:
-            p = self.at_lane(road, pos.lane, s, pos.lane_offset)
+        if pos.lane is not None:  # lane ids and offsets count in the route's direction
+            p = self.at_lane(road, pos.lane * direction, s, pos.lane_offset * direction)
         else:
             x, y, z, h = self.odr.road_pose(road, np.array([s]), np.array([pos.t * direction]))
             lane = self.odr.locate(x, y, road)[0].lane

@@ -12,9 +12,10 @@ are followed); the speed at the end of the step is v(dt). Past the steady-state 
 actor holds v_f. The action ends when either entity reaches its target (within its tolerance)
 or passes it (its distance grows); the actor then keeps the final speed.
 
-Remaining distances: along the path the entity follows when the target lies on it, along the
-trajectory or route a Trajectory- / RoutePosition target names, along the road when both are
-on one road, else straight. Metres, seconds, m/s.
+Remaining distances: along the path the entity follows when the target lies on it (within
+ON_PATH of it), along the trajectory or route a Trajectory- / RoutePosition target names (the
+entity projected on it), along the road when both are on one road, else straight. Metres,
+seconds, m/s.
 """
 
 from __future__ import annotations
@@ -35,8 +36,9 @@ from hiyari.bridge.openscenario.model.positions import (
 if TYPE_CHECKING:
     from hiyari.bridge.openscenario.engine.executor import ScenarioEngine
 
-#: A target counts as on a followed path when it lies within this distance of it, m.
-ON_PATH = 1.0
+#: A target counts as on a followed path when it lies within this distance of it (a route's
+#: reference line beside the lane the actor follows on it), m.
+ON_PATH = 5.0
 #: Growth of a remaining distance that counts as having passed the target, m.
 PASSED = 1e-6
 _FIXED = (WorldPosition, LanePosition, RoadPosition, TrajectoryPosition)
@@ -128,17 +130,15 @@ class Synchronizer:
             s_t, off = motion.path.project(tgt.x, tgt.y)
             if abs(off) <= ON_PATH:
                 return s_t - motion.travelled
-        if isinstance(target, TrajectoryPosition | RoutePosition):
-            p = e.pose_of(name)
-            if isinstance(target, TrajectoryPosition):
-                path = e.resolver.trajectory(target.trajectory)
-                return target.s - path.project(p.x, p.y)[0]
-            legs = e.resolver.route(target.route)
-            here = legs.path_s(p.road, p.s) if p.road else None
-            there = legs.path_s(tgt.road, tgt.s) if tgt.road else None
-            if here is not None and there is not None:
-                return there - here
         p = e.pose_of(name)
+        if a.free and e.storyboard_drives(name):  # its road coordinates are not kept
+            p = e.resolver.at_xy(a.x, a.y, a.h)
+        if isinstance(target, TrajectoryPosition):
+            path = e.resolver.trajectory(target.trajectory)
+            return target.s - path.project(p.x, p.y)[0]
+        if isinstance(target, RoutePosition):
+            line = e.resolver.route_line(target.route)
+            return line.project(tgt.x, tgt.y)[0] - line.project(p.x, p.y)[0]
         if p.road and p.road == tgt.road:
             direction = e.travel_direction(name)
             return (tgt.s - p.s) * direction

@@ -129,9 +129,10 @@ class TrajectoryPosition:
 @dataclass(frozen=True)
 class RoutePosition:
     """A position on ``route``: ``path_s`` m along it from its first waypoint, then ``t`` m to
-    the left of its reference line (road coordinates), or, with ``lane``, ``lane_offset`` m
-    from that lane's centre on the road there; with ``entity``: where that entity is (its
-    projection on the route)."""
+    the left of its reference line, or, with ``lane``, ``lane_offset`` m (to the left) from
+    that lane's centre on the road there; left, and the lane ids, count in the route's
+    direction of travel (on a road driven against its s, lane -1 is its lane 1); with
+    ``entity``: where that entity is."""
 
     route: Route
     path_s: float = 0.0

@@ -112,8 +112,6 @@ def _long_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
         raise ctx.unsupported(
             el, "DynamicConstraints: hiyari places the actor at the gap kinematically"
         )
-    if ctx.flag(el, "continuous"):
-        raise ctx.unsupported(el, "continuous = true: the gap is set once")
     if ctx.text(el, "coordinateSystem", "entity") not in ("entity", "road", "lane"):
         raise ctx.unsupported(el, f"coordinateSystem {el.get('coordinateSystem')}")
     return LongitudinalDistanceAction(

@@ -67,7 +67,7 @@ def _run_xosc(args: argparse.Namespace) -> int:
     from hiyari.bridge.loop.xosc_runs import load_plan, run_xosc
 
     plan = load_plan(args.scenario, ego_setup(args))
-    if plan.count() > args.max_runs:
+    if plan.count() > args.max_runs and not args.dry_run:  # a dry run only counts
         raise HiyariError(
             f"{args.scenario}: {plan.count()} runs exceed --max-runs {args.max_runs} "
             "(use 'hiyari sweep' for large distributions)"
@@ -167,7 +167,7 @@ def _run(args: argparse.Namespace) -> int:
             "--map apply to city scenarios)"
         )
     n = count_runs(logical)
-    if n > args.max_runs:
+    if n > args.max_runs and not args.dry_run:  # a dry run only counts
         raise HiyariError(
             f"{args.scenario}: {n} concrete runs exceed --max-runs {args.max_runs} "
             "(use 'hiyari sweep' for large grids)"

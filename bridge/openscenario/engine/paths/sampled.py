@@ -25,17 +25,24 @@ class SampledPath:
 
     @staticmethod
     def through(
-        xy: np.ndarray, h: np.ndarray | None = None, times: np.ndarray | None = None
+        xy: np.ndarray,
+        h: np.ndarray | None = None,
+        times: np.ndarray | None = None,
+        s: np.ndarray | None = None,
     ) -> SampledPath:
         """The path through ``xy`` (repeated points dropped); headings ``h`` per point, else
-        the direction of travel."""
+        the direction of travel; ``s`` the arc length at each point of a curve sampled by
+        chords (else the chords' lengths summed)."""
         xy = np.asarray(xy, dtype=float).reshape(-1, 2)
         seg = np.linalg.norm(np.diff(xy, axis=0), axis=1)
         keep = np.concatenate([[True], seg > 1e-9])
         xy = xy[keep]
         h = None if h is None else np.asarray(h, dtype=float)[keep]
         times = None if times is None else np.asarray(times, dtype=float)[keep]
-        s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
+        if s is None:
+            s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
+        else:
+            s = np.asarray(s, dtype=float)[keep]
         if h is None:
             h = _travel_headings(xy)
         return SampledPath(xy, s, h, times)
