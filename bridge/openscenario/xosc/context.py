@@ -14,7 +14,7 @@ from lxml import etree
 from hiyari.bridge.openscenario.xosc.expressions import evaluate_or_raise
 from hiyari.errors import HiyariError
 
-_INT_TYPES = ("int", "integer", "unsignedInt", "unsignedShort")
+INT_TYPES = ("int", "integer", "unsignedInt", "unsignedShort")
 
 
 @dataclass
@@ -38,7 +38,7 @@ def _canonical(value: object, ptype: str, where: str, name: str) -> str:
     """A parameter value as text in the form its declared type takes."""
     text = _to_text(value)
     try:
-        if ptype in _INT_TYPES:
+        if ptype in INT_TYPES:
             x = float(text)
             r = math.floor(x + 0.5) if x >= 0 else -math.floor(-x + 0.5)
             if ptype != "int" and ptype != "integer" and r < 0:
@@ -186,7 +186,7 @@ class Ctx:
 
     def _holds(self, value: str, ptype: str, c: etree._Element) -> bool:
         rule, bound = self.text(c, "rule"), self.text(c, "value")
-        numeric = ptype in (*_INT_TYPES, "double")
+        numeric = ptype in (*INT_TYPES, "double")
         if not numeric:
             try:
                 a, b = float(value), float(bound)
