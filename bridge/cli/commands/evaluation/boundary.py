@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 import time
-from pathlib import Path
 
+from hiyari.bridge.cli.outputs import output_folder
 from hiyari.risk.cc.boundary import (
     Grid,
     cut_in_datasheet,
@@ -94,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.report.datasheets import plot_cut_in, plot_cut_out, plot_decel
 
     params = model_params(args)
-    out = Path(args.out)
+    out = output_folder(args.out)
     started = time.perf_counter()
     if args.scenario == "cut-in":
         sheet = cut_in_datasheet(

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.cli import numbers, status
+from hiyari.bridge.cli.outputs import output_folder
 from hiyari.errors import HiyariError, about
 
 if TYPE_CHECKING:
@@ -20,6 +21,7 @@ if TYPE_CHECKING:
 
 
 def run(args: argparse.Namespace) -> int:
+    output_folder(args.out)
     # the work is imported in _run so that `hiyari --help` and the other commands start fast
     with about(args.scenario, Path(args.scenario).resolve()):
         if Path(args.scenario).suffix.lower() == ".xosc":

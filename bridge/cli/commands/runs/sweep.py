@@ -9,6 +9,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli.outputs import output_folder
 from hiyari.errors import HiyariError, about
 
 
@@ -18,6 +19,7 @@ def run(args: argparse.Namespace) -> int:
     from hiyari.bridge.openscenario.presets.toml_file import load_scenario
     from hiyari.bridge.studies.sweep import SweepOptions, count_runs, run_sweep
 
+    output_folder(args.out)
     with about(args.scenario, Path(args.scenario).resolve()):
         if is_openscenario(args.scenario):
             logical = load_plan(args.scenario, ego_setup(args), xosc_params(args))
