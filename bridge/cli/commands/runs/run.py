@@ -246,13 +246,11 @@ def add_xosc_options(p: argparse.ArgumentParser) -> None:
         help=".xosc: set a top-level ParameterDeclaration, checked against its type and "
         "ValueConstraints (repeatable; as esmini's --param)",
     )
-    p.add_argument(
-        "--step-length", type=numbers.seconds(), default=0.05, help=".xosc: step, s (0.05)"
-    )
-    p.add_argument("--seed", type=numbers.seed(), default=1, help=".xosc: base seed (1)")
+    p.add_argument("--step-length", type=numbers.seconds(), default=0.05, help=".xosc: step, s")
+    p.add_argument("--seed", type=numbers.seed(), default=1, help=".xosc: base seed")
     p.add_argument(
         "--max-duration",
         type=numbers.seconds(),
         default=600.0,
-        help=".xosc: end a run here if its stop trigger has not fired, s (600)",
+        help=".xosc: end a run here if its stop trigger has not fired, s",
     )
