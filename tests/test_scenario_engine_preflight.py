@@ -60,8 +60,10 @@ def test_relative_target_to_a_steady_entity_is_checked(tmp_path: Path) -> None:
     path, _ = _file(
         tmp_path, story("Car", _speed(0.0, relative_to="Lead"), time_condition(1.0)), 15.0
     )
+    steps = []
     with pytest.raises(HiyariError, match="transition rate value must be positive"):
-        run_scenario(path, tmp_path, until=3.0)
+        run_scenario(path, tmp_path, until=3.0, on_step=lambda *a: steps.append(a))
+    assert steps == []  # refused before the first step
 
 
 @pytest.mark.parametrize(
