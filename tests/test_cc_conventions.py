@@ -175,12 +175,12 @@ def test_cli_convention_options(tmp_path, capsys):
     with (out / "cut_in_boundary.csv").open() as fh:
         row = next(csv.DictReader(fh))
     assert float(row["boundary_dx0_m"]) == pytest.approx(26.6)  # 26.543 rounded up
-    for flag, value, field in (
-        ("--above-ttc", "end", "above_ttc"),
-        ("--cut-out-perception", "no", "cut_out_perception"),
-        ("--decel-perception", "hard-braking", "decel_perception"),
+    for scenario, grid, flag, value in (  # each scenario takes its own conventions
+        ("cut-in", ["--dv", "30", "--vy", "1"], "--above-ttc", "end"),
+        ("cut-out", ["--vy", "1"], "--cut-out-perception", "no"),
+        ("decel", ["--gx", "1"], "--decel-perception", "hard-braking"),
     ):
-        assert main(["boundary", "decel", "-o", str(tmp_path / field), "--ve", "60", "--gx", "1",
+        assert main(["boundary", scenario, "-o", str(tmp_path / scenario), "--ve", "60", *grid,
                      flag, value]) == 0  # fmt: skip
         assert "not MODELS.md default" in capsys.readouterr().out
     assert main([*args, "--danger-at", "sometimes"]) == 1  # an unknown convention is refused

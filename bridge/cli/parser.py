@@ -12,8 +12,29 @@ from typing import Any
 from hiyari.errors import HiyariError
 
 
+class DefaultsHelpFormatter(argparse.HelpFormatter):
+    """argparse's help, with "(default: X)" after each option whose help does not already
+    speak of its default (nothing is added for a default of None, False or empty: no
+    value)."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        text = action.help or ""
+        default = action.default
+        if (
+            not action.option_strings
+            or "default" in text.lower()
+            or default is None
+            or default is False
+            or default is argparse.SUPPRESS
+            or default in ([], "")
+        ):
+            return action.help
+        return f"{text} (default: %(default)s)"
+
+
 class Parser(argparse.ArgumentParser):
-    """argparse, but a usage error is a HiyariError: one line, exit status 1.
+    """argparse, but a usage error is a HiyariError: one line, exit status 1; every option's
+    help says its default (DefaultsHelpFormatter).
 
     ``setup(parser)``, when given, adds the parser's arguments the first time it parses or
     formats its help: for a command whose option choices and defaults come from modules that
@@ -23,6 +44,7 @@ class Parser(argparse.ArgumentParser):
     def __init__(
         self, *args: Any, setup: Callable[[argparse.ArgumentParser], None] | None = None, **kw: Any
     ) -> None:
+        kw.setdefault("formatter_class", DefaultsHelpFormatter)
         super().__init__(*args, **kw)
         self._setup = setup
 

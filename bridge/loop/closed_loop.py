@@ -75,12 +75,14 @@ def run_closed_loop(
     on_step: OnStep | None = None,
     progress: bool = False,
     decided: Decided | None = None,
+    open_ended: bool = False,
 ) -> RunResult:
     """Run until ``duration`` (s of simulation time from now), a collision, ``hooks.done`` or
     ``decided`` (when given).
 
     ``on_step(world, ego_step, collisions)`` is called after every stack step (recording,
-    custom metrics).
+    custom metrics). ``open_ended``: the run usually ends before ``duration`` (a stop
+    trigger), so the progress bar counts steps without a total and ends full.
     """
     from tqdm import tqdm
 
@@ -90,7 +92,8 @@ def run_closed_loop(
     t_end = sim.time + duration
     n_steps = int(round(duration / dt))
     t0 = wallclock.perf_counter()
-    bar = tqdm(total=n_steps, unit="step", disable=not progress, desc=label[:30] or "run")
+    total = None if open_ended else n_steps
+    bar = tqdm(total=total, unit="step", disable=not progress, desc=label[:30] or "run")
     ego_id = hooks.ego_id
     try:
         while sim.time < t_end - 1e-9:
@@ -133,6 +136,9 @@ def run_closed_loop(
             if decided is not None and decided(res, world, row, t_end - world.time):
                 break
     finally:
+        if open_ended:
+            bar.total = bar.n  # the run's own end
+            bar.refresh()
         bar.close()
     res.wall_seconds = wallclock.perf_counter() - t0
     if len(res.series):

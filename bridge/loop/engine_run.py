@@ -281,6 +281,7 @@ def drive(
             on_step=on_step,
             progress=options.progress,
             decided=decided,
+            open_ended=bool(hooks.engine.scenario.storyboard.stop_trigger),
         )
     except BaseException:
         if recorder is not None:

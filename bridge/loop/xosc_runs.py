@@ -9,14 +9,16 @@ written); run ``k`` is seeded ``seed + k`` as TOML runs are.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from hiyari.bridge.loop.engine_run import EgoSetup, import_road, run_scenario
+from hiyari.bridge.loop.engine_run import EgoSetup, check_scenario, import_road, run_scenario
 from hiyari.bridge.loop.result import RunResult
 from hiyari.bridge.loop.run import RunOptions
 from hiyari.bridge.openscenario.model.storyboard import Scenario
 from hiyari.bridge.openscenario.xosc import document
+from hiyari.bridge.openscenario.xosc.context import INT_TYPES
 from hiyari.bridge.openscenario.xosc.distributions import read_distribution
 from hiyari.bridge.openscenario.xosc.reader import read_scenario
 from hiyari.errors import HiyariError
@@ -118,27 +120,71 @@ def is_openscenario(path: str | Path) -> bool:
     return Path(path).suffix.lower() == ".xosc"
 
 
-def load_plan(path: str | Path, setup: EgoSetup | None = None) -> XoscPlan:
-    """The runs of the scenario or distribution file ``path``, checked (see module)."""
+def load_plan(
+    path: str | Path, setup: EgoSetup | None = None, params: Mapping[str, str] | None = None
+) -> XoscPlan:
+    """The runs of the scenario or distribution file ``path``, checked (see module).
+
+    ``params``: values for the scenario's top-level ParameterDeclarations in every run (as
+    esmini's ``--param``), checked like the file's own: a declared name, its type and its
+    ValueConstraints; a distribution may not set them too."""
     setup = setup or EgoSetup()
+    params = dict(params or {})
     root = document.load(path)
     if root.find("ParameterValueDistribution") is not None:
         dist = read_distribution(path, setup.seed)
         scenario, sets = dist.scenario, dist.runs
+        both = sorted({k for s in sets for k in s} & set(params))
+        if both:
+            raise HiyariError(
+                f"{path}: --param {', '.join(both)}: the distribution sets it (one or the other)"
+            )
     else:
         scenario, sets = Path(path).resolve(), ({},)
     if not sets:
         raise HiyariError(f"{path}: the distribution gives no run")
+    _check_integers(scenario, params)
+    sets = tuple({**s, **params} for s in sets)
     first = read_scenario(scenario, sets[0])
     if first.road_network is None:
         raise HiyariError(f"{scenario}: <RoadNetwork> names no <LogicFile> (OpenDRIVE road)")
     return XoscPlan(str(path), scenario.stem, scenario, tuple(sets), setup, first.road_network)
 
 
+def _check_integers(scenario: Path, params: Mapping[str, str]) -> None:
+    """Integer parameters set by hand must be given as integers (the reader rounds a
+    computed value, as OpenSCENARIO converts a double to an int; a typed 1.5 is a mistake)."""
+    decls = document.load(scenario).find("ParameterDeclarations") if params else None
+    for d in [] if decls is None else decls.findall("ParameterDeclaration"):
+        name, ptype = d.get("name"), d.get("parameterType")
+        if name in params and ptype in INT_TYPES:
+            try:
+                whole = float(params[name]).is_integer()
+            except ValueError:
+                continue  # not a number at all: the reader says so
+            if not whole:
+                raise HiyariError(
+                    f"{scenario}:{d.sourceline}: --param {name}={params[name]}: "
+                    f"the parameter is an {ptype}"
+                )
+
+
 def run_xosc(run: XoscRun, options: RunOptions | None = None) -> RunResult:
     """Run one concrete OpenSCENARIO run in this process."""
     sc = run.load()
-    net = None
+    return run_scenario(sc, options, run.setup, net=_imported(run, sc))
+
+
+def check_xosc(run: XoscRun) -> None:
+    """Every check ``run`` makes before its first step (the scenario read with its values,
+    the road, SUMO, the Init actions, the actions Init decides, the ego stack); nothing is
+    written and nothing runs (``--dry-run``)."""
+    sc = run.load()
+    check_scenario(sc, run.setup, net=_imported(run, sc))
+
+
+def _imported(run: XoscRun, sc: Scenario) -> Path | None:
+    """The SUMO net already imported for the scenario's road (None: import it)."""
     if run.road_net is not None and sc.road_network == run.road_net[0]:
-        net = run.road_net[1] if run.road_net[1].is_file() else None
-    return run_scenario(sc, options, run.setup, net=net)
+        return run.road_net[1] if run.road_net[1].is_file() else None
+    return None

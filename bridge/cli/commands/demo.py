@@ -5,9 +5,9 @@ from __future__ import annotations
 import argparse
 import os
 import time
-from pathlib import Path
 
 from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli.outputs import output_folder
 
 
 def _stage(title: str) -> float:
@@ -19,7 +19,7 @@ def run(args: argparse.Namespace) -> int:
     from hiyari.bridge.cli.demo import closed_loop as cl
     from hiyari.bridge.cli.demo.traffic import run_traffic_demo
 
-    out = Path(args.out)
+    out = output_folder(args.out, "--out")
     t = _stage(f"traffic: signalised city intersection, {args.duration:.0f} s simulated")
     d = run_traffic_demo(out / "traffic", duration=args.duration, seed=args.seed)
     print(

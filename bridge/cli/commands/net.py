@@ -20,6 +20,7 @@ from functools import partial
 from pathlib import Path
 
 from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli.outputs import output_file
 from hiyari.errors import HiyariError
 from hiyari.net.sumo.build import (
     CatalogueRoadParams,
@@ -152,6 +153,8 @@ def _run_mesh(args: argparse.Namespace) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    for out in args.out if isinstance(args.out, list) else [args.out]:
+        output_file(out, "-o")
     {"build": _run_build, "import": _run_import, "mesh": _run_mesh}[args.net_command](args)
     return 0
 

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli.outputs import output_folder
 
 
 def run(args: argparse.Namespace) -> int:
@@ -14,7 +15,7 @@ def run(args: argparse.Namespace) -> int:
     req = FrameRequest(
         sensor=args.sensor,
         preset=args.preset,
-        out=Path(args.out),
+        out=output_folder(args.out),
         lidar_preset=args.lidar,
         radar_preset=args.radar,
         camera_preset=args.camera,
@@ -77,5 +78,5 @@ def _render_arguments(r: argparse.ArgumentParser) -> None:
     )
     r.add_argument("--ego", help="SUMO id of the ego vehicle (--net; default: the most central)")
     r.add_argument("--seed", type=numbers.seed(), default=1)
-    r.add_argument("--out", default="out/sensors", help="output folder")
+    r.add_argument("-o", "--out", default="out/sensors", help="output folder")
     r.set_defaults(func=run)

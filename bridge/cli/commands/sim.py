@@ -10,6 +10,7 @@ from pathlib import Path
 
 from hiyari.atomic import write_text_atomic
 from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli.outputs import output_file
 from hiyari.errors import HiyariError, about
 
 
@@ -28,19 +29,6 @@ def parse_mix(text: str) -> dict[str, float]:
     return mix
 
 
-def check_output(path: str | None, option: str) -> Path | None:
-    """An output file the command writes at the end: refuse it before any work is done when
-    its folder does not exist or it names a folder."""
-    if path is None:
-        return None
-    out = Path(path)
-    if not out.parent.is_dir():
-        raise HiyariError(f"{option} {out}: the folder {out.parent} does not exist")
-    if out.is_dir():
-        raise HiyariError(f"{option} {out}: is a folder, give a file name")
-    return out
-
-
 def run(args: argparse.Namespace) -> int:
     # SUMO is imported here, not at the top, so that the other commands do not load it
     from hiyari.net.sumo.files import check_net
@@ -48,7 +36,8 @@ def run(args: argparse.Namespace) -> int:
     from hiyari.traffic.simulation import SimConfig
     from hiyari.traffic.traffic_run import run_traffic
 
-    json_out = check_output(args.json, "--json")
+    # the summary is written at the end: refused before any work, into an existing folder
+    json_out = None if args.json is None else output_file(args.json, "--json", False)
     routes = [Path(r) for r in args.routes]
     generated: list[Path] = []
     if args.net:

@@ -14,7 +14,7 @@ from lxml import etree
 from hiyari.bridge.openscenario.xosc.expressions import evaluate_or_raise
 from hiyari.errors import HiyariError
 
-_INT_TYPES = ("int", "integer", "unsignedInt", "unsignedShort")
+INT_TYPES = ("int", "integer", "unsignedInt", "unsignedShort")
 
 
 @dataclass
@@ -40,7 +40,7 @@ def canonical(value: object, ptype: str, where: str, name: str) -> str:
     HiyariError naming ``where`` when it is not of that type)."""
     text = _to_text(value)
     try:
-        if ptype in _INT_TYPES:
+        if ptype in INT_TYPES:
             x = float(text)
             r = math.floor(x + 0.5) if x >= 0 else -math.floor(-x + 0.5)
             if ptype != "int" and ptype != "integer" and r < 0:
@@ -196,7 +196,7 @@ class Ctx:
 
     def _holds(self, value: str, ptype: str, c: etree._Element) -> bool:
         rule, bound = self.text(c, "rule"), self.text(c, "value")
-        numeric = ptype in (*_INT_TYPES, "double")
+        numeric = ptype in (*INT_TYPES, "double")
         if not numeric:
             try:
                 a, b = float(value), float(bound)

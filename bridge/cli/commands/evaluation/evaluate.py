@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 from hiyari.bridge.cli import numbers, status
+from hiyari.bridge.cli.outputs import output_folder
 
 
 def _versions() -> dict[str, str]:
@@ -43,7 +44,9 @@ def evaluate(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.pool import PoolOptions
     from hiyari.bridge.studies.report.catalogue import write_report
 
-    out = Path(args.out)
+    out = output_folder(args.out)
+    if args.structures:
+        output_folder(args.structures, "--structures")
     if args.export:
         from hiyari.bridge.studies.catalogue.evaluation.campaign import case_by_id
         from hiyari.bridge.studies.catalogue.space.xosc_export import export_case
@@ -65,17 +68,20 @@ def evaluate(args: argparse.Namespace) -> int:
         only=tuple(k for k in (args.cells or "").split(",") if k),
     )
     t0 = time.perf_counter()
-    bar = tqdm(total=0, unit="run", disable=args.quiet, desc="catalogue")
+    bars: list[tqdm] = []  # made at the first progress: a refused selection prints no bar
 
     def progress(done: int, total: int) -> None:
-        bar.total = total
-        bar.n = done
-        bar.refresh()
+        if not bars:
+            bars.append(tqdm(total=total, unit="run", disable=args.quiet, desc="catalogue"))
+        bars[0].total = total
+        bars[0].n = done
+        bars[0].refresh()
 
     try:
         rows = run_catalogue(options, out, progress)
     finally:
-        bar.close()
+        for bar in bars:
+            bar.close()
     wall = time.perf_counter() - t0
     run_conf = {
         "command": " ".join(["hiyari", *sys.argv[1:]]),

@@ -4,15 +4,15 @@ grip use, blind spots)."""
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli.outputs import output_folder
 
 
 def _coverage(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.perception.coverage_run import parse_sensors, write_coverage
 
-    text, paths = write_coverage(parse_sensors(args.sensors), Path(args.out))
+    text, paths = write_coverage(parse_sensors(args.sensors), output_folder(args.out))
     print(text)
     for p in paths.values():
         print(f"written: {p}")
@@ -24,7 +24,7 @@ def _sweep(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.perception.sweep_run import run_sweep
 
     cfg = SweepConfig(levels=args.levels, frames=args.frames, seed=args.seed)
-    rows, paths = run_sweep(args.disturbances, cfg, Path(args.out))
+    rows, paths = run_sweep(args.disturbances, cfg, output_folder(args.out))
     print(paths["md"].read_text())
     for p in paths.values():
         print(f"written: {p}")
@@ -35,8 +35,9 @@ def _grip(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.grip.study import GripStudy, run_study
     from hiyari.bridge.studies.report.grip import write_grip_report
 
+    out = output_folder(args.out)
     study = GripStudy()
-    paths = write_grip_report(run_study(study, progress=True), study, Path(args.out))
+    paths = write_grip_report(run_study(study, progress=True), study, out)
     print(paths["md"].read_text())
     for p in paths.values():
         print(f"written: {p}")
@@ -47,7 +48,7 @@ def _blindspots(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.perception.blindspot.run import run_catalogue
     from hiyari.bridge.studies.report.blindspot import write_catalogue
 
-    out = Path(args.out)
+    out = output_folder(args.out)
     results = run_catalogue(out / "blindspot_roads", not args.no_run, args.cases or None)
     paths = write_catalogue(results, out)
     print(paths["md"].read_text())

@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import argparse
 import os
-from pathlib import Path
 
 from hiyari.bridge.cli import status
 from hiyari.bridge.cli.commands.evaluation.boundary import add_model_options, model_params
+from hiyari.bridge.cli.outputs import output_folder
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import Grid
 from hiyari.risk.cc.model import CCParams
@@ -25,6 +25,7 @@ from hiyari.risk.cc.r157_points import (
 
 
 def run_points(args: argparse.Namespace) -> int:
+    out = output_folder(args.out)
     scenarios = tuple(s.strip() for s in args.scenarios.split(",") if s.strip())
     if args.resolution <= 0:
         raise HiyariError(f"--resolution must be > 0 m, got {args.resolution}")
@@ -38,7 +39,6 @@ def run_points(args: argparse.Namespace) -> int:
         resolution_m=args.resolution,
     )
     point_set = generate_points(config, model_params(args))
-    out = Path(args.out)
     csv_path = write_points_csv(point_set.points, out / "r157_points.csv")
     json_path = write_points_json(point_set, out / "r157_points.json")
     print(f"{len(point_set.points)} R157 test points ({point_set.params.convention_note()}):")
@@ -74,6 +74,7 @@ def run_judge(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.r157_judge import JudgeOptions, judge, write_report
     from hiyari.risk.cc.r157_points import load_point_params, load_points
 
+    out = output_folder(args.out)
     points = load_points(args.points)
     stored, given = load_point_params(args.points), model_params(args)
     if stored is not None and given != CCParams() and given != stored:
@@ -100,7 +101,7 @@ def run_judge(args: argparse.Namespace) -> int:
         params=params,
     )
     report = judge(points, options, progress=not args.quiet)
-    paths = write_report(report, Path(args.out))
+    paths = write_report(report, out)
     for cond, s in report.summary().items():
         print(
             f"{cond}: {s['verdict'].upper()}: {s['passed']}/{s['preventable']} Preventable points "

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import replace
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli.outputs import output_folder
 from hiyari.errors import HiyariError
 
 if TYPE_CHECKING:
@@ -56,7 +56,7 @@ def run_sct(args: argparse.Namespace) -> int:
     config = study_config(args)
     if args.jobs is not None and args.jobs < 1:
         raise HiyariError(f"--jobs must be >= 1, got {args.jobs}")
-    out = Path(args.out)
+    out = output_folder(args.out)
     results, wall = run_study(config, out, args.jobs, progress=not args.quiet)
     sensitivity = None
     if args.sensitivity:

@@ -9,6 +9,7 @@ import threading
 from pathlib import Path
 
 from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli.outputs import output_file
 from hiyari.errors import HiyariError
 
 
@@ -18,6 +19,10 @@ def run(args: argparse.Namespace) -> int:
 
     if not 0 <= args.port <= 65535:
         raise HiyariError(f"--port must be 0..65535, got {args.port}")
+    # before any work: an export is minutes of work for a large recording
+    for option, path in (("--export", args.export), ("--recover", args.recover)):
+        if path is not None:
+            output_file(path, option)
     if args.recover:
         from hiyari.bridge.record.recover import recover
 

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.cli import numbers, status
+from hiyari.bridge.cli.outputs import output_folder
 from hiyari.errors import HiyariError, about
 
 if TYPE_CHECKING:
@@ -21,6 +22,7 @@ if TYPE_CHECKING:
 
 
 def run(args: argparse.Namespace) -> int:
+    output_folder(args.out)
     # the work is imported in _run so that `hiyari --help` and the other commands start fast
     if args.scenario is None:
         if args.sumocfg is None and args.map is None:
@@ -54,39 +56,77 @@ def ego_setup(args: argparse.Namespace) -> EgoSetup:
 
     return EgoSetup(
         perception=args.perception or "perfect",
-        environment=args.environment,
+        environment=environment(args) or "clear",
         step_length=args.step_length,
         seed=args.seed,
         max_duration=args.max_duration,
     )
 
 
+def environment(args: argparse.Namespace) -> str | None:
+    """The ``--environment`` preset, checked (None: not given)."""
+    from hiyari.sensors.environment.presets import disturbance_preset
+
+    if args.environment is not None:
+        try:
+            disturbance_preset(args.environment)
+        except HiyariError as exc:
+            raise HiyariError(f"--environment: {exc}") from None
+    return args.environment
+
+
+def xosc_params(args: argparse.Namespace) -> dict[str, str]:
+    """The ``--param NAME=VALUE`` options by name; only OpenSCENARIO files have them."""
+    params: dict[str, str] = {}
+    for text in args.param:
+        name, eq, value = text.partition("=")
+        name = name.strip()
+        if not eq or not name:
+            raise HiyariError(f"--param: expected NAME=VALUE, got {text!r}")
+        if name in params:
+            raise HiyariError(f"--param: {name} is given twice")
+        params[name] = value.strip()
+    if params and Path(args.scenario).suffix.lower() != ".xosc":
+        raise HiyariError(
+            f"{args.scenario}: --param sets OpenSCENARIO parameters; a TOML file's are set in "
+            "its [parameters]"
+        )
+    return params
+
+
 def _run_xosc(args: argparse.Namespace) -> int:
     import tempfile
 
-    from hiyari.bridge.loop.xosc_runs import load_plan, run_xosc
+    from hiyari.bridge.loop.xosc_runs import check_xosc, load_plan, run_xosc
 
-    plan = load_plan(args.scenario, ego_setup(args))
-    if plan.count() > args.max_runs and not args.dry_run:  # a dry run only counts
+    plan = load_plan(args.scenario, ego_setup(args), xosc_params(args))
+    if plan.count() > args.max_runs and not args.dry_run:  # a dry run counts them all
         raise HiyariError(
             f"{args.scenario}: {plan.count()} runs exceed --max-runs {args.max_runs} "
             "(use 'hiyari sweep' for large distributions)"
         )
-    runs = plan.expand()
-    if args.dry_run:
-        return _dry_run(runs)
     with tempfile.TemporaryDirectory(prefix="hiyari-road-") as tmp:
         # the road is imported before anything is written: a bad road leaves no output
         runs = plan.with_road_imported(Path(tmp)).expand()
+        if args.dry_run:
+            return _dry_run(runs, check_xosc, args.max_runs)
         return _run_each(runs, run_xosc, args)
 
 
-def _dry_run(runs: Sequence[Any]) -> int:
-    """Print the labels of the runs a file expands to, run nothing."""
-    for run in runs:
-        print(run.label())
-    print(f"{len(runs)} run(s); nothing run (--dry-run)")
-    return 0
+def _dry_run(runs: Sequence[Any], check: Callable[[Any], None], limit: int) -> int:
+    """Make every check each of the first ``limit`` runs makes before its first step
+    (``check``) and print their labels; count the rest. Nothing is run or written."""
+    for run in runs[:limit]:
+        check(run)
+        print(f"{run.label()}: ready")
+    checked = min(len(runs), limit)
+    rest = (
+        f"; {len(runs) - checked} more counted, not checked (--max-runs)"
+        if len(runs) > limit
+        else ""
+    )
+    print(f"{checked} run(s) checked up to their first step{rest}; nothing run (--dry-run)")
+    return status.OK
 
 
 def _run_each(
@@ -152,7 +192,7 @@ def _run(args: argparse.Namespace) -> int:
     from dataclasses import replace
     from functools import partial
 
-    from hiyari.bridge.loop.run import run_concrete
+    from hiyari.bridge.loop.run import check_concrete, run_concrete
     from hiyari.bridge.openscenario.presets.toml_file import load_scenario, parse_scenario
     from hiyari.bridge.studies.sweep import count_runs
 
@@ -172,13 +212,16 @@ def _run(args: argparse.Namespace) -> int:
             f"{args.scenario}: {n} concrete runs exceed --max-runs {args.max_runs} "
             "(use 'hiyari sweep' for large grids)"
         )
+    xosc_params(args)  # none: refused for a TOML file
     runs = logical.expand()
     if not runs:
         raise HiyariError(f"{args.scenario}: the parameters expand to no run")
-    if args.dry_run:
-        return _dry_run(runs)
     if args.perception:
         runs = [replace(cs, perception=args.perception) for cs in runs]
+    if environment(args) is not None:
+        runs = [replace(cs, environment=args.environment) for cs in runs]
+    if args.dry_run:
+        return _dry_run(runs, partial(check_concrete, world=world), args.max_runs)
     return _run_each(runs, partial(run_concrete, world=world), args)
 
 
@@ -218,7 +261,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "a grid)",
     )
     p.add_argument(
-        "--dry-run", action="store_true", help="check the file and list its runs; run nothing"
+        "--dry-run",
+        action="store_true",
+        help="make every check a run makes before its first step (file, parameters, road, "
+        "SUMO, Init actions, the actions they decide, ego stack) and list the runs; run and "
+        "write nothing",
     )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     add_xosc_options(p)
@@ -226,8 +273,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def add_xosc_options(p: argparse.ArgumentParser) -> None:
-    """The ego stack and clock options of ``run`` and ``sweep`` (TOML files: --perception
-    overrides the file's; the others apply to .xosc runs, whose files do not say)."""
+    """The ego stack, parameter and clock options of ``run`` and ``sweep`` (TOML files:
+    --perception and --environment override the file's; the others apply to .xosc runs,
+    whose files do not say)."""
     p.add_argument(
         "--perception",
         choices=["perfect", "sensors", "none"],
@@ -235,15 +283,23 @@ def add_xosc_options(p: argparse.ArgumentParser) -> None:
         help="ego perception (default: the TOML file's; perfect for .xosc)",
     )
     p.add_argument(
-        "--environment", default="clear", help=".xosc: sensor disturbance preset (default clear)"
+        "--environment",
+        default=None,
+        help="sensor disturbance preset (default: the TOML file's; clear for .xosc)",
     )
     p.add_argument(
-        "--step-length", type=numbers.seconds(), default=0.05, help=".xosc: step, s (0.05)"
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help=".xosc: set a top-level ParameterDeclaration, checked against its type and "
+        "ValueConstraints (repeatable; as esmini's --param)",
     )
-    p.add_argument("--seed", type=numbers.seed(), default=1, help=".xosc: base seed (1)")
+    p.add_argument("--step-length", type=numbers.seconds(), default=0.05, help=".xosc: step, s")
+    p.add_argument("--seed", type=numbers.seed(), default=1, help=".xosc: base seed")
     p.add_argument(
         "--max-duration",
         type=numbers.seconds(),
         default=600.0,
-        help=".xosc: end a run here if its stop trigger has not fired, s (600)",
+        help=".xosc: end a run here if its stop trigger has not fired, s",
     )

@@ -9,22 +9,27 @@ from dataclasses import replace
 from pathlib import Path
 
 from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli.outputs import output_folder
 from hiyari.errors import HiyariError, about
 
 
 def run(args: argparse.Namespace) -> int:
-    from hiyari.bridge.cli.commands.runs.run import ego_setup
+    from hiyari.bridge.cli.commands.runs.run import ego_setup, environment, xosc_params
     from hiyari.bridge.loop.xosc_runs import is_openscenario, load_plan
     from hiyari.bridge.openscenario.presets.toml_file import load_scenario
     from hiyari.bridge.studies.sweep import SweepOptions, count_runs, run_sweep
 
+    output_folder(args.out)
     with about(args.scenario, Path(args.scenario).resolve()):
         if is_openscenario(args.scenario):
-            logical = load_plan(args.scenario, ego_setup(args))
+            logical = load_plan(args.scenario, ego_setup(args), xosc_params(args))
         else:
+            xosc_params(args)  # none: refused for a TOML file
             logical = load_scenario(args.scenario)
             if args.perception:
                 logical = replace(logical, ego={**logical.ego, "perception": args.perception})
+            if environment(args) is not None:
+                logical = replace(logical, environment=args.environment)
     if args.dry_run:
         n = count_runs(logical)
         if n > args.max_runs:

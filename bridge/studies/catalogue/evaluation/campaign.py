@@ -199,9 +199,9 @@ def run_catalogue(options: CatalogueOptions, out: Path,
     """Run every missing concrete case of the catalogue into ``out/results.csv``; return all
     rows of the planned cases (done before and now). ``on_progress(done, total)``."""
     options.validate()
-    out.mkdir(parents=True, exist_ok=True)
     cells = catalogue_cells(options.catalogue, options.ranges)
-    cases = plan(options, cells)
+    cases = plan(options, cells)  # a bad cell selection is refused before anything is made
+    out.mkdir(parents=True, exist_ok=True)
     for geometry, lanes in sorted(
         {(c.cell.combination.geometry.value, c.cell.lanes) for c in cases}
     ):
