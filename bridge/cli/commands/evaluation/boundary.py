@@ -17,10 +17,10 @@ from hiyari.risk.cc.model import CONVENTIONS, CCParams
 
 def add_model_options(parser: argparse.ArgumentParser) -> None:
     """``--aeb``, the driver-model conventions and ``--param NAME=VALUE`` (any CCParams
-    field), shared with ``hiyari r157``. Convention defaults are MODELS.md's."""
+    field), shared with ``hiyari r157``. Convention defaults are docs/models.md's."""
     parser.add_argument("--aeb", action="store_true", help="AEB-equipped C&C driver")
     conv = parser.add_argument_group(
-        "driver-model conventions (defaults: MODELS.md; shown on every datasheet)"
+        "driver-model conventions (defaults: docs/models.md; shown on every datasheet)"
     )
     conv.add_argument(
         "--danger-at",
@@ -33,8 +33,8 @@ def add_model_options(parser: argparse.ArgumentParser) -> None:
         "--above-ttc",
         choices=CONVENTIONS["above_ttc"],
         default=None,
-        help="cut-in with TTC >= 2 s at danger judgement: react when it falls to 2 s (wait) "
-        "or treat the cut-in as not critical and end the scenario (end)",
+        help="cut-in with TTC >= 2 s at danger judgement: not critical, the scenario ends "
+        "(end, the default) or react when it falls to 2 s (wait)",
     )
     conv.add_argument(
         "--cut-out-perception",
