@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
+from hiyari.bridge.cli.main import main
 from hiyari.bridge.studies.report.datasheets import plot_cut_in, plot_cut_out, plot_decel
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import (
@@ -47,11 +48,13 @@ def test_decel_boundary_gap_is_exact():
         assert evaluate_decel(ve, gx, p, dx0_m=b - 0.01).collision.all()
 
 
-@pytest.mark.parametrize("aeb", [False, True])
-def test_cut_in_boundary_is_exact(aeb):
+@pytest.mark.parametrize(("aeb", "above_ttc"), [(False, "end"), (True, "end"), (False, "wait"),
+                                                (True, "wait")])  # fmt: skip
+def test_cut_in_boundary_is_exact(aeb, above_ttc):
     """At the boundary (+ a hair) no collision, 1 cm below a collision; +1, +2, +10, +30 m
-    never collide; rows without a Preventable gap collide even at 200 m."""
-    p = CCParams(aeb=aeb)
+    never collide; rows without a Preventable gap (only when the reaction waits for TTC = 2 s)
+    collide even at 200 m."""
+    p = CCParams(aeb=aeb, above_ttc=above_ttc)
     rng = np.random.default_rng(11)
     n = 400
     vo = rng.uniform(5, 100, n) * KMH
@@ -66,6 +69,9 @@ def test_cut_in_boundary_is_exact(aeb):
     assert evaluate_cut_in(ve[pos], vo[pos], b[pos] - 0.01, vy[pos], p).collision.all()
     for off in (1, 2, 10, 30):
         assert not evaluate_cut_in(ve[fin], vo[fin], b[fin] + off, vy[fin], p).collision.any()
+    if above_ttc == "end":
+        assert fin.all()
+        return
     assert (~fin).sum() > 0
     assert evaluate_cut_in(ve[~fin], vo[~fin], 200.0, vy[~fin], p).collision.all()
 
@@ -73,10 +79,10 @@ def test_cut_in_boundary_is_exact(aeb):
 def test_cut_in_boundary_shape():
     """Lane-aligned contact: the boundary grows with the relative speed and shrinks as the
     cut-in gets faster (earlier judgement); it is the same for every Ve0 at a given Ve0 - Vo0
-    (symmetry); with no closing speed it is 0; past about 52 km/h closing speed the TTC-2 s
-    reaction comes too late at any gap (no Preventable gap); the AEB moves that limit beyond
-    60 km/h."""
-    lane = CCParams(contact="lane")
+    (symmetry); with no closing speed it is 0. With the reaction waiting for TTC = 2 s
+    (``above_ttc="wait"``), past about 52 km/h closing speed it comes too late at any gap (no
+    Preventable gap); the AEB moves that limit beyond 60 km/h."""
+    lane = CCParams(contact="lane", above_ttc="wait")
     sheet = cut_in_datasheet(Grid(10, 130, 1), Grid(0, 60, 1), Grid(0.1, 3.0, 0.1), lane)
     dv, vy, b = sheet.dv_kmh, sheet.vy_mps, sheet.boundary_dx0_m
     assert np.all(b[dv == 0] == 0)
@@ -96,9 +102,34 @@ def test_cut_in_boundary_shape():
     assert np.isfinite(b[dv <= 52]).all()
     assert np.isinf(b[dv >= 53]).all()
     aeb = cut_in_datasheet(
-        Grid(60, 60, 1), Grid(50, 60, 1), Grid(0.5, 3.0, 0.5), CCParams(aeb=True, contact="lane")
-    )
+        Grid(60, 60, 1), Grid(50, 60, 1), Grid(0.5, 3.0, 0.5),
+        CCParams(aeb=True, contact="lane", above_ttc="wait"),
+    )  # fmt: skip
     assert np.isfinite(aeb.boundary_dx0_m).all()
+
+
+def test_default_cut_in_boundary_is_finite_at_any_closing_speed(tmp_path):
+    """Issue 36: a careful driver does not hit a car cutting in 100 m ahead. By default a
+    cut-in whose TTC at danger judgement is >= 2 s is not critical, so at Ve0 = 100 km/h every
+    (Ve0 - Vo0, Vy) row has a finite boundary. Ve0 - Vo0 = 60 km/h (16.667 m/s), Vy = 1 m/s,
+    lane-aligned: danger at 0.375 + 0.4 s, boundary = 16.667 x (0.775 + 2) = 46.25 m (the
+    gap at which TTC at danger is 2 s; below it the reaction at danger comes too late:
+    16.667 x 1.525 + the relative braking distance 22.70 m = 48.12 m > 46.25 m)."""
+    dv = 60 * KMH
+    lane = cut_in_datasheet(Grid(100, 100, 1), Grid(60, 60, 1), Grid(1, 1, 1),
+                            CCParams(contact="lane"), resolution_m=None)  # fmt: skip
+    assert lane.boundary_dx0_m[0] == pytest.approx(dv * 2.775, abs=1e-6)
+    assert lane.boundary_dx0_m[0] == pytest.approx(46.25, abs=5e-3)
+    out = tmp_path / "b"
+    assert main(["boundary", "cut-in", "--ve", "100:100:1", "-o", str(out)]) == 0
+    with (out / "cut_in_boundary.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 61 * 30  # dv 0..60 km/h x Vy 0.1..3.0 m/s
+    assert all(np.isfinite(float(r["boundary_dx0_m"])) for r in rows)
+    # with the Annex G heading too, the boundary is where TTC at danger is 2 s:
+    # 16.667 x (0.375 / Vy + 0.4 + 2) = 52.5 m at Vy = 0.5 m/s, 102.5 m at 0.1 m/s
+    at = {r["vy_mps"]: float(r["boundary_dx0_m"]) for r in rows if r["dv_kmh"] == "60"}
+    assert at["0.5"] == pytest.approx(52.5) and at["0.1"] == pytest.approx(102.5)
 
 
 @pytest.mark.parametrize("aeb", [False, True])

@@ -1,6 +1,6 @@
 """Issue 15 item 3: the driver-model conventions the R157 text leaves open, as named options
 (API and CLI), each worked by hand, equal in the closed form and the stepping reference, and
-named on every datasheet; the defaults are MODELS.md's."""
+named on every datasheet; the defaults are docs/models.md's."""
 
 from __future__ import annotations
 
@@ -27,15 +27,16 @@ def _relative_braking_distance(dv: float) -> float:
 
 
 def test_defaults_are_models_md():
-    """MODELS.md §1: danger 0.4 s after the wander-zone exit; with TTC >= 2 s the reaction
-    waits for TTC = 2 s; the perception delay applies in the cut-out and the deceleration;
-    contact on the rectangles at the Annex G heading (heading along the velocity)."""
+    """docs/models.md §1: danger 0.4 s after the wander-zone exit; a cut-in whose TTC at
+    danger judgement is >= 2 s is not critical (the scenario ends); the perception delay
+    applies in the cut-out and the deceleration; contact on the rectangles at the Annex G
+    heading (heading along the velocity)."""
     p = CCParams()
     assert p.conventions() == {name: allowed[0] for name, allowed in CONVENTIONS.items()}
-    assert (p.judgement, p.above_ttc, p.cut_out_perception) == ("time", "wait", True)
+    assert (p.judgement, p.above_ttc, p.cut_out_perception) == ("time", "end", True)
     assert (p.decel_perception, p.contact) == ("always", "heading")
-    assert p.is_models_default() and "not MODELS.md" not in p.convention_note()
-    assert "not MODELS.md default" in CCParams(above_ttc="end").convention_note()
+    assert p.is_models_default() and "not the docs/models.md" not in p.convention_note()
+    assert "not the docs/models.md default" in CCParams(above_ttc="wait").convention_note()
 
 
 def test_danger_at_first_overlap_by_hand():
@@ -61,14 +62,14 @@ def test_scenario_ends_when_ttc_is_above_the_threshold_by_hand():
     42.396 m (a reaction at 0.775 s would need 15.278 x 1.525 + 19.842 = 43.14 m)."""
     ve, vo, vy = np.array([100 * KMH]), np.array([45 * KMH]), np.array([1.0])
     dv = float(ve[0] - vo[0])
-    wait = cut_in_regions(ve, vo, vy, CCParams())
-    end = cut_in_regions(ve, vo, vy, CCParams(above_ttc="end"))
+    wait = cut_in_regions(ve, vo, vy, CCParams(above_ttc="wait"))
+    end = cut_in_regions(ve, vo, vy, CCParams())  # the default
     assert np.isinf(wait.upper[0])
     assert dv * 1.525 + _relative_braking_distance(dv) == pytest.approx(43.14, abs=5e-3)
     assert end.upper[0] == pytest.approx(dv * 2.775, abs=1e-6)
-    r = evaluate_cut_in(ve, vo, 60.0, vy, CCParams(above_ttc="end"))
-    assert not r.collision[0] and np.isinf(r.t_brake_s[0])
     r = evaluate_cut_in(ve, vo, 60.0, vy, CCParams())
+    assert not r.collision[0] and np.isinf(r.t_brake_s[0])
+    r = evaluate_cut_in(ve, vo, 60.0, vy, CCParams(above_ttc="wait"))
     assert r.collision[0] and r.t_brake_s[0] == pytest.approx(60 / dv - 2 + 0.75)
 
 
@@ -176,12 +177,12 @@ def test_cli_convention_options(tmp_path, capsys):
         row = next(csv.DictReader(fh))
     assert float(row["boundary_dx0_m"]) == pytest.approx(26.6)  # 26.543 rounded up
     for scenario, grid, flag, value in (  # each scenario takes its own conventions
-        ("cut-in", ["--dv", "30", "--vy", "1"], "--above-ttc", "end"),
+        ("cut-in", ["--dv", "30", "--vy", "1"], "--above-ttc", "wait"),
         ("cut-out", ["--vy", "1"], "--cut-out-perception", "no"),
         ("decel", ["--gx", "1"], "--decel-perception", "hard-braking"),
     ):
         assert main(["boundary", scenario, "-o", str(tmp_path / scenario), "--ve", "60", *grid,
                      flag, value]) == 0  # fmt: skip
-        assert "not MODELS.md default" in capsys.readouterr().out
+        assert "not the docs/models.md default" in capsys.readouterr().out
     assert main([*args, "--danger-at", "sometimes"]) == 1  # an unknown convention is refused
     assert "--danger-at: invalid choice: 'sometimes'" in capsys.readouterr().err

@@ -54,11 +54,14 @@ def test_cut_in_by_hand():
     """Lane-aligned contact. Ve0 = 60, Vo0 = 30 km/h (closing 8.333 m/s), Vy = 1 m/s. Danger
     at 0.375 + 0.4 s, braking from 1.525 s, relative braking distance S = 8.333 x 0.6 - 0.456
     + 6.055² / (2a) = 6.959 m: the ego closes 8.333 x 1.525 + 6.959 = 19.667 m, so dx0 =
-    19.667 m is the boundary. At dx0 = 60 m, TTC at danger is 6.4 s: the reaction waits for
-    TTC = 2 s, and the gap at braking onset is (2 - 0.75) x 8.333 = 10.417 m, leaving 3.458 m."""
+    19.667 m is the boundary. At dx0 = 60 m, TTC at danger is 6.4 s: not a critical cut-in
+    (the default, the scenario ends); with "wait" the reaction waits for TTC = 2 s, and the
+    gap at braking onset is (2 - 0.75) x 8.333 = 10.417 m, leaving 3.458 m."""
     ve, vo = 60 * KMH, 30 * KMH
     dv = ve - vo
-    lane = CCParams(contact="lane")
+    default = evaluate_cut_in(ve, vo, 60.0, 1.0, CCParams(contact="lane"))
+    assert not default.collision[0] and np.isinf(default.t_brake_s[0])
+    lane = CCParams(contact="lane", above_ttc="wait")
     relative = dv * 1.525 + braking_distance(ve, vo)
     assert relative == pytest.approx(19.667, abs=1e-3)
     r = evaluate_cut_in(ve, vo, [relative - 0.01, relative + 0.01, 60.0, 5.0], 1.0, lane)

@@ -102,11 +102,14 @@ def test_skips_are_counted(point_set):
     skipped = point_set.skipped
     assert skipped["cut-out: lead would hit the stopped vehicle"] > 0
     assert skipped["cut-in: Vy infeasible at Vo0"] > 0  # Vo0 = 10 km/h with Vy > 2.78 m/s
-    # 52+ km/h closing speed: no Preventable gap, so no points at all
-    wide = generate_points(
-        R157Config(ve0_kmh=Grid(80, 80, 1), dv_kmh=Grid(60, 60, 1), scenarios=("cut-in",))
-    )
+    # 52+ km/h closing speed with the reaction waiting for TTC = 2 s: no Preventable gap, so
+    # no points at all; by default (such cut-ins are not critical) every row has its points
+    fast = R157Config(ve0_kmh=Grid(80, 80, 1), dv_kmh=Grid(60, 60, 1), scenarios=("cut-in",))
+    wide = generate_points(fast, CCParams(above_ttc="wait"))
     assert wide.points == [] and wide.skipped["cut-in: no Preventable gap (boundary inf)"] > 0
+    default = generate_points(fast)
+    assert len(default.points) > 0
+    assert default.skipped["cut-in: no Preventable gap (boundary inf)"] == 0
     aeb = generate_points(
         R157Config(ve0_kmh=Grid(80, 80, 1), dv_kmh=Grid(60, 60, 1), scenarios=("cut-in",)),
         CCParams(aeb=True),

@@ -24,6 +24,7 @@ from hiyari.risk.cc.r157_points import (
 from hiyari.risk.cc.regions import cut_in_regions
 
 KMH = 1 / 3.6
+WAIT = CCParams(above_ttc="wait")  # the reaction waits for TTC = 2 s
 VYS = (2.8, 2.9, 3.0)
 SLOW = R157Config(
     ve0_kmh=Grid(20, 20, 1),
@@ -39,36 +40,40 @@ def test_yaw_swings_the_rear_corner_into_the_ego_by_hand():
     by θ = atan(Vy / Vo0) (26.7-28.4°), which puts its rear corner (5.3 x 1.9 m) 0.95 sin θ
     - 2.65 (1 - cos θ) = 0.134-0.144 m behind its lane-aligned rear, inside the ego's width
     before it is centred; with no closing speed the driver never brakes. So every gap below
-    that collides, and the lane-aligned evaluator (which called them Preventable) does not."""
+    that collides, and the lane-aligned evaluator (which called them Preventable) does not.
+    (The driver that waits for TTC = 2 s; by default such a cut-in is not critical.)"""
     vy = np.array(VYS)
     v = np.full(3, 20 * KMH)
     theta = np.arctan2(vy, v)
     swing = 0.95 * np.sin(theta) - 2.65 * (1 - np.cos(theta))
     assert swing == pytest.approx([0.1440, 0.1388, 0.1331], abs=1e-4)
-    regions = cut_in_regions(v, v, vy)
+    regions = cut_in_regions(v, v, vy, WAIT)
     for i in range(3):
         assert regions.intervals(i) == [(0.0, pytest.approx(swing[i] - 1e-6, abs=1e-9))]
-    assert evaluate_cut_in(v, v, 0.0, vy).collision.all()
-    assert not evaluate_cut_in(v, v, swing + 1e-3, vy).collision.any()
-    lane = CCParams(contact="lane")
+    assert evaluate_cut_in(v, v, 0.0, vy, WAIT).collision.all()
+    assert not evaluate_cut_in(v, v, swing + 1e-3, vy, WAIT).collision.any()
+    lane = CCParams(contact="lane", above_ttc="wait")
     assert not evaluate_cut_in(v, v, 0.0, vy, lane).collision.any()
+    # by default a cut-in at the ego's speed is not critical (TTC infinite): the scenario ends
+    # at danger judgement, before the corner swings in, so the small gaps are Preventable
+    assert not evaluate_cut_in(v, v, 0.5 * swing, vy).collision.any()
 
 
 def test_expectation_and_closed_loop_agree_at_the_slow_steep_cut_ins():
     """The three points the judge failed with lane-aligned expectations (dx0 = 0): the
     yaw-aware model calls dx0 = 0 Unpreventable and puts the boundary at 0.2 m; the closed
-    loop passes at the boundary. At 0 m SUMO's per-lane check reports a contact while the
+    loop passes at the boundary (the driver that waits for TTC = 2 s). At 0 m SUMO's per-lane check reports a contact while the
     outlines are still about 2 m apart (the other car is assigned the ego's lane as it turns
     in); contact is overlapping outlines, so that report is not a collision: the stack brakes
     and keeps a gap, and the Unpreventable point is not judged."""
-    points = generate_points(SLOW).points
+    points = generate_points(SLOW, WAIT).points
     boundary = [p for p in points if p.point == "boundary"]
     assert [p.dx0_m for p in boundary] == [0.2, 0.2, 0.2]
     at_zero = [
         p.__class__(**{**p.__dict__, "id": p.id + "/0m", "dx0_m": 0.0, "expected": "unpreventable"})
         for p in boundary
     ]
-    report = judge(boundary + at_zero, JudgeOptions(workers=2), progress=False)
+    report = judge(boundary + at_zero, JudgeOptions(workers=2, params=WAIT), progress=False)
     got = {r["id"]: r for r in report.rows}
     for p in boundary:
         assert got[p.id]["verdict"] == "pass"
@@ -92,7 +97,7 @@ def test_points_with_another_model_are_refused(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "expect a verdict" in err[0]
     json_path = write_points_json(points, tmp_path / "lane.json")
-    assert main(["r157", "judge", str(json_path), "--above-ttc", "end", "-o", str(tmp_path)]) == 1
+    assert main(["r157", "judge", str(json_path), "--above-ttc", "wait", "-o", str(tmp_path)]) == 1
     assert "another C&C model" in capsys.readouterr().err
 
 

@@ -229,12 +229,19 @@ def test_static_export_plays_without_a_server(recording, browser, tmp_path):
     drawn = wait_for_image(page, lambda im: im[SCENE].std() > 10, timeout=60.0)
     assert drawn[SCENE].std() > 10
     # The player loops the 2 s clip while software WebGL takes a second or more per
-    # screenshot, so a playing page shows whichever frame it is at (actors are a few dozen
-    # pixels in the whole-scene view). Pause it and seek: each frame is then one image.
+    # screenshot, so a playing page shows whichever frame it is at. Pause it and seek: each
+    # frame is then one image.
     page.locator("button").first.dispatch_event("click")  # the player's play / pause
     shots = [seek_static(page, s) for s in (0.5, 1.5)]
     for s, img in zip((0.5, 1.5), shots, strict=True):
         assert actor_pixels(img) > 25, f"no actors drawn at {s} s of the clip"
+        # the view follows the ego: a car-sized pink box near the middle of the view, not a
+        # speck on the whole road (issue 36)
+        ego = _hue_mask(img[: VIEW["height"] - 80], EGO_COLOR, tol_deg=24.0)  # lit faces
+        assert ego.sum() > 400, f"the ego is {ego.sum()} pixels at {s} s"
+        ys, xs = np.nonzero(ego)
+        assert abs(xs.mean() / VIEW["width"] - 0.5) < 0.1, xs.mean()
+        assert abs(ys.mean() / (VIEW["height"] - 80) - 0.5) < 0.2, ys.mean()
     moved = np.abs(shots[1].astype(int) - shots[0].astype(int))[SCENE].max(-1) > 60
     assert moved.sum() > 20, "the scene did not change between two frames of the clip"
     assert not blocked, f"the static page asked the network for {blocked[:3]}"

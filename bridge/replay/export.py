@@ -7,6 +7,13 @@ client (zstd-compressed, base64). The page has viser's own player: play / pause,
 and playback speed. GUI panels are not part of a serialized scene, so the heads-up text
 (time, ego status, collisions) is drawn as a 3D label and camera images are left out.
 
+View: a page's camera is the browser's, not part of the scene, so it cannot be moved frame by
+frame. To follow the ego (the default when the recording has one), every frame moves the
+scene's layers so that the ego stays at the origin heading along +x, and the fixed camera
+looks at it from behind and above, as the live replay's "Follow ego" does; the whole-scene
+view over the road is ``follow_ego=False``. The export runs a viser server in-process only
+to serialize the scene: its console banner is not shown.
+
 Size: LiDAR clouds are the bulk of a page. The export (never the recording) keeps every
 ``lidar_every``-th point of a scan, sends a scan only when it changed (SUMO steps faster than
 the LiDAR turns) and stores it in float16 about the scan's lowest corner (~3 cm at 120 m,
@@ -15,6 +22,8 @@ below the display's point size); the label on the page says so.
 
 from __future__ import annotations
 
+import contextlib
+import io
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +32,14 @@ from tqdm import tqdm
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.record.reader import Recording
-from hiyari.bridge.replay.scene import FrameInfo, ReplayOptions, ReplayScene
+from hiyari.bridge.replay.scene import (
+    FOLLOW_ABOVE_M,
+    FOLLOW_BEHIND_M,
+    FrameInfo,
+    ReplayOptions,
+    ReplayScene,
+    stack_ttc_text,
+)
 from hiyari.errors import HiyariError
 
 
@@ -68,8 +84,7 @@ def hud_label(info: FrameInfo, lidar_every: int = 1) -> str:
     text = f"t = {info.time:.1f} s · {info.vehicles} vehicles · {info.pedestrians} pedestrians"
     s = info.ego_status
     if s is not None:
-        ttc = "-" if s.get("ttc_s") is None else f"{s['ttc_s']:.1f} s"
-        text += f" · ego {s['speed_mps'] * 3.6:.0f} km/h, TTC {ttc}, AEB {s['aeb_state']}"
+        text += f" · ego {s['speed_mps'] * 3.6:.0f} km/h, {stack_ttc_text(s)}, AEB {s['aeb_state']}"
     if info.collisions:
         text += f" · collisions {len(info.collisions)}"
     if lidar_every > 1:
@@ -99,33 +114,51 @@ def export_html(
     frames: range | None = None,
     progress: bool = True,
     lidar_every: int = 8,
+    follow_ego: bool = True,
 ) -> Path:
     """Write a self-contained HTML replay of ``frames`` (default: all) to ``out``, with every
-    ``lidar_every``-th LiDAR point (1: all)."""
+    ``lidar_every``-th LiDAR point (1: all); the view follows the ego when ``follow_ego`` and
+    the recording has one, else it shows the whole scene."""
     if lidar_every < 1:
         raise HiyariError(f"lidar_every must be >= 1, got {lidar_every}")
     frames = frames if frames is not None else range(len(recording))
-    server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
-    try:
-        scene = _ExportScene(server, recording, options, lidar_every)
-        position, look_at = scene.camera_pose()
-        server.initial_camera.position = tuple(position)
-        server.initial_camera.look_at = tuple(look_at)
-        server.initial_camera.far = 10 * scene.extent
-        label_at = scene.centre + np.array([0.0, 0.55 * scene.extent, 5.0])
-        label = server.scene.add_label("/hud", "", position=tuple(label_at))
-        serializer = server.get_scene_serializer()
-        previous = None
-        for k in tqdm(frames, unit="frame", desc="export", disable=not progress):
-            t = float(recording.times[k])
-            if previous is not None:
-                serializer.insert_sleep(t - previous)
-            label.text = hud_label(scene.draw(k), lidar_every)
-            previous = t
-        html = serializer.as_html()
-    finally:
-        server.stop()
+    follow = follow_ego and len(frames) > 0 and recording.world_and_ego(frames[0])[1] is not None
+    with contextlib.redirect_stdout(io.StringIO()):  # viser prints a banner on start and stop
+        server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
+        try:
+            html = _serialize(server, recording, options, frames, progress, lidar_every, follow)
+        finally:
+            server.stop()
     out = Path(out)
     with atomic_path(out) as tmp:
         tmp.write_text(html)
     return out
+
+
+def _serialize(server: viser.ViserServer, recording: Recording, options: ReplayOptions | None,
+               frames: range, progress: bool, lidar_every: int, follow: bool) -> str:  # fmt: skip
+    """Draw ``frames`` into ``server``'s scene under a serializer; the page's HTML."""
+    scene = _ExportScene(server, recording, options, lidar_every)
+    camera = server.initial_camera
+    if follow:
+        camera.position = (-FOLLOW_BEHIND_M, 0.0, FOLLOW_ABOVE_M)
+        camera.look_at = (0.0, 0.0, 0.0)
+        label_at = np.array([0.0, 10.0, 0.45 * FOLLOW_ABOVE_M])  # its text starts left of the ego
+    else:
+        position, look_at = scene.camera_pose()
+        camera.position, camera.look_at = tuple(position), tuple(look_at)
+        label_at = scene.centre + np.array([0.0, 0.55 * scene.extent, 5.0])
+    camera.far = 10 * scene.extent
+    label = server.scene.add_label("/hud", "", position=tuple(label_at))
+    serializer = server.get_scene_serializer()
+    previous = None
+    for k in tqdm(frames, unit="frame", desc="export", disable=not progress):
+        t = float(recording.times[k])
+        if previous is not None:
+            serializer.insert_sleep(t - previous)
+        info = scene.draw(k)
+        if follow and info.ego_pose is not None:
+            scene.follow(info.ego_pose)
+        label.text = hud_label(info, lidar_every)
+        previous = t
+    return serializer.as_html()

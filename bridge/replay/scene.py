@@ -24,6 +24,9 @@ from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
 from hiyari.traffic.world_state import WorldState
 
 LIDAR_COLOR_MODES = ("intensity", "truth")
+#: Chase view (the live "Follow ego" and the static page): metres behind and above the ego.
+FOLLOW_BEHIND_M = 22.0
+FOLLOW_ABOVE_M = 24.0
 
 _CUBE_V = np.array(
     [
@@ -110,6 +113,25 @@ class FrameInfo:
     camera: dict[str, np.ndarray] = field(default_factory=dict)  # sensor -> RGB image
 
 
+def stack_ttc_text(status: dict[str, Any], digits: int = 1) -> str:
+    """The ego stack's own smallest TTC over its tracks, labelled as such ("stack TTC 1.2 s";
+    "stack TTC —" when it has no target). It is what the stack's AEB acts on, not a measured
+    contact: 0 s means a track is already in the ego's path (e.g. standing in front of the
+    stopped ego)."""
+    ttc = status.get("ttc_s")
+    return "stack TTC —" if ttc is None else f"stack TTC {ttc:.{digits}f} s"
+
+
+def ego_frame_transform(ego_pose: tuple[np.ndarray, float]) -> tuple[np.ndarray, np.ndarray]:
+    """(position, wxyz) of the world frame seen from the ego: the transform that puts the
+    ego's box centre at the origin heading along +x (a rotation about z by -heading)."""
+    centre, heading = ego_pose
+    c, s = math.cos(heading), math.sin(heading)
+    rotated = np.array([c * centre[0] + s * centre[1], -s * centre[0] + c * centre[1], centre[2]])
+    wxyz = np.array([math.cos(-0.5 * heading), 0.0, 0.0, math.sin(-0.5 * heading)])
+    return -rotated, wxyz
+
+
 class ReplayScene:
     """Owns the scene nodes of one recording on one viser server."""
 
@@ -175,6 +197,15 @@ class ReplayScene:
                 cast_shadow=False,
                 receive_shadow=False,
             )
+
+    def follow(self, ego_pose: tuple[np.ndarray, float]) -> None:
+        """Move every layer so the ego is at the origin heading along +x (a static page's
+        fixed camera then follows it)."""
+        position, wxyz = ego_frame_transform(ego_pose)
+        for name, frame in self.layers.items():
+            if "/" not in name:
+                frame.position = tuple(position)
+                frame.wxyz = tuple(wxyz)
 
     def camera_pose(self) -> tuple[np.ndarray, np.ndarray]:
         """(position, look-at) of a view over the whole scene, from the south-west."""

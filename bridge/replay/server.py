@@ -11,12 +11,17 @@ import numpy as np
 import viser
 
 from hiyari.bridge.record.reader import Recording
-from hiyari.bridge.replay.scene import LIDAR_COLOR_MODES, FrameInfo, ReplayOptions, ReplayScene
+from hiyari.bridge.replay.scene import (
+    FOLLOW_ABOVE_M,
+    FOLLOW_BEHIND_M,
+    LIDAR_COLOR_MODES,
+    FrameInfo,
+    ReplayOptions,
+    ReplayScene,
+    stack_ttc_text,
+)
 
 SPEEDS = ("0.25x", "0.5x", "1x", "2x", "4x", "8x")
-#: Chase view of "Follow ego": metres behind and above the ego.
-FOLLOW_BEHIND_M = 22.0
-FOLLOW_ABOVE_M = 24.0
 #: How often the playback thread advances the timeline, per wall-clock second.
 PLAYBACK_HZ = 20.0
 
@@ -29,9 +34,9 @@ def hud_markdown(info: FrameInfo, frames: int) -> str:
     ]
     s = info.ego_status
     if s is not None:
-        ttc = "—" if s.get("ttc_s") is None else f"{s['ttc_s']:.2f} s"
         lines.append(
-            f"**ego {info.ego_id or ''}** {s['speed_mps'] * 3.6:.1f} km/h · TTC {ttc} · "
+            f"**ego {info.ego_id or ''}** {s['speed_mps'] * 3.6:.1f} km/h · "
+            f"{stack_ttc_text(s, 2)} · "
             f"AEB **{s['aeb_state']}** · accel cmd {s['accel_cmd_mps2']:+.2f} m/s²"
         )
     elif info.ego_id is not None:

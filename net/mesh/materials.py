@@ -4,7 +4,7 @@ Reflectances are diffuse (Lambertian) fractions: ``lidar`` at 905 nm, ``visible`
 camera (albedo). ``specular`` is the share of a dark glossy surface's return that leaves in the
 mirror direction (the seed's black-leather case). ``radar_rcs_m2`` applies per square metre of
 area facing the radar (for static surfaces); actor RCS comes from sensors' per-class tables.
-Values are the toolkit's defaults (see ../shared/spec/MODELS.md section 3), not measured data.
+Values are the toolkit's defaults (see docs/models.md section 3), not measured data.
 """
 
 from __future__ import annotations

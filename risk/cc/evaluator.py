@@ -12,8 +12,9 @@ Scenarios (t = 0 when the other vehicle starts its manoeuvre; geometry in
   Ve0, moves laterally at Vy into the ego lane. The C&C driver judges danger as
   ``params.judgement`` says (default: ``perception_time_s`` after its displacement reaches
   ``wander_m``). If the other car is then beside the ego (gap <= 0) it does not brake for it;
-  if TTC = gap / (Ve0 - Vo0) is still >= ``ttc_brake_s`` it reacts when TTC falls to it (or,
-  with ``above_ttc="end"``, the scenario ends there as not critical). Braking starts
+  if TTC = gap / (Ve0 - Vo0) is still >= ``ttc_brake_s`` the cut-in is not critical and the
+  scenario ends there (default; with ``above_ttc="wait"`` it reacts when TTC falls to it).
+  Braking starts
   ``reaction_delay_s`` after the reaction, ramps to ``max_decel_g`` and holds until the ego
   is down to Vo0. The driver judges on the lane-aligned gap (Annex G's point mass); contact
   is judged on the rectangles (:mod:`hiyari.risk.cc.contact`).

@@ -2,7 +2,7 @@
 
 Sources: JAMA framework 2.3.3.1 (driver timings and braking), JAMA Annex G (road, vehicle
 sizes, other-vehicle behaviour) and the toolkit's own defaults where both are silent
-(../shared/spec/MODELS.md §1). Every value the model uses is a field of :class:`CCParams`.
+(docs/models.md §1). Every value the model uses is a field of :class:`CCParams`.
 
 Frames and geometry (Annex G, G.5.6):
 
@@ -22,13 +22,14 @@ Frames and geometry (Annex G, G.5.6):
   point-mass reading of Annex G, used by some public implementations).
 
 Driver-model conventions (where the JAMA / R157 text leaves room; the defaults are
-MODELS.md's and every alternative is a named value of a field below):
+docs/models.md's and every alternative is a named value of a field below):
 
 - ``judgement``: when the cut-in danger judgement fires: ``"time"`` (wander-zone exit +
   ``perception_time_s``), ``"position"`` (lateral displacement ``wander_m +
   danger_lateral_m``) or ``"overlap"`` (first lateral overlap with the ego);
-- ``above_ttc``: when TTC at danger judgement is at or above ``ttc_brake_s``: ``"wait"``
-  (react when TTC falls to it) or ``"end"`` (not a critical cut-in: the scenario ends there);
+- ``above_ttc``: when TTC at danger judgement is at or above ``ttc_brake_s``: ``"end"`` (not
+  a critical cut-in: the scenario ends there; why it is the default: docs/models.md, "The
+  cut-in that is not critical") or ``"wait"`` (react when TTC falls to it);
 - ``cut_out_perception``: whether the cut-out danger judgement adds ``perception_time_s``;
 - ``decel_perception``: ``"always"``, ``"never"`` or ``"hard-braking"`` (only when the lead
   brakes harder than ``hard_braking_mps2``).
@@ -50,12 +51,12 @@ from hiyari.units import G
 
 CONVENTIONS: dict[str, tuple] = {
     "judgement": ("time", "position", "overlap"),
-    "above_ttc": ("wait", "end"),
+    "above_ttc": ("end", "wait"),
     "cut_out_perception": (True, False),
     "decel_perception": ("always", "never", "hard-braking"),
     "contact": ("heading", "lane"),
 }
-"""The driver-model and geometry conventions and their allowed values (first = MODELS.md)."""
+"""The driver-model and geometry conventions and their allowed values (first = docs/models.md)."""
 
 
 @dataclass(frozen=True)
@@ -66,7 +67,7 @@ class CCParams:
     """
 
     g_mps2: float = G
-    """Standard gravity used to turn g into m/s² (MODELS.md §1)."""
+    """Standard gravity used to turn g into m/s² (docs/models.md §1)."""
 
     # -- perception and judgement (JAMA 2.3.3.1.1-3) --
     perception_time_s: float = 0.4
@@ -84,17 +85,18 @@ class CCParams:
     ``"position"``: when the lateral displacement reaches ``wander_m + danger_lateral_m`` (the
     two agree at Vy = 1.8 m/s); ``"overlap"``: at the first lateral overlap with the ego. In
     the cut-out, ``"overlap"`` reads as ``"time"`` (the stopped vehicle overlaps from the
-    start). MODELS.md default: time-based."""
-    above_ttc: str = "wait"
-    """Cut-in with TTC >= ``ttc_brake_s`` at danger judgement. ``"wait"``: the reaction starts
-    when TTC falls to it (MODELS.md); ``"end"``: the cut-in is not critical and the scenario
-    ends at the danger judgement (contact before that still counts)."""
+    start). docs/models.md default: time-based."""
+    above_ttc: str = "end"
+    """Cut-in with TTC >= ``ttc_brake_s`` at danger judgement. ``"end"`` (default): the cut-in
+    is not critical and the scenario ends at the danger judgement (contact before that still
+    counts; docs/models.md says why); ``"wait"``: the reaction starts when TTC falls to it (at
+    high relative speed then no gap is Preventable)."""
     cut_out_perception: bool = True
-    """Cut-out: danger judgement = cut-out judgement + ``perception_time_s`` (MODELS.md);
+    """Cut-out: danger judgement = cut-out judgement + ``perception_time_s`` (docs/models.md);
     False: at the cut-out judgement itself (``"position"``: at ``wander_m``)."""
     decel_perception: str = "always"
     """Deceleration: ``"always"``: danger judgement ``perception_time_s`` after the lead's
-    brake onset (MODELS.md); ``"never"``: at the onset; ``"hard-braking"``: the delay only
+    brake onset (docs/models.md); ``"never"``: at the onset; ``"hard-braking"``: the delay only
     when the lead decelerates harder than ``hard_braking_mps2`` (a public R157 reference
     driver's choice)."""
     hard_braking_mps2: float = 5.0
@@ -106,7 +108,7 @@ class CCParams:
     ttc_brake_s: float = 2.0
     """Cut-in only: braking is needed while TTC = gap / (Ve - Vo) < this; when TTC is larger
     at danger judgement the reaction starts when TTC first falls to it (JAMA: 2.0 s, UN
-    collision-warning guideline; the rule is MODELS.md's)."""
+    collision-warning guideline; the rule is docs/models.md's)."""
 
     # -- braking (JAMA Fig. 9 left) --
     reaction_delay_s: float = 0.75
@@ -118,7 +120,7 @@ class CCParams:
     then held until the ego no longer closes on the obstacle (cut-in: ego speed = Vo0;
     cut-out and deceleration: standstill)."""
 
-    # -- AEB-equipped variant (JAMA Fig. 9 right; values are MODELS.md's) --
+    # -- AEB-equipped variant (JAMA Fig. 9 right; values are docs/models.md's) --
     aeb: bool = False
     """Add the AEB: ego deceleration = max(driver, AEB) once the AEB triggers."""
     aeb_ttc_s: float = 2.0
@@ -281,11 +283,11 @@ class CCParams:
         return (
             f"conventions: danger at {danger}; TTC ≥ {self.ttc_brake_s:g} s at danger: {ttc}; "
             f"perception delay cut-out {cut_out}, deceleration {decel}; contact {contact}"
-            + ("" if self.is_models_default() else " (not MODELS.md default)")
+            + ("" if self.is_models_default() else " (not the docs/models.md default)")
         )
 
     def is_models_default(self) -> bool:
-        """True when every convention is MODELS.md's."""
+        """True when every convention is docs/models.md's."""
         return all(getattr(self, n) == allowed[0] for n, allowed in CONVENTIONS.items())
 
     def as_dict(self) -> dict[str, float | str | bool]:

@@ -191,6 +191,11 @@ def _cut_in_points(config: R157Config, p: CCParams, skipped: Counter) -> list[R1
     regions = cut_in_regions(v_e, v_o, vy, p)
     boundary = ceil_to_resolution(regions.upper, config.resolution_m)
     finite = np.isfinite(boundary)
+    # a boundary that is itself a colliding gap (the one-point interval [0, 0] of a car cutting
+    # in at the ego's speed from touching its front) moves a grid step up: the boundary point
+    # is on the Preventable side
+    edge = finite & regions.contains(np.where(finite, boundary, 0.0))
+    boundary = np.where(edge, np.round(boundary + config.resolution_m, 9), boundary)
     skipped["cut-in: no Preventable gap (boundary inf)"] += int((~finite).sum())
     dx0 = np.round(boundary + off, 9)
     inside = off < 0

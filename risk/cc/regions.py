@@ -9,8 +9,8 @@ that falls into three regimes of dx0 (closing speed dv = Ve0 - Vo0, danger judge
 
 - R0, dx0 <= dv t_d: the other car is beside the ego at danger judgement: no braking;
 - R1, up to dv (t_d + ttc_brake_s): reaction at t_d;
-- R2, beyond: reaction when TTC falls to ``ttc_brake_s`` (or, ``above_ttc="end"``, no
-  reaction and the scenario ends at t_d).
+- R2, beyond: no reaction and the scenario ends at t_d (``above_ttc="end"``, the default),
+  or the reaction when TTC falls to ``ttc_brake_s`` (``"wait"``).
 
 Where the ego's motion is fixed (R0, R1, R2 with "end"), contact at time t happens for dx0
 in an open interval (A(t), B(t)) (the other car's extent in the ego's band shifted by dx0

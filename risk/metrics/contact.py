@@ -1,7 +1,7 @@
 """Vehicle–pedestrian risk metrics: time to contact, Safety Cushion Time, post-encroachment time.
 
 Frames and units: SUMO network coordinates in metres, headings in radians counter-clockwise
-from +x, speeds in m/s, times in seconds (MODELS.md §2). Contact geometry: the vehicle is its
+from +x, speeds in m/s, times in seconds (docs/models.md §2). Contact geometry: the vehicle is its
 ground rectangle grown by a margin on every side, the pedestrian a disc; they touch when the
 disc centre comes within the disc radius of the grown rectangle.
 
@@ -45,7 +45,7 @@ class ContactGeometry:
 
 @dataclass(frozen=True)
 class SCTConfig:
-    """Safety Cushion Time model (MODELS.md §2; values are the toolkit's choices).
+    """Safety Cushion Time model (docs/models.md §2; values are the toolkit's choices).
 
     vehicle_margin: m added around the vehicle rectangle.
     pedestrian_radius: m, the pedestrian disc.
@@ -59,7 +59,7 @@ class SCTConfig:
     speed_factors: the careful driver does not bet on a pedestrian's exact speed: each
         prediction (constant velocity or dart-out) is also evaluated at these multiples of its
         speed (0: stops where it is), and SCT is the earliest contact among them. (1.0,) gives
-        the plain single-prediction SCT of MODELS.md §2.
+        the plain single-prediction SCT of docs/models.md §2.
     """
 
     vehicle_margin: float = 0.2

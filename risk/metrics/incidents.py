@@ -1,4 +1,4 @@
-"""Vehicle–pedestrian encounters and incidents, logged once per pair (MODELS.md §2).
+"""Vehicle–pedestrian encounters and incidents, logged once per pair (docs/models.md §2).
 
 An encounter is one vehicle–pedestrian pair that came within reach of each other: some
 time-to-contact or SCT inside the horizon, a post-encroachment at a crossing, or a contact. It

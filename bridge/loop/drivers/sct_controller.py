@@ -6,7 +6,7 @@ itself along its route under a set of candidate acceleration profiles, and drive
 profile that keeps the Safety Cushion Time at or above ``sct_safe``; when none can, the one
 with the largest SCT. Where its own driver (SUMO's) already keeps SCT, it does not intervene.
 
-Profiles (MODELS.md §2; the shapes are the toolkit's choice, since the seed's fitted taxi-driver
+Profiles (docs/models.md §2; the shapes are the toolkit's choice, since the seed's fitted taxi-driver
 polynomials are not published): a cubic ramp a(t) = aT - (aT - a0) (1 - t / T)^3 from the
 current acceleration a0 to a target aT, then held; T is the shortest ramp whose jerk (largest
 at the start, 3 |aT - a0| / T) stays within the jerk limit. Targets span -0.4 g .. +0.15 g.
@@ -35,7 +35,7 @@ class SCTControllerConfig:
     """SCT driver model parameters.
 
     sct_safe: s, the Safety Cushion Time the driver keeps to every pedestrian.
-    targets_g: target accelerations of the candidate profiles, in g (MODELS.md: -0.4 .. +0.15).
+    targets_g: target accelerations of the candidate profiles, in g (docs/models.md: -0.4 .. +0.15).
     jerk_limit: m/s^3, bound on the ramp's peak jerk.
     act_distance: m, the driver acts only where a pedestrian is this close to its predicted
         path (its positions over the horizon at the current speed).

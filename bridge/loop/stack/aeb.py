@@ -1,4 +1,4 @@
-"""Staged AEB over an ACC / lane-keep baseline (DIVP C1, MODELS.md §4).
+"""Staged AEB over an ACC / lane-keep baseline (DIVP C1, docs/models.md §4).
 
 Threat assessment per fused track in the ego frame: the time to collision is the first time at
 which the object's footprint overlaps the ego's both longitudinally and laterally, each side

@@ -39,7 +39,7 @@ class SensorNoise:
 
 @dataclass(frozen=True)
 class FusionConfig:
-    """Association gates, noise and track management (toolkit defaults, MODELS.md §4)."""
+    """Association gates, noise and track management (toolkit defaults, docs/models.md §4)."""
 
     gate_bearing_deg: float = 3.0  # camera-to-ranging bearing gate
     gate_range_frac: float = 0.35  # camera range error allowed, fraction of range

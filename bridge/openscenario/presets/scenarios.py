@@ -90,7 +90,7 @@ _STEP = TransitionDynamics(Shape.STEP, Dimension.TIME, 0.0)
 @dataclass(frozen=True)
 class ActorSizes:
     """Vehicle and pedestrian dimensions (m), scenario parameters. Annex G: other vehicles
-    1.9 m x 5.3 m; the ego 1.9 m x 4.8 m (MODELS.md §1); both a car's default height
+    1.9 m x 5.3 m; the ego 1.9 m x 4.8 m (docs/models.md §1); both a car's default height
     (ActorClass.CAR.size); CPNC child dummy about 1.15 m tall."""
 
     ego_length: float = 4.8
@@ -106,7 +106,7 @@ class ActorSizes:
 
 @dataclass(frozen=True)
 class ScenarioConstants:
-    """Fixed scenario choices (MODELS.md §1 and the toolkit's own where the seeds are silent)."""
+    """Fixed scenario choices (docs/models.md §1 and the toolkit's own where the seeds are silent)."""
 
     lane_width: float = 3.5
     follow_thw: float = 2.0  # s, ego to lead in cut-out and deceleration (JAMA)

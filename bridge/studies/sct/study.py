@@ -1,6 +1,6 @@
 """The pedestrian incident study (DIVP C2): SUMO's drivers against SCT drivers, same demand.
 
-Study design (MODELS.md §2; choices where the seed is silent are documented in StudyConfig):
+Study design (docs/models.md §2; choices where the seed is silent are documented in StudyConfig):
 a four-leg intersection with sidewalks and a crossing on every leg, signalised and
 unsignalised variants, 200 passenger cars per hour and a pedestrian demand between the
 fringes, simulated for 2 days at 0.1 s. The simulated time is split into independent runs
@@ -60,7 +60,7 @@ class StudyConfig:
 
     days: simulated days per arm and variant (the seed's study: 2).
     vehicles_per_hour / persons_per_hour: Poisson demand between the fringes (seed: 200 veh/h;
-        the pedestrian volume is the toolkit's default, MODELS.md §2).
+        the pedestrian volume is the toolkit's default, docs/models.md §2).
     variants: intersection variants to run ("unsignalised", "signalised"); by default the
         unsignalised one.
     crossing_priority: True (default): the unsignalised junction's crossings are zebra

@@ -22,10 +22,10 @@ def add_model_options(
     parser: argparse.ArgumentParser, scenarios: tuple[str, ...] = ALL_SCENARIOS
 ) -> None:
     """``--aeb``, the driver-model conventions of ``scenarios`` and ``--param NAME=VALUE``
-    (any CCParams field), shared with ``hiyari r157``. Convention defaults are MODELS.md's."""
+    (any CCParams field), shared with ``hiyari r157``. Convention defaults are docs/models.md's."""
     parser.add_argument("--aeb", action="store_true", help="AEB-equipped C&C driver")
     conv = parser.add_argument_group(
-        "driver-model conventions (defaults: MODELS.md; shown on every datasheet)"
+        "driver-model conventions (defaults: docs/models.md; shown on every datasheet)"
     )
     if "cut-in" in scenarios:
         conv.add_argument(

@@ -42,7 +42,7 @@ from hiyari.kinematics import footprint_corners, overlap_depth, world_to_vehicle
 from hiyari.net.road.xodr_writer import CatalogueRoad
 
 #: Lateral displacement (m) below which the ego still counts as keeping its lane (the C&C
-#: wandering threshold, MODELS.md).
+#: wandering threshold, docs/models.md).
 WANDER = 0.375
 LANE_COUNTS = (2, 3)
 

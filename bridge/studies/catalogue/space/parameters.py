@@ -1,6 +1,6 @@
 """Logical parameter ranges of the catalogue's concrete scenarios and their sampling.
 
-The JAMA text (§4.1) gives no ranges; these follow Annex G / UN R157 (jama-E) and MODELS.md:
+The JAMA text (§4.1) gives no ranges; these follow Annex G / UN R157 (JAMA Annex G) and docs/models.md:
 ego speeds up to the design speed (130 km/h), lateral speeds up to the Annex G cut-in values,
 decelerations up to the road's friction (mu = 1.0), Annex G vehicle sizes. Every value is a
 field of :class:`Ranges`, so a user can run another interpretation. SI units inside.
