@@ -8,7 +8,8 @@ import sys
 
 import pytest
 
-from hiyari.bridge.studies.r157_judge import JudgeOptions, judge, write_report
+from hiyari.bridge.studies.r157_judge import JudgeOptions, judge
+from hiyari.bridge.studies.report.r157 import write_report
 from hiyari.risk.cc.boundary import Grid
 from hiyari.risk.cc.r157_points import R157Config, generate_points, write_points_csv
 

@@ -10,7 +10,8 @@ import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 from hiyari.bridge.cli.main import main
-from hiyari.bridge.studies.r157_judge import JudgeOptions, judge, judge_figure
+from hiyari.bridge.studies.r157_judge import JudgeOptions, judge
+from hiyari.bridge.studies.report.r157 import judge_figure
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.boundary import Grid
 from hiyari.risk.cc.evaluator import evaluate_cut_in

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 from hiyari.bridge.openscenario.presets.toml_file import load_scenario
+from hiyari.bridge.studies.report.sweep import plot_sweep
 from hiyari.bridge.studies.sweep import SweepOptions, read_table, run_sweep
 from hiyari.errors import HiyariError
 
@@ -57,7 +58,8 @@ def test_two_workers_same_table(reference, tmp_path):
     # the sweep covers both outcomes: slow runs stop short, fast ones cannot
     collisions = [r["collision"] for r in rows.values()]
     assert "True" in collisions and "False" in collisions
-    assert (tmp_path / "w2" / "summary.png").stat().st_size > 1000
+    png = plot_sweep("grid", ["ve0_kmh"], list(rows.values()), tmp_path / "summary.png")
+    assert png.stat().st_size > 1000
 
 
 def test_ray_local_cluster_same_table(reference, tmp_path):

@@ -97,7 +97,7 @@ def _columns(logical: Plan) -> list[str]:
     return ["index", "seed", *names, "status", "error", *RESULT_KEYS]
 
 
-def _varied(logical: Plan) -> list[str]:
+def varied_parameters(logical: Plan) -> list[str]:
     """The parameters that change between runs (the plot's axes)."""
     if isinstance(logical, XoscPlan):
         return logical.varied
@@ -187,7 +187,6 @@ def run_sweep(logical: Plan, options: SweepOptions) -> SweepSummary:
     final = read_table(table)
     _write_rows(table, cols, [final[i] for i in sorted(final)])
     summary = SweepSummary(len(runs), len(todo), len(keep), failed, time.perf_counter() - t0, table)
-    plot_sweep(logical, [final[i] for i in sorted(final)], out / "summary.png")
     return summary
 
 
@@ -197,37 +196,3 @@ def _write_rows(path: Path, cols: list[str], rows: list[dict]) -> None:
         w.writeheader()
         for r in rows:
             w.writerow({k: r.get(k, "") for k in cols})
-
-
-def plot_sweep(logical: Plan, rows: list[dict], out: Path) -> Path | None:
-    """Outcome over the first two varied parameters (or one), collision vs no collision."""
-    from matplotlib.figure import Figure
-
-    varied = _varied(logical)
-    ok = [r for r in rows if r["status"] == "ok"]
-    if not ok or not varied:
-        return None
-    xk = varied[0]
-    yk = varied[1] if len(varied) > 1 else "min_ttc_s"
-    fig = Figure(figsize=(7, 5))
-    ax = fig.subplots()
-    for coll, color, label in (
-        ("True", "tab:red", "collision"),
-        ("False", "tab:green", "no collision"),
-    ):
-        pts = [(float(r[xk]), float(r[yk])) for r in ok if r["collision"] == coll and r[yk] != ""]
-        if pts:
-            ax.scatter(*zip(*pts, strict=True), c=color, label=label, s=25, edgecolors="k", lw=0.3)
-    failed = [r for r in rows if r["status"] == "failed"]
-    ax.set_xlabel(xk)
-    ax.set_ylabel(yk)
-    ax.grid(alpha=0.3)
-    ax.legend()
-    ax.set_title(
-        f"{logical.name}: {len(ok)} runs, {sum(r['collision'] == 'True' for r in ok)} "
-        f"collisions, {len(failed)} failed"
-    )
-    fig.tight_layout()
-    with atomic_path(out) as tmp:
-        fig.savefig(tmp, dpi=110, format="png")
-    return out

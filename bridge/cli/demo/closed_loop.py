@@ -9,8 +9,9 @@ from hiyari.bridge.loop.run import RunOptions, run_concrete
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.bridge.record.reader import Recording
 from hiyari.bridge.replay.export import export_html
-from hiyari.bridge.studies.r157_judge import JudgeOptions, judge, write_report
+from hiyari.bridge.studies.r157_judge import JudgeOptions, judge
 from hiyari.bridge.studies.report.datasheets import write_datasheets
+from hiyari.bridge.studies.report.r157 import write_report
 from hiyari.bridge.studies.report.timeseries import plot_timeseries
 from hiyari.risk.cc.boundary import Grid
 from hiyari.risk.cc.r157_points import R157Config, generate_points, write_points_csv

@@ -71,7 +71,8 @@ def add_points(sub: argparse._SubParsersAction) -> None:
 
 
 def run_judge(args: argparse.Namespace) -> int:
-    from hiyari.bridge.studies.r157_judge import JudgeOptions, judge, write_report
+    from hiyari.bridge.studies.r157_judge import JudgeOptions, judge
+    from hiyari.bridge.studies.report.r157 import write_report
     from hiyari.risk.cc.r157_points import load_point_params, load_points
 
     out = output_folder(args.out)

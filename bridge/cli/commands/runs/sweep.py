@@ -17,7 +17,14 @@ def run(args: argparse.Namespace) -> int:
     from hiyari.bridge.cli.commands.runs.run import ego_setup, environment, xosc_params
     from hiyari.bridge.loop.xosc_runs import is_openscenario, load_plan
     from hiyari.bridge.openscenario.presets.toml_file import load_scenario
-    from hiyari.bridge.studies.sweep import SweepOptions, count_runs, run_sweep
+    from hiyari.bridge.studies.report.sweep import plot_sweep
+    from hiyari.bridge.studies.sweep import (
+        SweepOptions,
+        count_runs,
+        read_table,
+        run_sweep,
+        varied_parameters,
+    )
 
     output_folder(args.out)
     with about(args.scenario, Path(args.scenario).resolve()):
@@ -54,11 +61,16 @@ def run(args: argparse.Namespace) -> int:
             max_runs=args.max_runs,
         ),
     )
+    rows = read_table(s.table)
+    plot = plot_sweep(
+        logical.name, varied_parameters(logical), [rows[i] for i in sorted(rows)],
+        s.table.parent / "summary.png",
+    )  # fmt: skip
     print(
         f"{s.total} runs: {s.ran} ran now, {s.skipped} already done, {s.failed} failed; "
         f"{s.wall_seconds:.1f} s wall"
     )
-    print(f"table: {s.table}\nplot:  {s.table.parent / 'summary.png'}")
+    print(f"table: {s.table}" + (f"\nplot:  {plot}" if plot else ""))
     return 0
 
 
