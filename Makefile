@@ -6,7 +6,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 OUT ?= out
 
-.PHONY: demo test test-baseline-dispatch docs lint bench install clean browser
+.PHONY: demo test test-unit test-baseline-dispatch docs lint bench install clean browser
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -38,6 +38,10 @@ TEST_WORKERS ?= 2
 test: $(STAMP) browser
 	$(BIN)/ruff check .
 	$(BIN)/python -m pytest -q -n $(TEST_WORKERS)
+
+# The unit tests alone (tests/unit: no SUMO run), for a quick check while editing.
+test-unit: $(STAMP)
+	$(BIN)/python -m pytest -q -n $(TEST_WORKERS) -m "not e2e"
 
 # The compiled-kernel tests again with numpy's SIMD dispatch limited to its baseline: numpy's
 # vectorised sin / cos / pow differ between CPUs in the last bits, and both paths must pass

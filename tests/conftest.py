@@ -67,10 +67,18 @@ _TEMP_KEY = pytest.StashKey[tuple[Path, str | None]]()
 
 @pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> object | None:
-    """``-n 2`` (``make test``): the suite's scheduler (tests/xdist_schedule.py)."""
+    """``-n 2`` (``make test``): the suite's scheduler (tests/support/xdist_schedule.py)."""
     from xdist_schedule import make_scheduler
 
     return make_scheduler(config, log)
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Tests under tests/e2e carry the ``e2e`` marker (``-m "not e2e"``: the unit tests)."""
+    e2e = Path(__file__).parent / "e2e"
+    for item in items:
+        if e2e in item.path.parents:
+            item.add_marker(pytest.mark.e2e)
 
 
 @pytest.fixture(scope="session")

@@ -4,7 +4,7 @@ the read scope's radius test.
 A step's state has a few dozen to a few hundred rows, where numpy's per-call overhead (some
 forty array operations per read) outweighs the arithmetic: one compiled pass does it all.
 Each kernel computes exactly what its numpy reference does, operation for operation
-(tests/test_traffic_state_kernel.py checks them bit for bit).
+(tests/unit/traffic/test_traffic_state_kernel.py checks them bit for bit).
 """
 
 from __future__ import annotations

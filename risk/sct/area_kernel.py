@@ -6,7 +6,7 @@ valid polygon or multipolygon that is the parity of a ray's crossings with its r
 as GEOS's point locator counts them. Here the parity is counted in a compiled loop with every
 orientation sign decided by Shewchuk's error bound for orient2d: a point whose sign the bound
 cannot guarantee (on an edge, a vertex, or within rounding of one) is left undecided and asked
-of shapely. So every answer is GEOS's, bit for bit (tests/test_sct_contact_kernel.py), and
+of shapely. So every answer is GEOS's, bit for bit (tests/unit/risk/test_sct_contact_kernel.py), and
 GEOS is called only for points on or within ~1e-15 m of the boundary.
 
 Frames and units: network coordinates in metres.

@@ -8,7 +8,7 @@ over (pairs, samples) arrays per call, on every evaluated step; here each pair i
 sample by sample and stops at its first contact. The operations are those of contact_gap
 (hiyari.kinematics.rectangle_point_distance: unrotate, clamp, hypot) and first_contact_time,
 written out per scalar in the same order, so the times are numpy's bit for bit
-(tests/test_sct_contact_kernel.py).
+(tests/unit/risk/test_sct_contact_kernel.py).
 
 Frames and units: network coordinates in metres, headings as their cosine / sine, times s.
 """

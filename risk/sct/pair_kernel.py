@@ -5,10 +5,10 @@ along their routes, the gap now, which pairs can come near enough to touch withi
 (for the TTC shapes, and for the SCT shapes under every speed hypothesis), and for those their
 time to contact (the pedestrian's constant-velocity track) and SCT (the earliest contact over
 the speed hypotheses' tracks). The operations are those of SCTModel.vehicle_poses,
-contact.contact_gap, the near-pairs bound (tests/sct_reference.near_pairs) and
+contact.contact_gap, the near-pairs bound (tests/support/sct_reference.near_pairs) and
 contact_kernel's first contacts per scalar, in the same order, with headings entering as the
 cosine / sine numpy computed (per path segment, per pedestrian), so the values are the numpy
-code's bit for bit (tests/test_sct_vectorised.py and test_sct_contact_kernel.py).
+code's bit for bit (tests/e2e/studies/test_sct_vectorised.py and test_sct_contact_kernel.py).
 
 Frames and units: network coordinates in metres, speeds m/s, times s.
 """
@@ -128,7 +128,7 @@ def _grown(
 @njit(cache=True)
 def _near(points: np.ndarray, centre: np.ndarray, reach2: float) -> bool:
     """Whether ``points`` (K, 2) come within sqrt(``reach2``) of ``centre`` (K, 2) at some
-    sample (tests/sct_reference.near_pairs for one pair)."""
+    sample (tests/support/sct_reference.near_pairs for one pair)."""
     low = np.inf
     for k in range(len(points)):
         dx = points[k, 0] - centre[k, 0]

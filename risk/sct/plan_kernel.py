@@ -8,7 +8,7 @@ In numpy that is some forty small array operations per step; here it is three ca
 runs the compiled kernels of contact_kernel (travel_rows, _first_contacts, the path sampling)
 on the same operands in the same order, and headings enter as the cosine / sine numpy computed
 per path segment, so the results are numpy's bit for bit
-(tests/test_sct_vectorised.py compares decide against the per-vehicle reference).
+(tests/e2e/studies/test_sct_vectorised.py compares decide against the per-vehicle reference).
 
 Frames and units: network coordinates in metres, speeds m/s, accelerations m/s^2, times s.
 """
@@ -295,7 +295,7 @@ def _overlap_depth(qa: np.ndarray, qb: np.ndarray) -> float:
 
 @njit(cache=True)
 def _ramps(a0: np.ndarray, targets: np.ndarray, times: np.ndarray, jerk: float) -> np.ndarray:
-    """the cubic ramps per scalar (tests/sct_reference.py ramp_profiles is the numpy oracle): (W, C, K) m/s^2."""
+    """the cubic ramps per scalar (tests/support/sct_reference.py ramp_profiles is the numpy oracle): (W, C, K) m/s^2."""
     out = np.empty((len(a0), len(targets), len(times)))
     for w in range(len(a0)):
         for c in range(len(targets)):

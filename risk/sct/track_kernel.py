@@ -6,7 +6,7 @@ constant-velocity track (time to contact), and which track points lie on the car
 numpy that is some thirty small array operations per step; here it is one call running
 contact._predict, the operations of contact.pedestrian_tracks and of the pair metrics'
 constant-velocity tracks per scalar in the same order, and area_kernel.locate_xy, so every
-value is the numpy / shapely one bit for bit (tests/test_sct_track_kernel.py). The facing test
+value is the numpy / shapely one bit for bit (tests/e2e/risk/test_sct_track_kernel.py). The facing test
 (a matrix product) and the headings' cosine / sine stay numpy's and come in as arguments.
 row_slots gives the step view's row-to-slot maps in the same spirit.
 

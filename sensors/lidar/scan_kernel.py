@@ -3,7 +3,7 @@ the returns' points, and the range noise.
 
 Each is one loop over the scan's rays or returns instead of numpy's chain of temporaries; the
 arithmetic is numpy's float32 arithmetic of the formulas in sensors/lidar/sensor.py, in the
-same order (tests/test_lidar_scan_kernel.py checks them equal bit for bit).
+same order (tests/unit/sensors/test_lidar_scan_kernel.py checks them equal bit for bit).
 """
 
 from __future__ import annotations

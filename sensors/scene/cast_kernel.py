@@ -3,7 +3,7 @@
 ``static_hits`` turns Embree's static-scene answer into the per-ray hit tables, and
 ``actor_candidates`` picks the rays that may reach an actor: one loop each instead of numpy's
 chain of gathers and temporaries over 131k rays. The arithmetic is numpy's float32 arithmetic
-of the same formulas, in the same order (tests/test_sensors_scene.py checks them equal bit for
+of the same formulas, in the same order (tests/e2e/sensors/test_sensors_scene.py checks them equal bit for
 bit against the numpy reference beside each kernel). Both release the GIL so that the cast
 threads run them in parallel.
 """

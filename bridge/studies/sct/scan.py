@@ -5,7 +5,7 @@ with crossings and which pedestrians within the pedestrian zone, and, for those 
 bounds on when they could touch (contact_kernel.pair_time_bounds): the pairs to log, whether
 the controller must plan, and how long nothing can happen. In numpy that is some twenty small
 array operations per step; here it is one call with the same operations per scalar, so the
-study's decisions are unchanged (tests/test_sct_contact_kernel.py).
+study's decisions are unchanged (tests/unit/risk/test_sct_contact_kernel.py).
 
 Frames and units: network coordinates in metres, speeds m/s, times s.
 """

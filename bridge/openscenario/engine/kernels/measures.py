@@ -6,7 +6,7 @@ the scalar functions here: pair measures (relative distance, headway, TTC to an 
 single-entity measures (speed, acceleration, relative speed), durations (standstill, end of
 road) and point measures (distance, reach, TTC to a position). The geometry is the
 kinematics kernel's (:mod:`hiyari.kinematics`), written out per scalar with the same operations
-in the same order, so the values are the kernel's bit for bit (tests/test_engine_kernel.py).
+in the same order, so the values are the kernel's bit for bit (tests/unit/openscenario/test_engine_kernel.py).
 Rows whose entities are absent measure NaN, which no rule holds for.
 
 Frames and units: world x, y in metres, headings in radians from world +x, speeds m/s, times

@@ -1,0 +1,124 @@
+"""Small OpenSCENARIO 1.3 files written by the tests (on the ALKS roads of ../shared)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+from paths import REPO_ROOT
+
+# resolved: ../shared may be a symlink, and the reader reports resolved paths
+SHARED = (REPO_ROOT.parent / "shared").resolve() / "data" / "openscenario"
+ALKS = SHARED / "alks"
+ROADS = ALKS / "road_networks"
+STRAIGHT = ROADS / "alks_road_straight.xodr"
+
+CAR = """<Vehicle name="{name}" vehicleCategory="car">
+  <BoundingBox><Center x="1.4" y="0" z="0.9"/><Dimensions width="2.0" length="5.0" height="1.8"/></BoundingBox>
+  <Performance maxSpeed="70" maxDeceleration="10" maxAcceleration="10"/>
+  <Axles><FrontAxle maxSteering="0.5" wheelDiameter="0.8" trackWidth="1.68" positionX="2.98" positionZ="0.4"/>
+  <RearAxle maxSteering="0" wheelDiameter="0.8" trackWidth="1.68" positionX="0" positionZ="0.4"/></Axles>
+  <Properties/>
+</Vehicle>"""
+
+
+def scenario_xml(
+    entities: dict[str, str],
+    init: str,
+    stories: str = "",
+    stop: str = "",
+    params: str = "",
+    road: Path = STRAIGHT,
+    catalogs: str = "",
+    rev: int = 3,
+) -> str:
+    """An OpenSCENARIO document: ``entities`` name -> object XML (CAR when empty)."""
+    objs = "\n".join(
+        f'<ScenarioObject name="{n}">{body or CAR.format(name=n)}</ScenarioObject>'
+        for n, body in entities.items()
+    )
+    stop_xml = f"<StopTrigger>{stop}</StopTrigger>" if stop else ""
+    return f"""<?xml version="1.0" encoding="utf-8"?>
+<OpenSCENARIO>
+<FileHeader revMajor="1" revMinor="{rev}" date="2026-01-01T00:00:00" description="test" author="hiyari"/>
+<ParameterDeclarations>{params}</ParameterDeclarations>
+<CatalogLocations>{catalogs}</CatalogLocations>
+<RoadNetwork><LogicFile filepath="{road}"/></RoadNetwork>
+<Entities>{objs}</Entities>
+<Storyboard><Init><Actions>{init}</Actions></Init>{stories}{stop_xml}</Storyboard>
+</OpenSCENARIO>
+"""
+
+
+def teleport_speed(entity: str, lane: int, s: float, speed: float, offset: float = 0.0) -> str:
+    """Init actions placing ``entity`` on road 0 at lane / s with a speed (step)."""
+    return f"""<Private entityRef="{entity}">
+<PrivateAction><TeleportAction><Position><LanePosition roadId="0" laneId="{lane}" offset="{offset}" s="{s}"/></Position></TeleportAction></PrivateAction>
+<PrivateAction><LongitudinalAction><SpeedAction><SpeedActionDynamics dynamicsShape="step" dynamicsDimension="time" value="0"/>
+<SpeedActionTarget><AbsoluteTargetSpeed value="{speed}"/></SpeedActionTarget></SpeedAction></LongitudinalAction></PrivateAction>
+</Private>"""
+
+
+def time_condition(t: float, name: str = "c", edge: str = "rising") -> str:
+    """A SimulationTimeCondition (>= t)."""
+    return f"""<Condition name="{name}" delay="0" conditionEdge="{edge}"><ByValueCondition>
+<SimulationTimeCondition value="{t}" rule="greaterOrEqual"/></ByValueCondition></Condition>"""
+
+
+def story(actor: str, action: str, condition: str, name: str = "S") -> str:
+    """One story with one event running ``action`` (a PrivateAction body) on ``actor``."""
+    return f"""<Story name="{name}"><Act name="{name}Act"><ManeuverGroup maximumExecutionCount="1" name="{name}G">
+<Actors selectTriggeringEntities="false"><EntityRef entityRef="{actor}"/></Actors>
+<Maneuver name="{name}M"><Event name="{name}E" priority="override"><Action name="{name}Action"><PrivateAction>{action}</PrivateAction></Action>
+<StartTrigger><ConditionGroup>{condition}</ConditionGroup></StartTrigger></Event></Maneuver></ManeuverGroup>
+<StartTrigger><ConditionGroup>{time_condition(0, name + "start", "none")}</ConditionGroup></StartTrigger></Act></Story>"""
+
+
+def write(path: Path, text: str) -> Path:
+    """Write ``text`` to ``path`` and return it."""
+    path.write_text(text)
+    return path
+
+
+NETS: dict[Path, Path] = {}
+
+
+def net_for(xodr: Path, workdir: Path) -> Path:
+    """The SUMO net imported from ``xodr`` (once per test session)."""
+    from hiyari.net.sumo.opendrive import import_opendrive
+
+    if xodr not in NETS:
+        NETS[xodr] = import_opendrive(xodr, workdir / f"{xodr.stem}.net.xml")
+    return NETS[xodr]
+
+
+def run_scenario(
+    path: Path,
+    workdir: Path,
+    until: float = 60.0,
+    dt: float = 0.05,
+    on_step: Callable[..., None] | None = None,
+) -> tuple:
+    """Run the scenario in ``path`` on SUMO with the engine; the ego (stack-driven) is held at
+    its Init speed by a stand-in. ``on_step(sim, world, report, engine)`` after every update.
+    Returns (engine, last report)."""
+    from hiyari.bridge.openscenario.engine import ScenarioEngine
+    from hiyari.bridge.openscenario.xosc.reader import read_scenario
+    from hiyari.net.road.opendrive_lanes import RoadLanes
+    from hiyari.traffic.simulation import SimConfig, Simulation
+
+    sc = read_scenario(path)
+    net = net_for(sc.road_network, workdir)
+    roads = RoadLanes.from_files(sc.road_network, net)
+    with Simulation(SimConfig(net=net, step_length=dt)) as sim:
+        engine = ScenarioEngine(sc, roads, dt)
+        report = engine.start(sim)
+        v0 = engine.actors[sc.ego].v if sc.ego else 0.0
+        while not report.finished and sim.time < until - 1e-9:
+            world = sim.step()
+            report = engine.step(sim, world)
+            if sc.ego and not report.ego_storyboard_driven:
+                sim.set_speed(sc.ego, v0)
+            if on_step is not None:
+                on_step(sim, world, report, engine)
+    return engine, report
