@@ -54,6 +54,7 @@ def _when_written(proc: subprocess.Popen, folder: Path, pattern: str, timeout: f
     raise AssertionError(f"no {pattern} in {folder}: {proc.communicate()[1]}")
 
 
+@pytest.mark.slow
 def test_interrupted_evaluate_keeps_no_cut_short_recording(tmp_path: Path) -> None:
     """The failed runs are recorded by two workers (the default uses every core); they ignore
     the Ctrl-C and are stopped by the campaign, inside the recorded run."""
