@@ -134,7 +134,7 @@ class ActionStarter:
             a.lat = None
         if inst.obj is a.path:
             a.path = None
-        if self.e.keepers.get(inst.actor) is inst.obj:
+        if inst.obj is not None and self.e.keepers.get(inst.actor) is inst.obj:
             del self.e.keepers[inst.actor]
         for d in inst.domains:
             self.e.owner.pop((inst.actor, d), None)
