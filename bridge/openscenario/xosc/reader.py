@@ -266,7 +266,9 @@ def _maneuver(ctx: Ctx, el: etree._Element) -> Maneuver:
             elif kind.tag == "GlobalAction":
                 body = read_global_action(ctx, kind)
             else:
-                raise ctx.unsupported(kind)
+                raise ctx.unsupported(
+                    kind, "a custom command means something only to the tool it was written for"
+                )
             actions.append(Action(ctx.text(a, "name"), body, ctx.where(a)))
         priority = ctx.text(ev, "priority", "override")
         events.append(
