@@ -97,7 +97,10 @@ class ActionStarter:
             run_global(eng, body, action.source or action.name)
             return Instance(element, actor, (), finished=True)
         if isinstance(body, AssignControllerAction | ActivateControllerAction):
-            self._controller(actor, body)
+            try:
+                self._controller(actor, body)
+            except HiyariError as exc:
+                raise HiyariError(f"{action.source or action.name}: {exc}") from None
             return Instance(element, actor, (), finished=True)
         if isinstance(body, FollowTrajectoryAction) and not eng.storyboard_drives(actor):
             return self._ego_trajectory(element, eng.actors[actor], body, now)
@@ -151,12 +154,31 @@ class ActionStarter:
         self, actor: str, body: AssignControllerAction | ActivateControllerAction
     ) -> None:
         doms = self.e.active_domains[actor]
+        was = self.e.storyboard_drives(actor)
+        here = (
+            None
+            if was or self.e._world is None
+            else (self.e.pose_of(actor), self.e.speed_of(actor))
+        )
         if isinstance(body, AssignControllerAction):
             self.e.controller[actor] = body.controller
+        elif body.controller is not None:
+            known = self.e.actors[actor].entity.controllers
+            if body.controller not in known:
+                raise HiyariError(
+                    f"ActivateControllerAction: entity {actor!r} has no controller "
+                    f"{body.controller!r} (its controllers: {', '.join(known) or 'none'})"
+                )
+            self.e.controller[actor] = known[body.controller]
         if body.lateral is not None:
             doms["lateral"] = body.lateral
         if body.longitudinal is not None:
             doms["longitudinal"] = body.longitudinal
+        if here is not None and self.e.storyboard_drives(actor):
+            # the storyboard takes the ego over where the stack left it
+            a = self.e.actors[actor]
+            self._teleport(a, here[0])
+            a.v = here[1]
 
     # ------------------------------------------------------------------ motion actions
     def _motion(self, element: int, a: Actor, body: object, now: float) -> Instance:

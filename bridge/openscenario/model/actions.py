@@ -240,10 +240,13 @@ class AssignControllerAction:
 
 @dataclass(frozen=True)
 class ActivateControllerAction:
-    """Switch the actor's assigned controller on (True) or off (False) per domain."""
+    """Switch the actor's assigned controller on (True) or off (False) per domain;
+    ``controller``: the name of one of the entity's ObjectControllers to make the assigned
+    one first (None: keep the assigned one)."""
 
     lateral: bool | None = None
     longitudinal: bool | None = None
+    controller: str | None = None
 
 
 ActionBody = (

@@ -177,6 +177,8 @@ def _assign_controller(ctx: Ctx, el: etree._Element) -> ActionBody:
     src = el.find("Controller")
     if src is None:
         src = el.find("CatalogReference")
+    if src is None and el.find("ObjectController") is not None:
+        src = ctx.one(el.find("ObjectController"))
     if src is None:
         raise ctx.unsupported(el, "no Controller or CatalogReference")
     return AssignControllerAction(
@@ -187,7 +189,11 @@ def _assign_controller(ctx: Ctx, el: etree._Element) -> ActionBody:
 
 
 def _activate(ctx: Ctx, el: etree._Element) -> ActionBody:
-    return ActivateControllerAction(ctx.opt_flag(el, "lateral"), ctx.opt_flag(el, "longitudinal"))
+    return ActivateControllerAction(
+        ctx.opt_flag(el, "lateral"),
+        ctx.opt_flag(el, "longitudinal"),
+        ctx.opt(el, "objectControllerRef") or ctx.opt(el, "controllerRef"),
+    )
 
 
 def _follow_trajectory(ctx: Ctx, el: etree._Element) -> ActionBody:

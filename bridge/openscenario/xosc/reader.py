@@ -139,10 +139,14 @@ def _entity(ctx: Ctx, obj: etree._Element) -> Entity:
     if obj.tag != "ScenarioObject":
         raise ctx.unsupported(obj)
     name = ctx.text(obj, "name")
-    controllers = obj.findall("ObjectController")
-    if len(controllers) > 1:
-        raise ctx.unsupported(controllers[1], "more than one controller per entity")
-    controller = read_controller(ctx, ctx.one(controllers[0])) if controllers else None
+    controllers: dict[str, ControllerSpec] = {}
+    for oc in obj.findall("ObjectController"):
+        spec = read_controller(ctx, ctx.one(oc))
+        key = ctx.opt(oc, "name") or spec.name
+        if key in controllers:
+            raise HiyariError(f"{ctx.where(oc)}: entity {name!r} has two controllers {key!r}")
+        controllers[key] = spec
+    controller = next(iter(controllers.values()), None)
     body = next(k for k in obj if k.tag != "ObjectController")
     if body.tag == "CatalogReference":
         body, bctx = ctx.catalogs.resolve(ctx, body)
@@ -173,6 +177,7 @@ def _entity(ctx: Ctx, obj: etree._Element) -> Entity:
         max_decel=None if perf is None else bctx.num(perf, "maxDeceleration"),
         controller=controller,
         properties=props,
+        controllers=controllers,
     )
 
 
