@@ -32,8 +32,10 @@ from hiyari.bridge.openscenario.model.conditions import (
     Edge,
     EndOfRoadCondition,
     EntityCondition,
+    OffroadCondition,
     ParameterCondition,
     ReachPositionCondition,
+    RelativeClearanceCondition,
     RelativeDistanceCondition,
     RelativeSpeedCondition,
     Rule,
@@ -99,6 +101,10 @@ class ConditionBank:
         self.static = np.zeros(n, dtype=bool)
         #: Conditions on variables / parameters: (condition index, kind, body, source).
         self.value_conditions: list[tuple[int, str, object, str]] = []
+        #: Entity conditions measured in Python (relative clearance): (index, condition),
+        #: set by ``python_eval`` (the engine's) before each evaluation of their trigger.
+        self.python_conditions: list[tuple[int, EntityCondition]] = []
+        self.python_eval: Callable[[EntityCondition], bool] | None = None
         rows: list[tuple] = []
         for i, c in enumerate(self.conditions):
             b = c.body
@@ -115,6 +121,11 @@ class ConditionBank:
                 cond[i, K.C_KIND] = K.STATIC
                 kind = "parameter" if isinstance(b, ParameterCondition) else "variable"
                 self.value_conditions.append((i, kind, b, c.source))
+            elif isinstance(b, EntityCondition) and isinstance(b.body, RelativeClearanceCondition):
+                cond[i, K.C_KIND] = K.STATIC  # measured in Python (python_eval) each step
+                for name in (*b.triggering, *b.body.entities):
+                    self._entity(name, c.source)
+                self.python_conditions.append((i, b))
             elif isinstance(b, EntityCondition):
                 cond[i, K.C_KIND], cond[i, K.C_RULE] = K.ENTITY, b.rule != "all"
                 rows += self._entity_rows(i, c, b)
@@ -211,6 +222,9 @@ class ConditionBank:
         each element went through at the last update. ``gather``: the arguments of
         :func:`snapshot.gather_entities` filling ``snap``'s arrays, run first in the same
         compiled call (None: ``snap`` is filled). ``n_fired``: how many fired."""
+        for i, ec in self.python_conditions:
+            if active[self.cond_trigger[i]] and self.python_eval is not None:
+                self.static[i] = self.python_eval(ec)
         if len(self.point_rows):
             if gather is not None:  # the points need the entities' presence first
                 gather_entities(*gather)
@@ -295,7 +309,7 @@ def _classify(b: object) -> tuple[int, object, float, Rule | None]:
         return M.STANDSTILL, None, b.duration, Rule.GREATER_OR_EQUAL
     if isinstance(b, TraveledDistanceCondition):
         return M.TRAVELED, None, b.value, Rule.GREATER_OR_EQUAL
-    if isinstance(b, EndOfRoadCondition):
+    if isinstance(b, EndOfRoadCondition | OffroadCondition):  # both: off the network
         return M.END_OF_ROAD, None, b.duration, Rule.GREATER_OR_EQUAL
     if isinstance(b, CollisionCondition):
         return M.COLLISION, b.entity, 0.0, None

@@ -27,6 +27,7 @@ from typing import NamedTuple
 import numpy as np
 
 from hiyari.bridge.openscenario.engine.actions import ActionStarter, Instance
+from hiyari.bridge.openscenario.engine.clearance import clearance_holds
 from hiyari.bridge.openscenario.engine.conditions import ConditionBank
 from hiyari.bridge.openscenario.engine.elements import (
     NO_TRANSITION,
@@ -152,6 +153,7 @@ class ScenarioEngine:
             self.resolver.resolve,
             step_length,
         )
+        self.bank.python_eval = lambda ec: clearance_holds(self, ec)
         self.instances: dict[int, list[Instance]] = {}
         self.owner: dict[tuple[str, str], int] = {}
         self.controller = {e.name: e.controller for e in scenario.entities}
@@ -248,6 +250,14 @@ class ScenarioEngine:
             and ctrl.drives == "storyboard"
             and any(self.active_domains[name].values())
         )
+
+    def road_pose(self, name: str) -> Pose:
+        """``pose_of`` with road coordinates located anew for a scripted actor off the roads'
+        frames (following a path: its road, lane and s are not kept)."""
+        a = self.actors[name]
+        if a.free and self.storyboard_drives(name):
+            return self.resolver.at_xy(a.x, a.y, a.h)
+        return self.pose_of(name)
 
     def travel_direction(self, name: str) -> float:
         """+1 when entity ``name`` travels towards increasing road s, else -1 (its lane's
@@ -513,7 +523,7 @@ class ScenarioEngine:
             version == self._idle[0] == self._cleared
             and self._idle[1] == (version, tb.motion_version)
             and not bank.needs_contacts and not bank.needs_on_net and not len(bank.point_rows)
-            and not self.keepers
+            and not self.keepers and not bank.python_conditions
         ):  # fmt: skip
             return None
         view = self._view()

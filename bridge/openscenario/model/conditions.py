@@ -21,8 +21,10 @@ __all__ = [
     "EndOfRoadCondition",
     "EntityCondition",
     "EntityConditionBody",
+    "OffroadCondition",
     "ParameterCondition",
     "ReachPositionCondition",
+    "RelativeClearanceCondition",
     "RelativeDistanceCondition",
     "RelativeSpeedCondition",
     "Rule",
@@ -222,6 +224,30 @@ class EndOfRoadCondition:
 
 
 @dataclass(frozen=True)
+class OffroadCondition:
+    """Off every road (no lane of the network under the reference point) for at least
+    ``duration`` s."""
+
+    duration: float
+
+
+@dataclass(frozen=True)
+class RelativeClearanceCondition:
+    """No other entity (only ``entities`` when given) in the lanes ``lanes`` (ranges of lanes
+    relative to the triggering entity's, 0 its own, positive to its left; all lanes when
+    empty) from ``backward`` m behind to ``forward`` m ahead of it along the road; lanes of
+    the opposite direction count only with ``opposite``; ``freespace``: between the boxes,
+    else the reference points."""
+
+    opposite: bool
+    freespace: bool
+    forward: float = 0.0
+    backward: float = 0.0
+    lanes: tuple[tuple[int, int], ...] = ()
+    entities: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
 class CollisionCondition:
     """In contact with ``entity`` (None: with anything)."""
 
@@ -240,6 +266,8 @@ EntityConditionBody = (
     | StandStillCondition
     | TraveledDistanceCondition
     | EndOfRoadCondition
+    | OffroadCondition
+    | RelativeClearanceCondition
     | CollisionCondition
 )
 

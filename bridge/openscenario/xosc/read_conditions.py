@@ -16,8 +16,10 @@ from hiyari.bridge.openscenario.model.conditions import (
     EndOfRoadCondition,
     EntityCondition,
     EntityConditionBody,
+    OffroadCondition,
     ParameterCondition,
     ReachPositionCondition,
+    RelativeClearanceCondition,
     RelativeDistanceCondition,
     RelativeSpeedCondition,
     Rule,
@@ -186,6 +188,20 @@ def _reach(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
     )
 
 
+def _clearance(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
+    ranges = tuple(
+        (ctx.int(r, "from", -1000), ctx.int(r, "to", 1000)) for r in el.findall("RelativeLaneRange")
+    )
+    return RelativeClearanceCondition(
+        ctx.flag(el, "oppositeLanes"),
+        ctx.flag(el, "freeSpace"),
+        ctx.num(el, "distanceForward", 0.0),
+        ctx.num(el, "distanceBackward", 0.0),
+        ranges,
+        tuple(ctx.text(r, "entityRef") for r in el.findall("EntityRef")),
+    )
+
+
 _ENTITY_READERS = {
     "RelativeDistanceCondition": _relative_distance,
     "DistanceCondition": _distance,
@@ -201,6 +217,8 @@ _ENTITY_READERS = {
     "StandStillCondition": lambda ctx, el: StandStillCondition(ctx.num(el, "duration")),
     "TraveledDistanceCondition": lambda ctx, el: TraveledDistanceCondition(ctx.num(el, "value")),
     "EndOfRoadCondition": lambda ctx, el: EndOfRoadCondition(ctx.num(el, "duration")),
+    "OffroadCondition": lambda ctx, el: OffroadCondition(ctx.num(el, "duration")),
+    "RelativeClearanceCondition": lambda ctx, el: _clearance(ctx, el),
 }
 
 
