@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from hiyari.bridge.openscenario.engine.followers.lateral_distance import lateral_goal
+from hiyari.bridge.openscenario.engine.followers.synchronize import Synchronizer
 from hiyari.bridge.openscenario.engine.global_actions import is_global, run_global
 from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
 from hiyari.bridge.openscenario.engine.kernels.shapes import lateral_duration, span
@@ -29,7 +31,6 @@ from hiyari.bridge.openscenario.engine.motion import (
 )
 from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.engine.positions import Pose, lane_shift
-from hiyari.bridge.openscenario.engine.synchronize import Synchronizer
 from hiyari.bridge.openscenario.model.actions import (
     AbsoluteLane,
     AbsoluteOffset,
@@ -43,6 +44,7 @@ from hiyari.bridge.openscenario.model.actions import (
     FollowTrajectoryAction,
     LaneChangeAction,
     LaneOffsetAction,
+    LateralDistanceAction,
     LongitudinalDistanceAction,
     Shape,
     SpeedAction,
@@ -59,6 +61,7 @@ if TYPE_CHECKING:
 
 _MOTION = (
     SpeedAction,
+    LateralDistanceAction,
     SynchronizeAction,
     LongitudinalDistanceAction,
     LaneChangeAction,
@@ -137,8 +140,9 @@ class ActionStarter:
             a.lat = None
         if inst.obj is a.path:
             a.path = None
-        if inst.obj is not None and self.e.keepers.get(inst.actor) is inst.obj:
-            del self.e.keepers[inst.actor]
+        for d in inst.domains:
+            if inst.obj is not None and self.e.keepers.get((inst.actor, d)) is inst.obj:
+                del self.e.keepers[(inst.actor, d)]
         for d in inst.domains:
             self.e.owner.pop((inst.actor, d), None)
         inst.finished = True
@@ -204,8 +208,10 @@ class ActionStarter:
                 a.v = self.e.speed_of(body.entity)
 
             a.long = None
-            self.e.keepers[a.name] = keep
+            self.e.keepers[(a.name, "longitudinal")] = keep
             return Instance(element, a.name, ("longitudinal",), keep)
+        if isinstance(body, LateralDistanceAction):
+            return self._lateral_distance(element, a, body, now)
         if isinstance(body, LaneChangeAction):
             return self._lane_change(element, a, body, now)
         if isinstance(body, LaneOffsetAction):
@@ -292,6 +298,35 @@ class ActionStarter:
             )
         a.road, a.s = ref.road, ref.s + direction * lead
         place_actor(self.e.roads.odr, a)
+
+    def _lateral_distance(
+        self, element: int, a: Actor, body: LateralDistanceAction, now: float
+    ) -> Instance:
+        if a.free or not a.road:
+            raise HiyariError(f"LateralDistanceAction on {a.name!r}, which is not on a road")
+        goal = lateral_goal(self.e, a.name, body)
+        if body.continuous:
+
+            def keep() -> None:
+                a.t = lateral_goal(self.e, a.name, body)
+                a.lane = self.e.resolver.at_road(a.road, a.s, a.t).lane
+                place_actor(self.e.roads.odr, a)
+
+            self._claim(element, a.name, ("lateral",))
+            a.lat = None
+            keep()
+            self.e.keepers[(a.name, "lateral")] = keep
+            return Instance(element, a.name, ("lateral",), keep)
+        lane = self.e.resolver.at_road(a.road, a.s, goal).lane
+        offset = goal - self._lane_t(a.road, lane, a.s)
+        if body.max_acc is None or body.max_acc <= 0:
+            shape, duration = Shape.STEP, 0.0
+        else:
+            shape = Shape.SINUSOIDAL
+            duration = lateral_duration(shape, body.max_acc, goal - a.t)
+        return self._lateral(
+            element, a, lane, offset, None, shape, Dimension.TIME, duration, now, False
+        )
 
     def _lane_change(self, element: int, a: Actor, body: LaneChangeAction, now: float) -> Instance:
         if isinstance(body.target, AbsoluteLane):

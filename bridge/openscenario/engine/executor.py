@@ -160,9 +160,9 @@ class ScenarioEngine:
         self.active_domains = {
             e.name: {"lateral": True, "longitudinal": True} for e in scenario.entities
         }
-        #: Continuous LongitudinalDistanceActions by actor: each step, after the motion, they
+        #: Continuous distance actions by (actor, domain): each step, after the motion, they
         #: put their actor at its gap again.
-        self.keepers: dict[str, Callable[[], None]] = {}
+        self.keepers: dict[tuple[str, str], Callable[[], None]] = {}
         #: The path the storyboard gives a stack-driven ego to steer along (its speed stays
         #: the stack's), None when it steers on its SUMO route.
         self.ego_path: PathMotion | None = None

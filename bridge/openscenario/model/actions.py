@@ -24,6 +24,7 @@ __all__ = [
     "FollowTrajectoryAction",
     "LaneChangeAction",
     "LaneOffsetAction",
+    "LateralDistanceAction",
     "LongitudinalDistanceAction",
     "RelativeLane",
     "RelativeOffset",
@@ -176,6 +177,23 @@ class LaneOffsetAction:
 
 
 @dataclass(frozen=True)
+class LateralDistanceAction:
+    """Hold the actor ``distance`` m across the road from ``entity`` (between the boxes'
+    sides when ``freespace``, else between the reference points), on the side
+    ``displacement`` says (leftToReferencedEntity, rightToReferencedEntity: in the
+    reference's direction of travel; any: the side it is on). ``max_acc`` (m/s^2; None:
+    at once): the peak lateral acceleration of the move there; ``continuous``: hold it
+    every step (the reference may move across)."""
+
+    entity: str
+    distance: float
+    freespace: bool
+    continuous: bool
+    displacement: str = "any"
+    max_acc: float | None = None
+
+
+@dataclass(frozen=True)
 class TeleportAction:
     """Place the actor at ``position`` now."""
 
@@ -255,6 +273,7 @@ ActionBody = (
     | LongitudinalDistanceAction
     | LaneChangeAction
     | LaneOffsetAction
+    | LateralDistanceAction
     | TeleportAction
     | FollowTrajectoryAction
     | AssignRouteAction

@@ -17,6 +17,7 @@ from hiyari.bridge.openscenario.model.actions import (
     FollowTrajectoryAction,
     LaneChangeAction,
     LaneOffsetAction,
+    LateralDistanceAction,
     LongitudinalDistanceAction,
     RelativeLane,
     RelativeOffset,
@@ -226,7 +227,27 @@ def _assign_route(ctx: Ctx, el: etree._Element) -> ActionBody:
 
 
 _LONGITUDINAL = {"SpeedAction": _speed, "LongitudinalDistanceAction": _long_distance}
-_LATERAL = {"LaneChangeAction": _lane_change, "LaneOffsetAction": _lane_offset}
+
+
+def _lateral_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
+    if ctx.text(el, "coordinateSystem", "entity") not in ("entity", "road", "lane"):
+        raise ctx.unsupported(el, f"coordinateSystem {el.get('coordinateSystem')}")
+    dyn = el.find("DynamicConstraints")
+    return LateralDistanceAction(
+        ctx.text(el, "entityRef"),
+        ctx.num(el, "distance", 0.0),
+        ctx.flag(el, "freespace"),
+        ctx.flag(el, "continuous"),
+        ctx.text(el, "displacement", "any"),
+        None if dyn is None else ctx.opt_num(dyn, "maxAcceleration"),
+    )
+
+
+_LATERAL = {
+    "LaneChangeAction": _lane_change,
+    "LaneOffsetAction": _lane_offset,
+    "LateralDistanceAction": _lateral_distance,
+}
 _CONTROLLER = {
     "AssignControllerAction": _assign_controller,
     "ActivateControllerAction": _activate,
