@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from hiyari.bridge.openscenario.engine.followers.lateral_distance import lateral_goal
+from hiyari.bridge.openscenario.engine.followers.speed_profile import speed_profile
 from hiyari.bridge.openscenario.engine.followers.synchronize import Synchronizer
 from hiyari.bridge.openscenario.engine.global_actions import is_global, run_global
 from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
@@ -48,6 +49,7 @@ from hiyari.bridge.openscenario.model.actions import (
     LongitudinalDistanceAction,
     Shape,
     SpeedAction,
+    SpeedProfileAction,
     SynchronizeAction,
     TeleportAction,
 )
@@ -61,6 +63,7 @@ if TYPE_CHECKING:
 
 _MOTION = (
     SpeedAction,
+    SpeedProfileAction,
     LateralDistanceAction,
     SynchronizeAction,
     LongitudinalDistanceAction,
@@ -191,6 +194,8 @@ class ActionStarter:
             return Instance(element, a.name, (), finished=True)
         if isinstance(body, SpeedAction):
             return self._speed(element, a, body, now)
+        if isinstance(body, SpeedProfileAction):
+            return self._speed_profile(element, a, body, now)
         if isinstance(body, SynchronizeAction):
             sync = Synchronizer(self.e, a.name, body)
             self._claim(element, a.name, ("longitudinal",))
@@ -271,6 +276,25 @@ class ActionStarter:
         )  # fmt: skip
         a.long, a.long_travelled = tr, 0.0
         return Instance(element, a.name, ("longitudinal",), tr)
+
+    def _speed_profile(
+        self, element: int, a: Actor, body: SpeedProfileAction, now: float
+    ) -> Instance:
+        base = self.e.speed_of(body.entity) if body.entity else 0.0
+        times, speeds = speed_profile(body, a.v, base, now)
+        over = [False]
+
+        def goal() -> float:
+            t = self.e.now + self.e.dt  # the speed at the end of the coming step
+            if t >= times[-1] - 1e-9 and not over[0]:
+                over[0] = True
+                self.e.table.motion_version += 1  # the storyboard is to end the action
+            return float(np.interp(t, times, speeds))
+
+        self._claim(element, a.name, ("longitudinal",))
+        tr = SpeedTransition(a.v, a.v, goal, Shape.STEP, 0.0, False, True, now)
+        a.long, a.long_travelled = tr, 0.0
+        return Instance(element, a.name, ("longitudinal",), tr, until=lambda: over[0])
 
     def _gap(self, a: Actor, body: LongitudinalDistanceAction) -> None:
         ref = self.e.pose_of(body.entity)

@@ -31,6 +31,7 @@ __all__ = [
     "RelativeSpeed",
     "Shape",
     "SpeedAction",
+    "SpeedProfileAction",
     "SynchronizeAction",
     "TeleportAction",
     "Timing",
@@ -104,6 +105,23 @@ class LongitudinalDistanceAction:
     freespace: bool
     continuous: bool
     displacement: str = "trailingReferencedEntity"
+
+
+@dataclass(frozen=True)
+class SpeedProfileAction:
+    """Speeds to reach one after the other: ``entries`` of (speed m/s, time s or None); with
+    ``entity`` the speeds are added to that entity's speed at the start. A time is how long
+    reaching that speed takes (linearly); without one the change takes as long as
+    ``max_accel`` / ``max_decel`` (m/s^2) allow (at once when they are not given).
+    ``following_mode`` "follow" also keeps a timed change within those limits (it then takes
+    longer); "position" follows the times exactly. ``max_speed`` caps every speed."""
+
+    entries: tuple[tuple[float, float | None], ...]
+    following_mode: str = "follow"
+    entity: str | None = None
+    max_accel: float | None = None
+    max_decel: float | None = None
+    max_speed: float | None = None
 
 
 @dataclass(frozen=True)
@@ -269,6 +287,7 @@ class ActivateControllerAction:
 
 ActionBody = (
     SpeedAction
+    | SpeedProfileAction
     | SynchronizeAction
     | LongitudinalDistanceAction
     | LaneChangeAction

@@ -24,6 +24,7 @@ from hiyari.bridge.openscenario.model.actions import (
     RelativeSpeed,
     Shape,
     SpeedAction,
+    SpeedProfileAction,
     SynchronizeAction,
     TeleportAction,
     Timing,
@@ -226,7 +227,27 @@ def _assign_route(ctx: Ctx, el: etree._Element) -> ActionBody:
     return AssignRouteAction(route.name, route.waypoints, route.closed)
 
 
-_LONGITUDINAL = {"SpeedAction": _speed, "LongitudinalDistanceAction": _long_distance}
+def _speed_profile(ctx: Ctx, el: etree._Element) -> ActionBody:
+    dyn = el.find("DynamicConstraints")
+    limit = (lambda k: None) if dyn is None else (lambda k: ctx.opt_num(dyn, k))
+    entries = tuple(
+        (ctx.num(e, "speed"), ctx.opt_num(e, "time")) for e in el.findall("SpeedProfileEntry")
+    )
+    return SpeedProfileAction(
+        entries,
+        ctx.text(el, "followingMode"),
+        ctx.opt(el, "entityRef"),
+        limit("maxAcceleration"),
+        limit("maxDeceleration"),
+        limit("maxSpeed"),
+    )
+
+
+_LONGITUDINAL = {
+    "SpeedAction": _speed,
+    "LongitudinalDistanceAction": _long_distance,
+    "SpeedProfileAction": _speed_profile,
+}
 
 
 def _lateral_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
