@@ -137,6 +137,8 @@ class Commands:
         logic off so that commands alone move it."""
         s = self._api()
         rid = f"route_{vehicle_id}"
+        if rid in s.route.getIDList():  # the same id inserted again (removed in between)
+            rid = f"{rid}#{len(s.route.getIDList())}"
         s.route.add(rid, list(route))
         s.vehicle.add(
             vehicle_id,

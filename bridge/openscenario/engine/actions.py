@@ -228,6 +228,10 @@ class ActionStarter:
         here = WorldPosition(a.x, a.y, a.z, a.h)
         return self._route(element, a, Route("AcquirePositionAction", (here, body.position)))
 
+    def place(self, a: Actor, p: Pose) -> None:
+        """Put ``a`` at ``p`` (on its road when ``p`` is on one)."""
+        self._teleport(a, p)
+
     def _teleport(self, a: Actor, p: Pose) -> None:
         a.x, a.y, a.z, a.h = p.x, p.y, p.z, p.h
         a.path, a.lat = None, None

@@ -216,6 +216,7 @@ class ScenarioEngine:
         self._moved_key: tuple[int, int] = (-1, -1)
         self._command_cache: tuple[object, tuple] = (None, ())  # lane profile, command_step args
         self._inserts = 0
+        self._types: set[str] = set()  # entities whose SUMO vehicle type is defined
         self._lanes_of: tuple[np.ndarray | None, list[str], list[int]] = (None, [], [])
         # table rows on roads / following paths, for the view and motion versions
         self._advance_rows: tuple[tuple[int, int], np.ndarray, list[int]] | None = None
@@ -268,6 +269,33 @@ class ScenarioEngine:
             return float(self.table.direction[a.k])
         p = self.pose_of(name)
         return forward(self.roads.odr, p.road, p.lane) if p.road else 1.0
+
+    def remove_entity(self, name: str, where: str) -> None:
+        """Take entity ``name`` out of SUMO now (DeleteEntityAction); its running actions stop."""
+        a = self._known(name, where)
+        if not a.inserted:
+            return
+        for insts in list(self.instances.values()):
+            for inst in insts:
+                if inst.actor == name:
+                    self.starter.cancel(inst)
+        self._sim.remove_actor(name)
+        a.inserted = False
+        self._inserts += 1
+
+    def add_entity(self, name: str, pose: Pose, where: str) -> None:
+        """Put entity ``name`` into SUMO at ``pose`` (AddEntityAction); nothing when it is in."""
+        a = self._known(name, where)
+        if a.inserted:
+            return
+        self.starter.place(a, pose)
+        self._insert(self._sim, name)
+
+    def _known(self, name: str, where: str) -> Actor:
+        a = self.actors.get(name)
+        if a is None:
+            raise HiyariError(f"{where}: no entity {name!r} in the scenario")
+        return a
 
     def drive_ego(self, sim: Simulation, speed: float, move: bool = True) -> None:
         """Command the stack-driven ego's ``speed`` (m/s, >= 0) for the next step: SUMO drives
@@ -339,6 +367,7 @@ class ScenarioEngine:
         """Apply the Init actions and insert every entity into SUMO. The state after SUMO's
         next step is scenario time 0 (the Init state)."""
         self.t0 = sim.time + self.dt
+        self._sim = sim
         group = self.tree.elements[self.tree.init].children[0]
         maneuver = self.tree.elements[group].children[0]
         for i in (self.tree.init, group, maneuver, self.tree.init_event):
@@ -368,8 +397,9 @@ class ScenarioEngine:
             if scripted
             else ("passenger" if cls == ActorClass.PEDESTRIAN else _SHAPE[cls])
         )
-        sim.define_vehicle_type(
-            VehicleType(
+        if name not in self._types:  # once: an entity added again keeps its type
+            self._types.add(name)
+            vt = VehicleType(
                 f"hiyari_{name}",
                 e.length,
                 e.width,
@@ -378,7 +408,7 @@ class ScenarioEngine:
                 vclass=vclass,
                 shape=_SHAPE[cls],
             )
-        )
+            sim.define_vehicle_type(vt)
         edge, lane_index, pos = self._insertion_point(a)
         route = self._sumo_route(name, edge) if not scripted else [edge]
         sim.add_vehicle(name, route, f"hiyari_{name}", lane_index, pos, abs(a.v), scripted=True)

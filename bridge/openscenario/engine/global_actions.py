@@ -8,6 +8,8 @@ from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from hiyari.bridge.openscenario.model.global_actions import (
+    AddEntityAction,
+    DeleteEntityAction,
     Environment,
     EnvironmentAction,
     GlobalActionBody,
@@ -27,6 +29,8 @@ GLOBAL_KINDS = (
     ParameterSetAction,
     ParameterModifyAction,
     EnvironmentAction,
+    AddEntityAction,
+    DeleteEntityAction,
 )
 
 
@@ -77,7 +81,17 @@ def merge_environment(old: Environment | None, new: Environment) -> Environment:
     )
 
 
+def _delete(engine: ScenarioEngine, b: DeleteEntityAction, where: str) -> None:
+    engine.remove_entity(b.entity, where)
+
+
+def _add(engine: ScenarioEngine, b: AddEntityAction, where: str) -> None:
+    engine.add_entity(b.entity, engine.resolver.resolve(b.position), where)
+
+
 _RUNNERS: dict[type, Callable[..., None]] = {
+    DeleteEntityAction: _delete,
+    AddEntityAction: _add,
     VariableSetAction: _variable_set,
     VariableModifyAction: _variable_modify,
     ParameterSetAction: _parameter_set,

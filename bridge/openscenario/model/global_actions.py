@@ -5,7 +5,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from hiyari.bridge.openscenario.model.positions import Position
+
 __all__ = [
+    "AddEntityAction",
+    "DeleteEntityAction",
     "Environment",
     "EnvironmentAction",
     "Fog",
@@ -136,10 +140,27 @@ class EnvironmentAction:
     environment: Environment
 
 
+@dataclass(frozen=True)
+class AddEntityAction:
+    """Put entity ``entity`` (declared in Entities, out of the simulation) at ``position``."""
+
+    entity: str
+    position: Position
+
+
+@dataclass(frozen=True)
+class DeleteEntityAction:
+    """Take entity ``entity`` out of the simulation (its conditions see it absent)."""
+
+    entity: str
+
+
 GlobalActionBody = (
     VariableSetAction
     | VariableModifyAction
     | ParameterSetAction
     | ParameterModifyAction
     | EnvironmentAction
+    | AddEntityAction
+    | DeleteEntityAction
 )

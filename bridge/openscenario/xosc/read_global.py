@@ -5,6 +5,8 @@ from __future__ import annotations
 from lxml import etree
 
 from hiyari.bridge.openscenario.model.global_actions import (
+    AddEntityAction,
+    DeleteEntityAction,
     Environment,
     EnvironmentAction,
     Fog,
@@ -20,6 +22,7 @@ from hiyari.bridge.openscenario.model.global_actions import (
     Wind,
 )
 from hiyari.bridge.openscenario.xosc.context import Ctx, canonical
+from hiyari.bridge.openscenario.xosc.read_positions import read_position
 from hiyari.errors import HiyariError
 
 #: The file's modify rules and the model's operations.
@@ -51,6 +54,11 @@ def read_global_action(ctx: Ctx, el: etree._Element) -> GlobalActionBody:
         else:
             ectx = ctx
         return EnvironmentAction(read_environment(ectx.enter(src), src))
+    if kind.tag == "EntityAction":
+        who, what = ctx.text(kind, "entityRef"), ctx.one(kind)
+        if what.tag == "DeleteEntityAction":
+            return DeleteEntityAction(who)
+        return AddEntityAction(who, read_position(ctx, ctx.child(what, "Position")))
     raise ctx.unsupported(kind)
 
 
