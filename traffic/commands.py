@@ -210,6 +210,16 @@ class Commands:
         self._commanded((vehicle_id,))
         self._api().vehicle.setAcceleration(vehicle_id, accel, duration)
 
+    def set_signals(self, vehicle_id: str, bits: int) -> None:
+        """SUMO's signal bit field of a vehicle (1 right and 2 left indicator, 4 hazard
+        lights, 8 brake lights, 16 low beam, 32 fog lights, 64 high beam, 128 reversing,
+        1024 blue light); -1 gives them back to SUMO."""
+        self._api().vehicle.setSignals(vehicle_id, bits)
+
+    def signals(self, vehicle_id: str) -> int:
+        """SUMO's signal bit field of a vehicle now."""
+        return int(self._api().vehicle.getSignals(vehicle_id))
+
     def change_lane(self, vehicle_id: str, lane_index: int, duration: float) -> None:
         """Ask SUMO to move to lane ``lane_index`` of the current edge within ``duration`` s."""
         self._api().vehicle.changeLane(vehicle_id, lane_index, duration)

@@ -46,12 +46,14 @@ from hiyari.bridge.openscenario.model.actions import (
     LaneChangeAction,
     LaneOffsetAction,
     LateralDistanceAction,
+    LightStateAction,
     LongitudinalDistanceAction,
     Shape,
     SpeedAction,
     SpeedProfileAction,
     SynchronizeAction,
     TeleportAction,
+    VisibilityAction,
 )
 from hiyari.bridge.openscenario.model.entities import EntityKind
 from hiyari.bridge.openscenario.model.positions import WorldPosition
@@ -107,6 +109,12 @@ class ActionStarter:
                 self._controller(actor, body)
             except HiyariError as exc:
                 raise HiyariError(f"{action.source or action.name}: {exc}") from None
+            return Instance(element, actor, (), finished=True)
+        if isinstance(body, VisibilityAction):
+            eng.visibility[actor] = body
+            return Instance(element, actor, (), finished=True)
+        if isinstance(body, LightStateAction):
+            eng.set_light(actor, body)
             return Instance(element, actor, (), finished=True)
         if isinstance(body, FollowTrajectoryAction) and not eng.storyboard_drives(actor):
             return self._ego_trajectory(element, eng.actors[actor], body, now)

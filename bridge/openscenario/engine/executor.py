@@ -63,7 +63,11 @@ from hiyari.bridge.openscenario.engine.motion import (
 from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.engine.positions import Pose, PoseResolver
 from hiyari.bridge.openscenario.engine.values import ValueStore
-from hiyari.bridge.openscenario.model.actions import AssignRouteAction
+from hiyari.bridge.openscenario.model.actions import (
+    AssignRouteAction,
+    LightStateAction,
+    VisibilityAction,
+)
 from hiyari.bridge.openscenario.model.entities import EntityKind
 from hiyari.bridge.openscenario.model.global_actions import Environment
 from hiyari.bridge.openscenario.model.storyboard import Scenario
@@ -81,6 +85,21 @@ _SHAPE = {
     ActorClass.MOTORCYCLE: "motorcycle",
     ActorClass.BICYCLE: "bicycle",
     ActorClass.PEDESTRIAN: "pedestrian",
+}
+#: SUMO's signal bits of OpenSCENARIO's vehicle lights (flashing indicators blink in SUMO too).
+SUMO_SIGNALS = {
+    "indicatorRight": 1,
+    "indicatorLeft": 2,
+    "warningLights": 4,
+    "brakeLights": 8,
+    "lowBeam": 16,
+    "daytimeRunningLights": 16,
+    "fogLights": 32,
+    "fogLightsFront": 32,
+    "fogLightsRear": 32,
+    "highBeam": 64,
+    "reversingLights": 128,
+    "specialPurposeLights": 1024,
 }
 #: Top speed given to SUMO types when the scenario names none, m/s.
 DEFAULT_MAX_SPEED = 100.0
@@ -163,6 +182,9 @@ class ScenarioEngine:
         #: Continuous distance actions by (actor, domain): each step, after the motion, they
         #: put their actor at its gap again.
         self.keepers: dict[tuple[str, str], Callable[[], None]] = {}
+        #: VisibilityActions in force by entity; light modes by (entity, light).
+        self.visibility: dict[str, VisibilityAction] = {}
+        self.lights: dict[tuple[str, str], str] = {}
         #: The path the storyboard gives a stack-driven ego to steer along (its speed stays
         #: the stack's), None when it steers on its SUMO route.
         self.ego_path: PathMotion | None = None
@@ -269,6 +291,23 @@ class ScenarioEngine:
             return float(self.table.direction[a.k])
         p = self.pose_of(name)
         return forward(self.roads.odr, p.road, p.lane) if p.road else 1.0
+
+    def hidden_from_sensors(self) -> list[str]:
+        """Entities a VisibilityAction hides from the ego's sensors now."""
+        return [n for n, v in self.visibility.items() if not v.sensors]
+
+    def set_light(self, name: str, b: LightStateAction) -> None:
+        """Set a light's mode; a vehicle's lamps go to SUMO's signals (user-defined lights
+        are kept here only)."""
+        self.lights[(name, b.light)] = b.mode
+        a = self.actors[name]
+        if b.user_defined or not a.inserted:
+            return
+        bits = 0
+        for (who, light), mode in self.lights.items():
+            if who == name and mode != "off":
+                bits |= SUMO_SIGNALS.get(light, 0)
+        self._sim.set_signals(name, bits)
 
     def remove_entity(self, name: str, where: str) -> None:
         """Take entity ``name`` out of SUMO now (DeleteEntityAction); its running actions stop."""

@@ -24,6 +24,7 @@ __all__ = [
     "FollowTrajectoryAction",
     "LaneChangeAction",
     "LaneOffsetAction",
+    "LightStateAction",
     "LateralDistanceAction",
     "LongitudinalDistanceAction",
     "RelativeLane",
@@ -36,6 +37,7 @@ __all__ = [
     "TeleportAction",
     "Timing",
     "TransitionDynamics",
+    "VisibilityAction",
 ]
 
 
@@ -212,6 +214,26 @@ class LateralDistanceAction:
 
 
 @dataclass(frozen=True)
+class VisibilityAction:
+    """Whether the entity is seen: by renderers (``graphics``), by other traffic
+    (``traffic``), by the ego's sensors (``sensors``)."""
+
+    graphics: bool
+    traffic: bool
+    sensors: bool
+
+
+@dataclass(frozen=True)
+class LightStateAction:
+    """Set light ``light`` (a vehicleLightType such as brakeLights, or a user-defined light's
+    name) to ``mode`` (on, off, flashing)."""
+
+    light: str
+    mode: str
+    user_defined: bool = False
+
+
+@dataclass(frozen=True)
 class TeleportAction:
     """Place the actor at ``position`` now."""
 
@@ -293,6 +315,8 @@ ActionBody = (
     | LaneChangeAction
     | LaneOffsetAction
     | LateralDistanceAction
+    | VisibilityAction
+    | LightStateAction
     | TeleportAction
     | FollowTrajectoryAction
     | AssignRouteAction

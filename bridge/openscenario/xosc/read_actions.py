@@ -18,6 +18,7 @@ from hiyari.bridge.openscenario.model.actions import (
     LaneChangeAction,
     LaneOffsetAction,
     LateralDistanceAction,
+    LightStateAction,
     LongitudinalDistanceAction,
     RelativeLane,
     RelativeOffset,
@@ -29,6 +30,7 @@ from hiyari.bridge.openscenario.model.actions import (
     TeleportAction,
     Timing,
     TransitionDynamics,
+    VisibilityAction,
 )
 from hiyari.bridge.openscenario.model.entities import ControllerSpec
 from hiyari.bridge.openscenario.xosc.context import Ctx
@@ -43,6 +45,28 @@ def read_private_action(ctx: Ctx, el: etree._Element) -> ActionBody:
         return TeleportAction(read_position(ctx, ctx.child(kind, "Position")))
     if kind.tag == "SynchronizeAction":
         return _synchronize(ctx, kind)
+    if kind.tag == "VisibilityAction":
+        if kind.find("SensorReferenceSet") is not None:
+            raise ctx.unsupported(
+                kind.find("SensorReferenceSet"),
+                "hiyari's sensors see an entity all or none (no sensor by reference)",
+            )
+        if not ctx.flag(kind, "traffic"):
+            raise ctx.unsupported(
+                kind, "traffic = false: SUMO's own traffic always sees the vehicles on its lanes"
+            )
+        return VisibilityAction(
+            ctx.flag(kind, "graphics"), ctx.flag(kind, "traffic"), ctx.flag(kind, "sensors")
+        )
+    if kind.tag == "AppearanceAction":
+        what = ctx.one(kind)
+        if what.tag == "AnimationAction":
+            raise ctx.unsupported(what, "hiyari's actors are rigid boxes with no animated parts")
+        light = ctx.one(ctx.child(what, "LightType"))
+        state = ctx.child(what, "LightState")
+        user = light.tag == "UserDefinedLight"
+        name = ctx.text(light, "userDefinedLightType" if user else "vehicleLightType")
+        return LightStateAction(name, ctx.text(state, "mode"), user)
     if kind.tag == "ActivateControllerAction":  # 1.0 placement, deprecated
         return _activate(ctx, kind)
     group = {
