@@ -161,7 +161,9 @@ class ScenarioEngine:
         self.resolver = PoseResolver(roads.odr, self.pose_of)
         self.starter = ActionStarter(self)
         #: Variables and parameters as they are now (actions may change them).
-        self.values = ValueStore(scenario.variables, scenario.parameters, scenario.parameter_types)
+        self.values = ValueStore(
+            scenario.variables, scenario.parameters, scenario.parameter_types, scenario.monitors
+        )
         #: The environment the latest EnvironmentAction set (None: none yet).
         self.environment: Environment | None = None
         self.bank = ConditionBank(

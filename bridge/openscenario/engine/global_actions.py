@@ -15,6 +15,7 @@ from hiyari.bridge.openscenario.model.global_actions import (
     GlobalActionBody,
     ParameterModifyAction,
     ParameterSetAction,
+    SetMonitorAction,
     VariableModifyAction,
     VariableSetAction,
 )
@@ -31,6 +32,7 @@ GLOBAL_KINDS = (
     EnvironmentAction,
     AddEntityAction,
     DeleteEntityAction,
+    SetMonitorAction,
 )
 
 
@@ -89,7 +91,12 @@ def _add(engine: ScenarioEngine, b: AddEntityAction, where: str) -> None:
     engine.add_entity(b.entity, engine.resolver.resolve(b.position), where)
 
 
+def _monitor(engine: ScenarioEngine, b: SetMonitorAction, where: str) -> None:
+    engine.values.set("monitor", b.monitor, "true" if b.value else "false", where)
+
+
 _RUNNERS: dict[type, Callable[..., None]] = {
+    SetMonitorAction: _monitor,
     DeleteEntityAction: _delete,
     AddEntityAction: _add,
     VariableSetAction: _variable_set,

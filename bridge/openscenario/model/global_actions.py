@@ -16,6 +16,7 @@ __all__ = [
     "GlobalActionBody",
     "ParameterModifyAction",
     "ParameterSetAction",
+    "SetMonitorAction",
     "Precipitation",
     "RoadCondition",
     "Sun",
@@ -155,6 +156,14 @@ class DeleteEntityAction:
     entity: str
 
 
+@dataclass(frozen=True)
+class SetMonitorAction:
+    """Set monitor ``monitor`` (declared in MonitorDeclarations) to ``value``."""
+
+    monitor: str
+    value: bool
+
+
 GlobalActionBody = (
     VariableSetAction
     | VariableModifyAction
@@ -163,4 +172,5 @@ GlobalActionBody = (
     | EnvironmentAction
     | AddEntityAction
     | DeleteEntityAction
+    | SetMonitorAction
 )

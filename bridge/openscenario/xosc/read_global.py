@@ -15,6 +15,7 @@ from hiyari.bridge.openscenario.model.global_actions import (
     ParameterSetAction,
     Precipitation,
     RoadCondition,
+    SetMonitorAction,
     Sun,
     VariableModifyAction,
     VariableSetAction,
@@ -40,6 +41,17 @@ def read_variables(ctx: Ctx, el: etree._Element | None) -> dict[str, tuple[str, 
     return out
 
 
+def read_monitors(ctx: Ctx, el: etree._Element | None) -> dict[str, bool]:
+    """<MonitorDeclarations>: name -> initial value."""
+    out: dict[str, bool] = {}
+    for d in [] if el is None else el.findall("MonitorDeclaration"):
+        name = ctx.text(d, "name")
+        if name in out:
+            raise HiyariError(f"{ctx.where(d)}: monitor {name!r} is declared twice")
+        out[name] = ctx.flag(d, "value")
+    return out
+
+
 def read_global_action(ctx: Ctx, el: etree._Element) -> GlobalActionBody:
     """The body of one <GlobalAction>."""
     kind = ctx.one(el)
@@ -54,6 +66,8 @@ def read_global_action(ctx: Ctx, el: etree._Element) -> GlobalActionBody:
         else:
             ectx = ctx
         return EnvironmentAction(read_environment(ectx.enter(src), src))
+    if kind.tag == "SetMonitorAction":
+        return SetMonitorAction(ctx.text(kind, "monitorRef"), ctx.flag(kind, "value"))
     if kind.tag == "EntityAction":
         who, what = ctx.text(kind, "entityRef"), ctx.one(kind)
         if what.tag == "DeleteEntityAction":

@@ -31,7 +31,11 @@ from hiyari.bridge.openscenario.xosc.catalogs import Catalogs
 from hiyari.bridge.openscenario.xosc.context import Ctx, Scope
 from hiyari.bridge.openscenario.xosc.read_actions import read_controller, read_private_action
 from hiyari.bridge.openscenario.xosc.read_conditions import read_trigger
-from hiyari.bridge.openscenario.xosc.read_global import read_global_action, read_variables
+from hiyari.bridge.openscenario.xosc.read_global import (
+    read_global_action,
+    read_monitors,
+    read_variables,
+)
 from hiyari.errors import HiyariError
 from hiyari.traffic.actor_class import ActorClass
 
@@ -53,6 +57,7 @@ _IGNORED_ROOT = (
     "FileHeader",
     "ParameterDeclarations",
     "VariableDeclarations",
+    "MonitorDeclarations",
     "CatalogLocations",
     "RoadNetwork",
 )
@@ -95,6 +100,7 @@ def read_scenario(
         source=path,
         parameter_types=dict(ctx.scope.types),
         variables=variables,
+        monitors=read_monitors(ctx, root.find("MonitorDeclarations")),
     )
 
 
