@@ -332,6 +332,26 @@ class Commands:
         ids = tl.getIDList() if tls_ids is None else tls_ids
         return {t: tl.getRedYellowGreenState(t) for t in ids}
 
+    def set_signal_state(self, tls_id: str, state: str) -> None:
+        """Hold traffic light ``tls_id`` at ``state`` (one letter per link: r y g G o O u)."""
+        self._api().trafficlight.setRedYellowGreenState(tls_id, state)
+
+    def set_signal_phase(self, tls_id: str, phase: int) -> None:
+        """Switch traffic light ``tls_id`` to phase ``phase`` of its program (it runs on from
+        there)."""
+        self._api().trafficlight.setPhase(tls_id, phase)
+
+    def signal_phases(self, tls_id: str) -> list[str]:
+        """The names of the phases of ``tls_id``'s current program ('' where unnamed)."""
+        tl = self._api().trafficlight
+        prog = tl.getProgram(tls_id)
+        logic = next(x for x in tl.getAllProgramLogics(tls_id) if x.programID == prog)
+        return [p.name for p in logic.phases]
+
+    def signal_phase(self, tls_id: str) -> int:
+        """The index of ``tls_id``'s current phase."""
+        return int(self._api().trafficlight.getPhase(tls_id))
+
     def pending_vehicles(self) -> int:
         """Vehicles waiting to be inserted (no room yet)."""
         return len(self._api().simulation.getPendingVehicles())

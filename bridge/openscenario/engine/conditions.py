@@ -45,6 +45,8 @@ from hiyari.bridge.openscenario.model.conditions import (
     StoryboardElementStateCondition,
     TimeHeadwayCondition,
     TimeToCollisionCondition,
+    TrafficSignalCondition,
+    TrafficSignalControllerCondition,
     TraveledDistanceCondition,
     Trigger,
     VariableCondition,
@@ -101,10 +103,11 @@ class ConditionBank:
         self.static = np.zeros(n, dtype=bool)
         #: Conditions on variables / parameters: (condition index, kind, body, source).
         self.value_conditions: list[tuple[int, str, object, str]] = []
-        #: Entity conditions measured in Python (relative clearance): (index, condition),
-        #: set by ``python_eval`` (the engine's) before each evaluation of their trigger.
-        self.python_conditions: list[tuple[int, EntityCondition]] = []
-        self.python_eval: Callable[[EntityCondition], bool] | None = None
+        #: Conditions measured in Python (relative clearance, traffic signals): (index,
+        #: condition), set by ``python_eval`` (the engine's) before each evaluation of their
+        #: trigger.
+        self.python_conditions: list[tuple[int, Condition]] = []
+        self.python_eval: Callable[[Condition], bool] | None = None
         rows: list[tuple] = []
         for i, c in enumerate(self.conditions):
             b = c.body
@@ -121,11 +124,14 @@ class ConditionBank:
                 cond[i, K.C_KIND] = K.STATIC
                 kind = "parameter" if isinstance(b, ParameterCondition) else "variable"
                 self.value_conditions.append((i, kind, b, c.source))
+            elif isinstance(b, TrafficSignalCondition | TrafficSignalControllerCondition):
+                cond[i, K.C_KIND] = K.STATIC  # read from SUMO (python_eval) each step
+                self.python_conditions.append((i, c))
             elif isinstance(b, EntityCondition) and isinstance(b.body, RelativeClearanceCondition):
                 cond[i, K.C_KIND] = K.STATIC  # measured in Python (python_eval) each step
                 for name in (*b.triggering, *b.body.entities):
                     self._entity(name, c.source)
-                self.python_conditions.append((i, b))
+                self.python_conditions.append((i, c))
             elif isinstance(b, EntityCondition):
                 cond[i, K.C_KIND], cond[i, K.C_RULE] = K.ENTITY, b.rule != "all"
                 rows += self._entity_rows(i, c, b)

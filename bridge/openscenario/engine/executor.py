@@ -62,11 +62,17 @@ from hiyari.bridge.openscenario.engine.motion import (
 )
 from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.engine.positions import Pose, PoseResolver
+from hiyari.bridge.openscenario.engine.signals import phase_index, sumo_state
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.actions import (
     AssignRouteAction,
     LightStateAction,
     VisibilityAction,
+)
+from hiyari.bridge.openscenario.model.conditions import (
+    Condition,
+    TrafficSignalCondition,
+    TrafficSignalControllerCondition,
 )
 from hiyari.bridge.openscenario.model.entities import EntityKind
 from hiyari.bridge.openscenario.model.global_actions import Environment
@@ -174,7 +180,7 @@ class ScenarioEngine:
             self.resolver.resolve,
             step_length,
         )
-        self.bank.python_eval = lambda ec: clearance_holds(self, ec)
+        self.bank.python_eval = self._measure_in_python
         self.instances: dict[int, list[Instance]] = {}
         self.owner: dict[tuple[str, str], int] = {}
         self.controller = {e.name: e.controller for e in scenario.entities}
@@ -293,6 +299,17 @@ class ScenarioEngine:
             return float(self.table.direction[a.k])
         p = self.pose_of(name)
         return forward(self.roads.odr, p.road, p.lane) if p.road else 1.0
+
+    def _measure_in_python(self, c: Condition) -> bool:
+        """Whether condition ``c`` (relative clearance, traffic signal) holds now."""
+        b = c.body
+        if isinstance(b, TrafficSignalCondition):
+            want = sumo_state(self._sim, b.signal, b.state, c.source)
+            return self._sim.signal_states([b.signal])[b.signal] == want
+        if isinstance(b, TrafficSignalControllerCondition):
+            want = phase_index(self._sim, b.controller, b.phase, c.source)
+            return self._sim.signal_phase(b.controller) == want
+        return clearance_holds(self, b)
 
     def hidden_from_sensors(self) -> list[str]:
         """Entities a VisibilityAction hides from the ego's sensors now."""

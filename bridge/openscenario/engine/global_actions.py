@@ -7,6 +7,7 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
+from hiyari.bridge.openscenario.engine.signals import phase_index, sumo_state
 from hiyari.bridge.openscenario.model.global_actions import (
     AddEntityAction,
     DeleteEntityAction,
@@ -16,6 +17,8 @@ from hiyari.bridge.openscenario.model.global_actions import (
     ParameterModifyAction,
     ParameterSetAction,
     SetMonitorAction,
+    TrafficSignalControllerAction,
+    TrafficSignalStateAction,
     VariableModifyAction,
     VariableSetAction,
 )
@@ -33,6 +36,8 @@ GLOBAL_KINDS = (
     AddEntityAction,
     DeleteEntityAction,
     SetMonitorAction,
+    TrafficSignalStateAction,
+    TrafficSignalControllerAction,
 )
 
 
@@ -95,7 +100,19 @@ def _monitor(engine: ScenarioEngine, b: SetMonitorAction, where: str) -> None:
     engine.values.set("monitor", b.monitor, "true" if b.value else "false", where)
 
 
+def _signal(engine: ScenarioEngine, b: TrafficSignalStateAction, where: str) -> None:
+    engine._sim.set_signal_state(b.signal, sumo_state(engine._sim, b.signal, b.state, where))
+
+
+def _controller(engine: ScenarioEngine, b: TrafficSignalControllerAction, where: str) -> None:
+    engine._sim.set_signal_phase(
+        b.controller, phase_index(engine._sim, b.controller, b.phase, where)
+    )
+
+
 _RUNNERS: dict[type, Callable[..., None]] = {
+    TrafficSignalStateAction: _signal,
+    TrafficSignalControllerAction: _controller,
     SetMonitorAction: _monitor,
     DeleteEntityAction: _delete,
     AddEntityAction: _add,

@@ -34,6 +34,8 @@ __all__ = [
     "StoryboardElementStateCondition",
     "TimeHeadwayCondition",
     "TimeToCollisionCondition",
+    "TrafficSignalCondition",
+    "TrafficSignalControllerCondition",
     "TraveledDistanceCondition",
     "Trigger",
     "VariableCondition",
@@ -114,6 +116,24 @@ class VariableCondition:
     variable: str
     value: str
     rule: Rule
+
+
+@dataclass(frozen=True)
+class TrafficSignalCondition:
+    """Traffic signal ``signal`` (a SUMO traffic light) shows ``state`` (as in
+    TrafficSignalStateAction)."""
+
+    signal: str
+    state: str
+
+
+@dataclass(frozen=True)
+class TrafficSignalControllerCondition:
+    """Controller ``controller`` (a SUMO traffic light) is in phase ``phase`` (name or
+    index)."""
+
+    controller: str
+    phase: str
 
 
 @dataclass(frozen=True)
@@ -286,6 +306,8 @@ ConditionBody = (
     | StoryboardElementStateCondition
     | ParameterCondition
     | VariableCondition
+    | TrafficSignalCondition
+    | TrafficSignalControllerCondition
     | EntityCondition
 )
 

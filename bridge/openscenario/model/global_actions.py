@@ -17,6 +17,8 @@ __all__ = [
     "ParameterModifyAction",
     "ParameterSetAction",
     "SetMonitorAction",
+    "TrafficSignalControllerAction",
+    "TrafficSignalStateAction",
     "Precipitation",
     "RoadCondition",
     "Sun",
@@ -164,6 +166,25 @@ class SetMonitorAction:
     value: bool
 
 
+@dataclass(frozen=True)
+class TrafficSignalStateAction:
+    """Set traffic signal ``signal`` (a SUMO traffic light of the imported net) to ``state``:
+    SUMO's letters per link (r y g G o O u), or OpenSCENARIO's lamp triple "red;yellow;green"
+    of on / off words for every link."""
+
+    signal: str
+    state: str
+
+
+@dataclass(frozen=True)
+class TrafficSignalControllerAction:
+    """Switch traffic-light controller ``controller`` (a SUMO traffic light) to its phase
+    ``phase`` (a phase name, or its index)."""
+
+    controller: str
+    phase: str
+
+
 GlobalActionBody = (
     VariableSetAction
     | VariableModifyAction
@@ -173,4 +194,6 @@ GlobalActionBody = (
     | AddEntityAction
     | DeleteEntityAction
     | SetMonitorAction
+    | TrafficSignalStateAction
+    | TrafficSignalControllerAction
 )

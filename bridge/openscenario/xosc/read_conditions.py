@@ -29,6 +29,8 @@ from hiyari.bridge.openscenario.model.conditions import (
     StoryboardElementStateCondition,
     TimeHeadwayCondition,
     TimeToCollisionCondition,
+    TrafficSignalCondition,
+    TrafficSignalControllerCondition,
     TraveledDistanceCondition,
     Trigger,
     VariableCondition,
@@ -92,6 +94,12 @@ def _by_value(ctx: Ctx, el: etree._Element) -> ConditionBody:
     if el.tag == "ParameterCondition":
         return ParameterCondition(
             ctx.text(el, "parameterRef"), ctx.text(el, "value"), _rule(ctx, el)
+        )
+    if el.tag == "TrafficSignalCondition":
+        return TrafficSignalCondition(ctx.text(el, "name"), ctx.text(el, "state"))
+    if el.tag == "TrafficSignalControllerCondition":
+        return TrafficSignalControllerCondition(
+            ctx.text(el, "trafficSignalControllerRef"), ctx.text(el, "phase")
         )
     if el.tag == "VariableCondition":
         return VariableCondition(ctx.text(el, "variableRef"), ctx.text(el, "value"), _rule(ctx, el))

@@ -17,6 +17,8 @@ from hiyari.bridge.openscenario.model.global_actions import (
     RoadCondition,
     SetMonitorAction,
     Sun,
+    TrafficSignalControllerAction,
+    TrafficSignalStateAction,
     VariableModifyAction,
     VariableSetAction,
     Weather,
@@ -66,6 +68,13 @@ def read_global_action(ctx: Ctx, el: etree._Element) -> GlobalActionBody:
         else:
             ectx = ctx
         return EnvironmentAction(read_environment(ectx.enter(src), src))
+    if kind.tag == "InfrastructureAction":
+        sig = ctx.one(ctx.child(kind, "TrafficSignalAction"))
+        if sig.tag == "TrafficSignalStateAction":
+            return TrafficSignalStateAction(ctx.text(sig, "name"), ctx.text(sig, "state"))
+        return TrafficSignalControllerAction(
+            ctx.text(sig, "trafficSignalControllerRef"), ctx.text(sig, "phase")
+        )
     if kind.tag == "SetMonitorAction":
         return SetMonitorAction(ctx.text(kind, "monitorRef"), ctx.flag(kind, "value"))
     if kind.tag == "EntityAction":
