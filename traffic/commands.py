@@ -352,6 +352,16 @@ class Commands:
         """The index of ``tls_id``'s current phase."""
         return int(self._api().trafficlight.getPhase(tls_id))
 
+    def lane_speed(self, lane_id: str) -> float:
+        """The speed limit of SUMO lane ``lane_id``, m/s."""
+        return float(self._api().lane.getMaxSpeed(lane_id))
+
+    def lane_allows(self, lane_id: str, vclass: str) -> bool:
+        """Whether SUMO lane ``lane_id`` admits vehicles of class ``vclass``."""
+        lane = self._api().lane
+        allowed, disallowed = lane.getAllowed(lane_id), lane.getDisallowed(lane_id)
+        return (not allowed or vclass in allowed) and vclass not in disallowed
+
     def pending_vehicles(self) -> int:
         """Vehicles waiting to be inserted (no room yet)."""
         return len(self._api().simulation.getPendingVehicles())

@@ -190,6 +190,10 @@ class ScenarioEngine:
         #: Continuous distance actions by (actor, domain): each step, after the motion, they
         #: put their actor at its gap again.
         self.keepers: dict[tuple[str, str], Callable[[], None]] = {}
+        #: Traffic actions running by name (sources, sinks, swarms) and SUMO vehicles they
+        #: inserted so far.
+        self.traffic: dict[str, object] = {}
+        self.traffic_count = 0
         #: VisibilityActions in force by entity; light modes by (entity, light).
         self.visibility: dict[str, VisibilityAction] = {}
         self.lights: dict[tuple[str, str], str] = {}
@@ -527,6 +531,8 @@ class ScenarioEngine:
         self._started, self._ended, self._ego_requests = [], [], []
         if self.finished:
             return self._report()
+        for t in list(self.traffic.values()):
+            t.update(self, sim, world)
         quiet = self._quiet_args()
         if quiet is not None:
             if self.table.long_targets:
@@ -611,7 +617,7 @@ class ScenarioEngine:
             version == self._idle[0] == self._cleared
             and self._idle[1] == (version, tb.motion_version)
             and not bank.needs_contacts and not bank.needs_on_net and not len(bank.point_rows)
-            and not self.keepers and not bank.python_conditions
+            and not self.keepers and not bank.python_conditions and not self.traffic
         ):  # fmt: skip
             return None
         view = self._view()

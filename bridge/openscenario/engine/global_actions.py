@@ -8,6 +8,7 @@ from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from hiyari.bridge.openscenario.engine.signals import phase_index, sumo_state
+from hiyari.bridge.openscenario.engine.traffic import Sink, Source, Swarm
 from hiyari.bridge.openscenario.model.global_actions import (
     AddEntityAction,
     DeleteEntityAction,
@@ -19,6 +20,10 @@ from hiyari.bridge.openscenario.model.global_actions import (
     SetMonitorAction,
     TrafficSignalControllerAction,
     TrafficSignalStateAction,
+    TrafficSinkAction,
+    TrafficSourceAction,
+    TrafficStopAction,
+    TrafficSwarmAction,
     VariableModifyAction,
     VariableSetAction,
 )
@@ -38,6 +43,10 @@ GLOBAL_KINDS = (
     SetMonitorAction,
     TrafficSignalStateAction,
     TrafficSignalControllerAction,
+    TrafficSourceAction,
+    TrafficSinkAction,
+    TrafficSwarmAction,
+    TrafficStopAction,
 )
 
 
@@ -110,7 +119,26 @@ def _controller(engine: ScenarioEngine, b: TrafficSignalControllerAction, where:
     )
 
 
+def _traffic(engine: ScenarioEngine, b: object, where: str) -> None:
+    kind = {TrafficSourceAction: Source, TrafficSinkAction: Sink, TrafficSwarmAction: Swarm}
+    key = b.name or f"{where}#{len(engine.traffic)}"
+    engine.traffic[key] = kind[type(b)](engine, b)
+
+
+def _traffic_stop(engine: ScenarioEngine, b: TrafficStopAction, where: str) -> None:
+    if b.name not in engine.traffic:
+        raise HiyariError(
+            f"{where}: TrafficStopAction: no traffic action called {b.name!r} runs "
+            f"(running: {', '.join(engine.traffic) or 'none'})"
+        )
+    del engine.traffic[b.name]
+
+
 _RUNNERS: dict[type, Callable[..., None]] = {
+    TrafficSourceAction: _traffic,
+    TrafficSinkAction: _traffic,
+    TrafficSwarmAction: _traffic,
+    TrafficStopAction: _traffic_stop,
     TrafficSignalStateAction: _signal,
     TrafficSignalControllerAction: _controller,
     SetMonitorAction: _monitor,

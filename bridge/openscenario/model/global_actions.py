@@ -17,7 +17,12 @@ __all__ = [
     "ParameterModifyAction",
     "ParameterSetAction",
     "SetMonitorAction",
+    "TrafficMix",
     "TrafficSignalControllerAction",
+    "TrafficSinkAction",
+    "TrafficSourceAction",
+    "TrafficStopAction",
+    "TrafficSwarmAction",
     "TrafficSignalStateAction",
     "Precipitation",
     "RoadCondition",
@@ -185,6 +190,66 @@ class TrafficSignalControllerAction:
     phase: str
 
 
+@dataclass(frozen=True)
+class TrafficMix:
+    """What a traffic action inserts: (weight, vehicle category, length, width, height m;
+    sizes None: SUMO's defaults for the category) entries."""
+
+    entries: tuple[tuple[float, str, float | None, float | None, float | None], ...]
+
+
+@dataclass(frozen=True)
+class TrafficSourceAction:
+    """SUMO traffic inserted ``rate`` vehicles per second within ``radius`` m of
+    ``position`` (on its lane), at ``speed`` m/s (None: the lane's limit); ``name``: the
+    traffic's name (TrafficStopAction ends it)."""
+
+    name: str
+    position: Position
+    radius: float
+    rate: float
+    speed: float | None
+    mix: TrafficMix
+
+
+@dataclass(frozen=True)
+class TrafficSinkAction:
+    """SUMO traffic within ``radius`` m of ``position`` is taken out, ``rate`` vehicles per
+    second at most (None: all)."""
+
+    name: str
+    position: Position
+    radius: float
+    rate: float | None
+
+
+@dataclass(frozen=True)
+class TrafficSwarmAction:
+    """``count`` SUMO vehicles kept around entity ``central`` in the ellipse of semi-axes
+    ``semi_major`` (along its heading) and ``semi_minor`` m whose centre is ``offset`` m ahead
+    of it, outside ``inner_radius`` m; inserted at a speed in ``speed_range`` (m/s; None:
+    the lane's limit), driving its way with weight ``same`` against ``opposite``."""
+
+    name: str
+    central: str
+    inner_radius: float
+    semi_major: float
+    semi_minor: float
+    offset: float
+    count: int
+    speed_range: tuple[float, float] | None
+    same: float
+    opposite: float
+    mix: TrafficMix
+
+
+@dataclass(frozen=True)
+class TrafficStopAction:
+    """End the traffic action called ``name`` (its vehicles drive on)."""
+
+    name: str
+
+
 GlobalActionBody = (
     VariableSetAction
     | VariableModifyAction
@@ -196,4 +261,8 @@ GlobalActionBody = (
     | SetMonitorAction
     | TrafficSignalStateAction
     | TrafficSignalControllerAction
+    | TrafficSourceAction
+    | TrafficSinkAction
+    | TrafficSwarmAction
+    | TrafficStopAction
 )

@@ -26,6 +26,7 @@ from hiyari.bridge.openscenario.model.global_actions import (
 )
 from hiyari.bridge.openscenario.xosc.context import Ctx, canonical
 from hiyari.bridge.openscenario.xosc.read_positions import read_position
+from hiyari.bridge.openscenario.xosc.read_traffic import read_traffic
 from hiyari.errors import HiyariError
 
 #: The file's modify rules and the model's operations.
@@ -75,6 +76,8 @@ def read_global_action(ctx: Ctx, el: etree._Element) -> GlobalActionBody:
         return TrafficSignalControllerAction(
             ctx.text(sig, "trafficSignalControllerRef"), ctx.text(sig, "phase")
         )
+    if kind.tag == "TrafficAction":
+        return read_traffic(ctx, kind)
     if kind.tag == "SetMonitorAction":
         return SetMonitorAction(ctx.text(kind, "monitorRef"), ctx.flag(kind, "value"))
     if kind.tag == "EntityAction":
