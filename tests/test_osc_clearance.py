@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from hiyari.bridge.openscenario.engine.clearance import relative_lane
+from hiyari.bridge.openscenario.engine.measured import relative_lane
 from tests.openscenario_files import (
     run_scenario,
     scenario_xml,

@@ -24,6 +24,7 @@ from hiyari.bridge.openscenario.engine.positions import Pose
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.conditions import (
     AccelerationCondition,
+    AngleCondition,
     CollisionCondition,
     Condition,
     CoordinateSystem,
@@ -35,6 +36,7 @@ from hiyari.bridge.openscenario.model.conditions import (
     OffroadCondition,
     ParameterCondition,
     ReachPositionCondition,
+    RelativeAngleCondition,
     RelativeClearanceCondition,
     RelativeDistanceCondition,
     RelativeSpeedCondition,
@@ -44,6 +46,7 @@ from hiyari.bridge.openscenario.model.conditions import (
     StandStillCondition,
     StoryboardElementStateCondition,
     TimeHeadwayCondition,
+    TimeOfDayCondition,
     TimeToCollisionCondition,
     TrafficSignalCondition,
     TrafficSignalControllerCondition,
@@ -124,13 +127,19 @@ class ConditionBank:
                 cond[i, K.C_KIND] = K.STATIC
                 kind = "parameter" if isinstance(b, ParameterCondition) else "variable"
                 self.value_conditions.append((i, kind, b, c.source))
-            elif isinstance(b, TrafficSignalCondition | TrafficSignalControllerCondition):
+            elif isinstance(
+                b, TrafficSignalCondition | TrafficSignalControllerCondition | TimeOfDayCondition
+            ):
                 cond[i, K.C_KIND] = K.STATIC  # read from SUMO (python_eval) each step
                 self.python_conditions.append((i, c))
-            elif isinstance(b, EntityCondition) and isinstance(b.body, RelativeClearanceCondition):
+            elif isinstance(b, EntityCondition) and isinstance(
+                b.body, RelativeClearanceCondition | AngleCondition | RelativeAngleCondition
+            ):
                 cond[i, K.C_KIND] = K.STATIC  # measured in Python (python_eval) each step
-                for name in (*b.triggering, *b.body.entities):
-                    self._entity(name, c.source)
+                refs = getattr(b.body, "entities", ()) or (getattr(b.body, "entity", None),)
+                for name in (*b.triggering, *refs):
+                    if name is not None:
+                        self._entity(name, c.source)
                 self.python_conditions.append((i, c))
             elif isinstance(b, EntityCondition):
                 cond[i, K.C_KIND], cond[i, K.C_RULE] = K.ENTITY, b.rule != "all"

@@ -27,7 +27,6 @@ from typing import NamedTuple
 import numpy as np
 
 from hiyari.bridge.openscenario.engine.actions import ActionStarter, Instance
-from hiyari.bridge.openscenario.engine.clearance import clearance_holds
 from hiyari.bridge.openscenario.engine.conditions import ConditionBank
 from hiyari.bridge.openscenario.engine.elements import (
     NO_TRANSITION,
@@ -50,6 +49,7 @@ from hiyari.bridge.openscenario.engine.kernels.snapshot import (
     gather_entities,
 )
 from hiyari.bridge.openscenario.engine.kernels.step_kernel import quiet_step
+from hiyari.bridge.openscenario.engine.measured import entity_holds, time_of_day_holds
 from hiyari.bridge.openscenario.engine.motion import (
     Actor,
     ActorTable,
@@ -71,6 +71,7 @@ from hiyari.bridge.openscenario.model.actions import (
 )
 from hiyari.bridge.openscenario.model.conditions import (
     Condition,
+    TimeOfDayCondition,
     TrafficSignalCondition,
     TrafficSignalControllerCondition,
 )
@@ -313,7 +314,9 @@ class ScenarioEngine:
         if isinstance(b, TrafficSignalControllerCondition):
             want = phase_index(self._sim, b.controller, b.phase, c.source)
             return self._sim.signal_phase(b.controller) == want
-        return clearance_holds(self, b)
+        if isinstance(b, TimeOfDayCondition):
+            return time_of_day_holds(self, b, c.source)
+        return entity_holds(self, b)
 
     def hidden_from_sensors(self) -> list[str]:
         """Entities a VisibilityAction hides from the ego's sensors now."""

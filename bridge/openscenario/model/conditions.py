@@ -10,6 +10,7 @@ from hiyari.bridge.openscenario.model.positions import Position
 
 __all__ = [
     "AccelerationCondition",
+    "AngleCondition",
     "CollisionCondition",
     "Condition",
     "ConditionBody",
@@ -24,6 +25,7 @@ __all__ = [
     "OffroadCondition",
     "ParameterCondition",
     "ReachPositionCondition",
+    "RelativeAngleCondition",
     "RelativeClearanceCondition",
     "RelativeDistanceCondition",
     "RelativeSpeedCondition",
@@ -33,6 +35,7 @@ __all__ = [
     "StandStillCondition",
     "StoryboardElementStateCondition",
     "TimeHeadwayCondition",
+    "TimeOfDayCondition",
     "TimeToCollisionCondition",
     "TrafficSignalCondition",
     "TrafficSignalControllerCondition",
@@ -115,6 +118,15 @@ class VariableCondition:
 
     variable: str
     value: str
+    rule: Rule
+
+
+@dataclass(frozen=True)
+class TimeOfDayCondition:
+    """The scenario's time of day (its EnvironmentAction's, running on with the simulation
+    when animated) compared with ``date_time`` (ISO 8601 text)."""
+
+    date_time: str
     rule: Rule
 
 
@@ -268,6 +280,29 @@ class RelativeClearanceCondition:
 
 
 @dataclass(frozen=True)
+class AngleCondition:
+    """The entity's ``angle_type`` angle (heading; pitch and roll are 0: hiyari's actors are
+    level) is ``angle`` within ``tolerance`` (rad): in the world (coordinate system entity),
+    or relative to the road's direction of travel there (road, lane)."""
+
+    angle_type: str
+    angle: float
+    tolerance: float
+    coordinate_system: CoordinateSystem = CoordinateSystem.ENTITY
+
+
+@dataclass(frozen=True)
+class RelativeAngleCondition:
+    """The entity's ``angle_type`` angle relative to ``entity``'s is ``angle`` within
+    ``tolerance`` (rad)."""
+
+    entity: str
+    angle_type: str
+    angle: float
+    tolerance: float
+
+
+@dataclass(frozen=True)
 class CollisionCondition:
     """In contact with ``entity`` (None: with anything)."""
 
@@ -288,6 +323,8 @@ EntityConditionBody = (
     | EndOfRoadCondition
     | OffroadCondition
     | RelativeClearanceCondition
+    | AngleCondition
+    | RelativeAngleCondition
     | CollisionCondition
 )
 
@@ -308,6 +345,7 @@ ConditionBody = (
     | VariableCondition
     | TrafficSignalCondition
     | TrafficSignalControllerCondition
+    | TimeOfDayCondition
     | EntityCondition
 )
 

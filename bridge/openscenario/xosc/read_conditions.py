@@ -6,6 +6,7 @@ from lxml import etree
 
 from hiyari.bridge.openscenario.model.conditions import (
     AccelerationCondition,
+    AngleCondition,
     CollisionCondition,
     Condition,
     ConditionBody,
@@ -19,6 +20,7 @@ from hiyari.bridge.openscenario.model.conditions import (
     OffroadCondition,
     ParameterCondition,
     ReachPositionCondition,
+    RelativeAngleCondition,
     RelativeClearanceCondition,
     RelativeDistanceCondition,
     RelativeSpeedCondition,
@@ -28,6 +30,7 @@ from hiyari.bridge.openscenario.model.conditions import (
     StandStillCondition,
     StoryboardElementStateCondition,
     TimeHeadwayCondition,
+    TimeOfDayCondition,
     TimeToCollisionCondition,
     TrafficSignalCondition,
     TrafficSignalControllerCondition,
@@ -95,6 +98,8 @@ def _by_value(ctx: Ctx, el: etree._Element) -> ConditionBody:
         return ParameterCondition(
             ctx.text(el, "parameterRef"), ctx.text(el, "value"), _rule(ctx, el)
         )
+    if el.tag == "TimeOfDayCondition":
+        return TimeOfDayCondition(ctx.text(el, "dateTime"), _rule(ctx, el))
     if el.tag == "TrafficSignalCondition":
         return TrafficSignalCondition(ctx.text(el, "name"), ctx.text(el, "state"))
     if el.tag == "TrafficSignalControllerCondition":
@@ -227,6 +232,18 @@ _ENTITY_READERS = {
     "EndOfRoadCondition": lambda ctx, el: EndOfRoadCondition(ctx.num(el, "duration")),
     "OffroadCondition": lambda ctx, el: OffroadCondition(ctx.num(el, "duration")),
     "RelativeClearanceCondition": lambda ctx, el: _clearance(ctx, el),
+    "AngleCondition": lambda ctx, el: AngleCondition(
+        ctx.text(el, "angleType"),
+        ctx.num(el, "angle"),
+        ctx.num(el, "angleTolerance"),
+        _coordinate_system(ctx, el),
+    ),
+    "RelativeAngleCondition": lambda ctx, el: RelativeAngleCondition(
+        ctx.text(el, "entityRef"),
+        ctx.text(el, "angleType"),
+        ctx.num(el, "angle"),
+        ctx.num(el, "angleTolerance"),
+    ),
 }
 
 
