@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from hiyari.bridge.openscenario.engine import ScenarioEngine
-from hiyari.bridge.openscenario.engine.synchronize import Synchronizer
+from hiyari.bridge.openscenario.engine.followers.synchronize import Synchronizer
 from hiyari.bridge.openscenario.model.actions import SynchronizeAction
 from hiyari.bridge.openscenario.xosc.reader import read_scenario
 from hiyari.net.road.opendrive_lanes import RoadLanes

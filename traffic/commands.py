@@ -140,6 +140,8 @@ class Commands:
         logic off so that commands alone move it."""
         s = self._api()
         rid = f"route_{vehicle_id}"
+        if rid in s.route.getIDList():  # the same id inserted again (removed in between)
+            rid = f"{rid}#{len(s.route.getIDList())}"
         s.route.add(rid, list(route))
         s.vehicle.add(
             vehicle_id,
@@ -210,6 +212,16 @@ class Commands:
         """Accelerate at ``accel`` m/s^2 for ``duration`` s."""
         self._commanded((vehicle_id,))
         self._api().vehicle.setAcceleration(vehicle_id, accel, duration)
+
+    def set_signals(self, vehicle_id: str, bits: int) -> None:
+        """SUMO's signal bit field of a vehicle (1 right and 2 left indicator, 4 hazard
+        lights, 8 brake lights, 16 low beam, 32 fog lights, 64 high beam, 128 reversing,
+        1024 blue light); -1 gives them back to SUMO."""
+        self._api().vehicle.setSignals(vehicle_id, bits)
+
+    def signals(self, vehicle_id: str) -> int:
+        """SUMO's signal bit field of a vehicle now."""
+        return int(self._api().vehicle.getSignals(vehicle_id))
 
     def change_lane(self, vehicle_id: str, lane_index: int, duration: float) -> None:
         """Ask SUMO to move to lane ``lane_index`` of the current edge within ``duration`` s."""
@@ -325,6 +337,36 @@ class Commands:
         tl = self._api().trafficlight
         ids = tl.getIDList() if tls_ids is None else tls_ids
         return {t: tl.getRedYellowGreenState(t) for t in ids}
+
+    def set_signal_state(self, tls_id: str, state: str) -> None:
+        """Hold traffic light ``tls_id`` at ``state`` (one letter per link: r y g G o O u)."""
+        self._api().trafficlight.setRedYellowGreenState(tls_id, state)
+
+    def set_signal_phase(self, tls_id: str, phase: int) -> None:
+        """Switch traffic light ``tls_id`` to phase ``phase`` of its program (it runs on from
+        there)."""
+        self._api().trafficlight.setPhase(tls_id, phase)
+
+    def signal_phases(self, tls_id: str) -> list[str]:
+        """The names of the phases of ``tls_id``'s current program ('' where unnamed)."""
+        tl = self._api().trafficlight
+        prog = tl.getProgram(tls_id)
+        logic = next(x for x in tl.getAllProgramLogics(tls_id) if x.programID == prog)
+        return [p.name for p in logic.phases]
+
+    def signal_phase(self, tls_id: str) -> int:
+        """The index of ``tls_id``'s current phase."""
+        return int(self._api().trafficlight.getPhase(tls_id))
+
+    def lane_speed(self, lane_id: str) -> float:
+        """The speed limit of SUMO lane ``lane_id``, m/s."""
+        return float(self._api().lane.getMaxSpeed(lane_id))
+
+    def lane_allows(self, lane_id: str, vclass: str) -> bool:
+        """Whether SUMO lane ``lane_id`` admits vehicles of class ``vclass``."""
+        lane = self._api().lane
+        allowed, disallowed = lane.getAllowed(lane_id), lane.getDisallowed(lane_id)
+        return (not allowed or vclass in allowed) and vclass not in disallowed
 
     def pending_vehicles(self) -> int:
         """Vehicles waiting to be inserted (no room yet)."""

@@ -54,6 +54,10 @@ class ScenarioHooks:
         """Whether the ego stack's command moves the ego now (else the scenario does)."""
         return True
 
+    def sensed(self, world: WorldState) -> WorldState:
+        """The world as the ego's sensors may see it (a scenario may hide entities)."""
+        return world
+
     def drive_ego(self, sim: Simulation, ego_id: str, speed: float) -> None:
         """Apply the stack's ``speed`` (m/s) to the ego for the next step: SUMO drives it on
         its route (a scenario may steer it along its own path instead)."""
@@ -108,7 +112,8 @@ def run_closed_loop(
                     break  # the ego left the network
                 continue
             row = world.index(ego_id)
-            step = stack.step(world, row)
+            sensed = hooks.sensed(world)
+            step = stack.step(sensed, sensed.index(ego_id) if sensed is not world else row)
             ego = world.pose(row)
             _metrics(res, world, row, ego, step, hooks, truth)
             if on_step is not None:

@@ -137,6 +137,12 @@ class EngineHooks(ScenarioHooks):
     def drive_ego(self, sim: Simulation, ego_id: str, speed: float) -> None:
         self.engine.drive_ego(sim, speed)
 
+    def sensed(self, world: WorldState) -> WorldState:
+        hidden = self.engine.hidden_from_sensors()
+        if not hidden:
+            return world
+        return world.select(~np.isin(world.ids, hidden))
+
     def done(self, world: WorldState, ego: Pose, script_time: float) -> bool:
         """True ``scoring.settle_after_stop`` s after the ego first stood still."""
         now, sc = self.report.time, self.scoring

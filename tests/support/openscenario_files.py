@@ -100,7 +100,7 @@ def run_scenario(
     on_step: Callable[..., None] | None = None,
 ) -> tuple:
     """Run the scenario in ``path`` on SUMO with the engine; the ego (stack-driven) is held at
-    its Init speed by a stand-in. ``on_step(sim, world, report, engine)`` after every update.
+    its Init speed by a stand-in (steering along a path the storyboard gives it). ``on_step(sim, world, report, engine)`` after every update.
     Returns (engine, last report)."""
     from hiyari.bridge.openscenario.engine import ScenarioEngine
     from hiyari.bridge.openscenario.xosc.reader import read_scenario
@@ -118,7 +118,7 @@ def run_scenario(
             world = sim.step()
             report = engine.step(sim, world)
             if sc.ego and not report.ego_storyboard_driven:
-                sim.set_speed(sc.ego, v0)
+                engine.drive_ego(sim, abs(v0))
             if on_step is not None:
                 on_step(sim, world, report, engine)
     return engine, report

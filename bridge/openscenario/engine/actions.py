@@ -14,6 +14,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from hiyari.bridge.openscenario.engine.followers.lateral_distance import lateral_goal
+from hiyari.bridge.openscenario.engine.followers.speed_profile import speed_profile
+from hiyari.bridge.openscenario.engine.followers.synchronize import Synchronizer
 from hiyari.bridge.openscenario.engine.global_actions import is_global, run_global
 from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
 from hiyari.bridge.openscenario.engine.kernels.shapes import lateral_duration, span
@@ -29,7 +32,6 @@ from hiyari.bridge.openscenario.engine.motion import (
 )
 from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.engine.positions import Pose, lane_shift
-from hiyari.bridge.openscenario.engine.synchronize import Synchronizer
 from hiyari.bridge.openscenario.model.actions import (
     AbsoluteLane,
     AbsoluteOffset,
@@ -43,11 +45,15 @@ from hiyari.bridge.openscenario.model.actions import (
     FollowTrajectoryAction,
     LaneChangeAction,
     LaneOffsetAction,
+    LateralDistanceAction,
+    LightStateAction,
     LongitudinalDistanceAction,
     Shape,
     SpeedAction,
+    SpeedProfileAction,
     SynchronizeAction,
     TeleportAction,
+    VisibilityAction,
 )
 from hiyari.bridge.openscenario.model.entities import EntityKind
 from hiyari.bridge.openscenario.model.positions import WorldPosition
@@ -59,6 +65,8 @@ if TYPE_CHECKING:
 
 _MOTION = (
     SpeedAction,
+    SpeedProfileAction,
+    LateralDistanceAction,
     SynchronizeAction,
     LongitudinalDistanceAction,
     LaneChangeAction,
@@ -97,7 +105,16 @@ class ActionStarter:
             run_global(eng, body, action.source or action.name)
             return Instance(element, actor, (), finished=True)
         if isinstance(body, AssignControllerAction | ActivateControllerAction):
-            self._controller(actor, body)
+            try:
+                self._controller(actor, body)
+            except HiyariError as exc:
+                raise HiyariError(f"{action.source or action.name}: {exc}") from None
+            return Instance(element, actor, (), finished=True)
+        if isinstance(body, VisibilityAction):
+            eng.visibility[actor] = body
+            return Instance(element, actor, (), finished=True)
+        if isinstance(body, LightStateAction):
+            eng.set_light(actor, body)
             return Instance(element, actor, (), finished=True)
         if isinstance(body, FollowTrajectoryAction) and not eng.storyboard_drives(actor):
             return self._ego_trajectory(element, eng.actors[actor], body, now)
@@ -134,8 +151,9 @@ class ActionStarter:
             a.lat = None
         if inst.obj is a.path:
             a.path = None
-        if self.e.keepers.get(inst.actor) is inst.obj:
-            del self.e.keepers[inst.actor]
+        for d in inst.domains:
+            if inst.obj is not None and self.e.keepers.get((inst.actor, d)) is inst.obj:
+                del self.e.keepers[(inst.actor, d)]
         for d in inst.domains:
             self.e.owner.pop((inst.actor, d), None)
         inst.finished = True
@@ -151,12 +169,31 @@ class ActionStarter:
         self, actor: str, body: AssignControllerAction | ActivateControllerAction
     ) -> None:
         doms = self.e.active_domains[actor]
+        was = self.e.storyboard_drives(actor)
+        here = (
+            None
+            if was or self.e._world is None
+            else (self.e.pose_of(actor), self.e.speed_of(actor))
+        )
         if isinstance(body, AssignControllerAction):
             self.e.controller[actor] = body.controller
+        elif body.controller is not None:
+            known = self.e.actors[actor].entity.controllers
+            if body.controller not in known:
+                raise HiyariError(
+                    f"ActivateControllerAction: entity {actor!r} has no controller "
+                    f"{body.controller!r} (its controllers: {', '.join(known) or 'none'})"
+                )
+            self.e.controller[actor] = known[body.controller]
         if body.lateral is not None:
             doms["lateral"] = body.lateral
         if body.longitudinal is not None:
             doms["longitudinal"] = body.longitudinal
+        if here is not None and self.e.storyboard_drives(actor):
+            # the storyboard takes the ego over where the stack left it
+            a = self.e.actors[actor]
+            self._teleport(a, here[0])
+            a.v = here[1]
 
     # ------------------------------------------------------------------ motion actions
     def _motion(self, element: int, a: Actor, body: object, now: float) -> Instance:
@@ -165,6 +202,8 @@ class ActionStarter:
             return Instance(element, a.name, (), finished=True)
         if isinstance(body, SpeedAction):
             return self._speed(element, a, body, now)
+        if isinstance(body, SpeedProfileAction):
+            return self._speed_profile(element, a, body, now)
         if isinstance(body, SynchronizeAction):
             sync = Synchronizer(self.e, a.name, body)
             self._claim(element, a.name, ("longitudinal",))
@@ -182,8 +221,10 @@ class ActionStarter:
                 a.v = self.e.speed_of(body.entity)
 
             a.long = None
-            self.e.keepers[a.name] = keep
+            self.e.keepers[(a.name, "longitudinal")] = keep
             return Instance(element, a.name, ("longitudinal",), keep)
+        if isinstance(body, LateralDistanceAction):
+            return self._lateral_distance(element, a, body, now)
         if isinstance(body, LaneChangeAction):
             return self._lane_change(element, a, body, now)
         if isinstance(body, LaneOffsetAction):
@@ -194,6 +235,10 @@ class ActionStarter:
             return self._route(element, a, body.route)
         here = WorldPosition(a.x, a.y, a.z, a.h)
         return self._route(element, a, Route("AcquirePositionAction", (here, body.position)))
+
+    def place(self, a: Actor, p: Pose) -> None:
+        """Put ``a`` at ``p`` (on its road when ``p`` is on one)."""
+        self._teleport(a, p)
 
     def _teleport(self, a: Actor, p: Pose) -> None:
         a.x, a.y, a.z, a.h = p.x, p.y, p.z, p.h
@@ -244,6 +289,25 @@ class ActionStarter:
         a.long, a.long_travelled = tr, 0.0
         return Instance(element, a.name, ("longitudinal",), tr)
 
+    def _speed_profile(
+        self, element: int, a: Actor, body: SpeedProfileAction, now: float
+    ) -> Instance:
+        base = self.e.speed_of(body.entity) if body.entity else 0.0
+        times, speeds = speed_profile(body, a.v, base, now)
+        over = [False]
+
+        def goal() -> float:
+            t = self.e.now + self.e.dt  # the speed at the end of the coming step
+            if t >= times[-1] - 1e-9 and not over[0]:
+                over[0] = True
+                self.e.table.motion_version += 1  # the storyboard is to end the action
+            return float(np.interp(t, times, speeds))
+
+        self._claim(element, a.name, ("longitudinal",))
+        tr = SpeedTransition(a.v, a.v, goal, Shape.STEP, 0.0, False, True, now)
+        a.long, a.long_travelled = tr, 0.0
+        return Instance(element, a.name, ("longitudinal",), tr, until=lambda: over[0])
+
     def _gap(self, a: Actor, body: LongitudinalDistanceAction) -> None:
         ref = self.e.pose_of(body.entity)
         if not ref.road or not a.road:
@@ -270,6 +334,35 @@ class ActionStarter:
             )
         a.road, a.s = ref.road, ref.s + direction * lead
         place_actor(self.e.roads.odr, a)
+
+    def _lateral_distance(
+        self, element: int, a: Actor, body: LateralDistanceAction, now: float
+    ) -> Instance:
+        if a.free or not a.road:
+            raise HiyariError(f"LateralDistanceAction on {a.name!r}, which is not on a road")
+        goal = lateral_goal(self.e, a.name, body)
+        if body.continuous:
+
+            def keep() -> None:
+                a.t = lateral_goal(self.e, a.name, body)
+                a.lane = self.e.resolver.at_road(a.road, a.s, a.t).lane
+                place_actor(self.e.roads.odr, a)
+
+            self._claim(element, a.name, ("lateral",))
+            a.lat = None
+            keep()
+            self.e.keepers[(a.name, "lateral")] = keep
+            return Instance(element, a.name, ("lateral",), keep)
+        lane = self.e.resolver.at_road(a.road, a.s, goal).lane
+        offset = goal - self._lane_t(a.road, lane, a.s)
+        if body.max_acc is None or body.max_acc <= 0:
+            shape, duration = Shape.STEP, 0.0
+        else:
+            shape = Shape.SINUSOIDAL
+            duration = lateral_duration(shape, body.max_acc, goal - a.t)
+        return self._lateral(
+            element, a, lane, offset, None, shape, Dimension.TIME, duration, now, False
+        )
 
     def _lane_change(self, element: int, a: Actor, body: LaneChangeAction, now: float) -> Instance:
         if isinstance(body.target, AbsoluteLane):

@@ -24,6 +24,7 @@ from hiyari.bridge.openscenario.engine.positions import Pose
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.conditions import (
     AccelerationCondition,
+    AngleCondition,
     CollisionCondition,
     Condition,
     CoordinateSystem,
@@ -32,8 +33,11 @@ from hiyari.bridge.openscenario.model.conditions import (
     Edge,
     EndOfRoadCondition,
     EntityCondition,
+    OffroadCondition,
     ParameterCondition,
     ReachPositionCondition,
+    RelativeAngleCondition,
+    RelativeClearanceCondition,
     RelativeDistanceCondition,
     RelativeSpeedCondition,
     Rule,
@@ -42,7 +46,10 @@ from hiyari.bridge.openscenario.model.conditions import (
     StandStillCondition,
     StoryboardElementStateCondition,
     TimeHeadwayCondition,
+    TimeOfDayCondition,
     TimeToCollisionCondition,
+    TrafficSignalCondition,
+    TrafficSignalControllerCondition,
     TraveledDistanceCondition,
     Trigger,
     VariableCondition,
@@ -99,6 +106,11 @@ class ConditionBank:
         self.static = np.zeros(n, dtype=bool)
         #: Conditions on variables / parameters: (condition index, kind, body, source).
         self.value_conditions: list[tuple[int, str, object, str]] = []
+        #: Conditions measured in Python (relative clearance, traffic signals): (index,
+        #: condition), set by ``python_eval`` (the engine's) before each evaluation of their
+        #: trigger.
+        self.python_conditions: list[tuple[int, Condition]] = []
+        self.python_eval: Callable[[Condition], bool] | None = None
         rows: list[tuple] = []
         for i, c in enumerate(self.conditions):
             b = c.body
@@ -115,6 +127,20 @@ class ConditionBank:
                 cond[i, K.C_KIND] = K.STATIC
                 kind = "parameter" if isinstance(b, ParameterCondition) else "variable"
                 self.value_conditions.append((i, kind, b, c.source))
+            elif isinstance(
+                b, TrafficSignalCondition | TrafficSignalControllerCondition | TimeOfDayCondition
+            ):
+                cond[i, K.C_KIND] = K.STATIC  # read from SUMO (python_eval) each step
+                self.python_conditions.append((i, c))
+            elif isinstance(b, EntityCondition) and isinstance(
+                b.body, RelativeClearanceCondition | AngleCondition | RelativeAngleCondition
+            ):
+                cond[i, K.C_KIND] = K.STATIC  # measured in Python (python_eval) each step
+                refs = getattr(b.body, "entities", ()) or (getattr(b.body, "entity", None),)
+                for name in (*b.triggering, *refs):
+                    if name is not None:
+                        self._entity(name, c.source)
+                self.python_conditions.append((i, c))
             elif isinstance(b, EntityCondition):
                 cond[i, K.C_KIND], cond[i, K.C_RULE] = K.ENTITY, b.rule != "all"
                 rows += self._entity_rows(i, c, b)
@@ -211,6 +237,9 @@ class ConditionBank:
         each element went through at the last update. ``gather``: the arguments of
         :func:`snapshot.gather_entities` filling ``snap``'s arrays, run first in the same
         compiled call (None: ``snap`` is filled). ``n_fired``: how many fired."""
+        for i, ec in self.python_conditions:
+            if active[self.cond_trigger[i]] and self.python_eval is not None:
+                self.static[i] = self.python_eval(ec)
         if len(self.point_rows):
             if gather is not None:  # the points need the entities' presence first
                 gather_entities(*gather)
@@ -295,7 +324,7 @@ def _classify(b: object) -> tuple[int, object, float, Rule | None]:
         return M.STANDSTILL, None, b.duration, Rule.GREATER_OR_EQUAL
     if isinstance(b, TraveledDistanceCondition):
         return M.TRAVELED, None, b.value, Rule.GREATER_OR_EQUAL
-    if isinstance(b, EndOfRoadCondition):
+    if isinstance(b, EndOfRoadCondition | OffroadCondition):  # both: off the network
         return M.END_OF_ROAD, None, b.duration, Rule.GREATER_OR_EQUAL
     if isinstance(b, CollisionCondition):
         return M.COLLISION, b.entity, 0.0, None

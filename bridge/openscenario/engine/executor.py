@@ -49,6 +49,7 @@ from hiyari.bridge.openscenario.engine.kernels.snapshot import (
     gather_entities,
 )
 from hiyari.bridge.openscenario.engine.kernels.step_kernel import quiet_step
+from hiyari.bridge.openscenario.engine.measured import entity_holds, time_of_day_holds
 from hiyari.bridge.openscenario.engine.motion import (
     Actor,
     ActorTable,
@@ -62,8 +63,19 @@ from hiyari.bridge.openscenario.engine.motion import (
 from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.engine.positions import Pose, PoseResolver
 from hiyari.bridge.openscenario.engine.preflight import check_decided_actions
+from hiyari.bridge.openscenario.engine.signals import phase_index, sumo_state
 from hiyari.bridge.openscenario.engine.values import ValueStore
-from hiyari.bridge.openscenario.model.actions import AssignRouteAction
+from hiyari.bridge.openscenario.model.actions import (
+    AssignRouteAction,
+    LightStateAction,
+    VisibilityAction,
+)
+from hiyari.bridge.openscenario.model.conditions import (
+    Condition,
+    TimeOfDayCondition,
+    TrafficSignalCondition,
+    TrafficSignalControllerCondition,
+)
 from hiyari.bridge.openscenario.model.entities import EntityKind
 from hiyari.bridge.openscenario.model.global_actions import Environment
 from hiyari.bridge.openscenario.model.storyboard import Scenario
@@ -81,6 +93,21 @@ _SHAPE = {
     ActorClass.MOTORCYCLE: "motorcycle",
     ActorClass.BICYCLE: "bicycle",
     ActorClass.PEDESTRIAN: "pedestrian",
+}
+#: SUMO's signal bits of OpenSCENARIO's vehicle lights (flashing indicators blink in SUMO too).
+SUMO_SIGNALS = {
+    "indicatorRight": 1,
+    "indicatorLeft": 2,
+    "warningLights": 4,
+    "brakeLights": 8,
+    "lowBeam": 16,
+    "daytimeRunningLights": 16,
+    "fogLights": 32,
+    "fogLightsFront": 32,
+    "fogLightsRear": 32,
+    "highBeam": 64,
+    "reversingLights": 128,
+    "specialPurposeLights": 1024,
 }
 #: Top speed given to SUMO types when the scenario names none, m/s.
 DEFAULT_MAX_SPEED = 100.0
@@ -142,7 +169,9 @@ class ScenarioEngine:
         self.resolver = PoseResolver(roads.odr, self.pose_of)
         self.starter = ActionStarter(self)
         #: Variables and parameters as they are now (actions may change them).
-        self.values = ValueStore(scenario.variables, scenario.parameters, scenario.parameter_types)
+        self.values = ValueStore(
+            scenario.variables, scenario.parameters, scenario.parameter_types, scenario.monitors
+        )
         #: The environment the latest EnvironmentAction set (None: none yet).
         self.environment: Environment | None = None
         self.bank = ConditionBank(
@@ -153,15 +182,23 @@ class ScenarioEngine:
             self.resolver.resolve,
             step_length,
         )
+        self.bank.python_eval = self._measure_in_python
         self.instances: dict[int, list[Instance]] = {}
         self.owner: dict[tuple[str, str], int] = {}
         self.controller = {e.name: e.controller for e in scenario.entities}
         self.active_domains = {
             e.name: {"lateral": True, "longitudinal": True} for e in scenario.entities
         }
-        #: Continuous LongitudinalDistanceActions by actor: each step, after the motion, they
+        #: Continuous distance actions by (actor, domain): each step, after the motion, they
         #: put their actor at its gap again.
-        self.keepers: dict[str, Callable[[], None]] = {}
+        self.keepers: dict[tuple[str, str], Callable[[], None]] = {}
+        #: Traffic actions running by name (sources, sinks, swarms) and SUMO vehicles they
+        #: inserted so far.
+        self.traffic: dict[str, object] = {}
+        self.traffic_count = 0
+        #: VisibilityActions in force by entity; light modes by (entity, light).
+        self.visibility: dict[str, VisibilityAction] = {}
+        self.lights: dict[tuple[str, str], str] = {}
         #: The path the storyboard gives a stack-driven ego to steer along (its speed stays
         #: the stack's), None when it steers on its SUMO route.
         self.ego_path: PathMotion | None = None
@@ -215,6 +252,7 @@ class ScenarioEngine:
         self._moved_key: tuple[int, int] = (-1, -1)
         self._command_cache: tuple[object, tuple] = (None, ())  # lane profile, command_step args
         self._inserts = 0
+        self._types: set[str] = set()  # entities whose SUMO vehicle type is defined
         self._lanes_of: tuple[np.ndarray | None, list[str], list[int]] = (None, [], [])
         # table rows on roads / following paths, for the view and motion versions
         self._advance_rows: tuple[tuple[int, int], np.ndarray, list[int]] | None = None
@@ -250,6 +288,14 @@ class ScenarioEngine:
             and any(self.active_domains[name].values())
         )
 
+    def road_pose(self, name: str) -> Pose:
+        """``pose_of`` with road coordinates located anew for a scripted actor off the roads'
+        frames (following a path: its road, lane and s are not kept)."""
+        a = self.actors[name]
+        if a.free and self.storyboard_drives(name):
+            return self.resolver.at_xy(a.x, a.y, a.h)
+        return self.pose_of(name)
+
     def travel_direction(self, name: str) -> float:
         """+1 when entity ``name`` travels towards increasing road s, else -1 (its lane's
         direction; a scripted actor's own, which a wrong-way heading turns)."""
@@ -259,6 +305,63 @@ class ScenarioEngine:
             return float(self.table.direction[a.k])
         p = self.pose_of(name)
         return forward(self.roads.odr, p.road, p.lane) if p.road else 1.0
+
+    def _measure_in_python(self, c: Condition) -> bool:
+        """Whether condition ``c`` (relative clearance, traffic signal) holds now."""
+        b = c.body
+        if isinstance(b, TrafficSignalCondition):
+            want = sumo_state(self._sim, b.signal, b.state, c.source)
+            return self._sim.signal_states([b.signal])[b.signal] == want
+        if isinstance(b, TrafficSignalControllerCondition):
+            want = phase_index(self._sim, b.controller, b.phase, c.source)
+            return self._sim.signal_phase(b.controller) == want
+        if isinstance(b, TimeOfDayCondition):
+            return time_of_day_holds(self, b, c.source)
+        return entity_holds(self, b)
+
+    def hidden_from_sensors(self) -> list[str]:
+        """Entities a VisibilityAction hides from the ego's sensors now."""
+        return [n for n, v in self.visibility.items() if not v.sensors]
+
+    def set_light(self, name: str, b: LightStateAction) -> None:
+        """Set a light's mode; a vehicle's lamps go to SUMO's signals (user-defined lights
+        are kept here only)."""
+        self.lights[(name, b.light)] = b.mode
+        a = self.actors[name]
+        if b.user_defined or not a.inserted:
+            return
+        bits = 0
+        for (who, light), mode in self.lights.items():
+            if who == name and mode != "off":
+                bits |= SUMO_SIGNALS.get(light, 0)
+        self._sim.set_signals(name, bits)
+
+    def remove_entity(self, name: str, where: str) -> None:
+        """Take entity ``name`` out of SUMO now (DeleteEntityAction); its running actions stop."""
+        a = self._known(name, where)
+        if not a.inserted:
+            return
+        for insts in list(self.instances.values()):
+            for inst in insts:
+                if inst.actor == name:
+                    self.starter.cancel(inst)
+        self._sim.remove_actor(name)
+        a.inserted = False
+        self._inserts += 1
+
+    def add_entity(self, name: str, pose: Pose, where: str) -> None:
+        """Put entity ``name`` into SUMO at ``pose`` (AddEntityAction); nothing when it is in."""
+        a = self._known(name, where)
+        if a.inserted:
+            return
+        self.starter.place(a, pose)
+        self._insert(self._sim, name)
+
+    def _known(self, name: str, where: str) -> Actor:
+        a = self.actors.get(name)
+        if a is None:
+            raise HiyariError(f"{where}: no entity {name!r} in the scenario")
+        return a
 
     def drive_ego(self, sim: Simulation, speed: float, move: bool = True) -> None:
         """Command the stack-driven ego's ``speed`` (m/s, >= 0) for the next step: SUMO drives
@@ -331,6 +434,7 @@ class ScenarioEngine:
         (engine.preflight) and insert every entity into SUMO. The state after SUMO's next
         step is scenario time 0 (the Init state)."""
         self.t0 = sim.time + self.dt
+        self._sim = sim
         group = self.tree.elements[self.tree.init].children[0]
         maneuver = self.tree.elements[group].children[0]
         for i in (self.tree.init, group, maneuver, self.tree.init_event):
@@ -362,8 +466,9 @@ class ScenarioEngine:
             if scripted
             else ("passenger" if cls == ActorClass.PEDESTRIAN else _SHAPE[cls])
         )
-        sim.define_vehicle_type(
-            VehicleType(
+        if name not in self._types:  # once: an entity added again keeps its type
+            self._types.add(name)
+            vt = VehicleType(
                 f"hiyari_{name}",
                 e.length,
                 e.width,
@@ -372,7 +477,7 @@ class ScenarioEngine:
                 vclass=vclass,
                 shape=_SHAPE[cls],
             )
-        )
+            sim.define_vehicle_type(vt)
         edge, lane_index, pos = self._insertion_point(a)
         route = self._sumo_route(name, edge) if not scripted else [edge]
         sim.add_vehicle(name, route, f"hiyari_{name}", lane_index, pos, abs(a.v), scripted=True)
@@ -433,6 +538,8 @@ class ScenarioEngine:
         self._started, self._ended, self._ego_requests = [], [], []
         if self.finished:
             return self._report()
+        for t in list(self.traffic.values()):
+            t.update(self, sim, world)
         quiet = self._quiet_args()
         if quiet is not None:
             if self.table.long_targets:
@@ -517,7 +624,7 @@ class ScenarioEngine:
             version == self._idle[0] == self._cleared
             and self._idle[1] == (version, tb.motion_version)
             and not bank.needs_contacts and not bank.needs_on_net and not len(bank.point_rows)
-            and not self.keepers
+            and not self.keepers and not bank.python_conditions and not self.traffic
         ):  # fmt: skip
             return None
         view = self._view()

@@ -7,12 +7,23 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
+from hiyari.bridge.openscenario.engine.signals import phase_index, sumo_state
+from hiyari.bridge.openscenario.engine.traffic import Sink, Source, Swarm
 from hiyari.bridge.openscenario.model.global_actions import (
+    AddEntityAction,
+    DeleteEntityAction,
     Environment,
     EnvironmentAction,
     GlobalActionBody,
     ParameterModifyAction,
     ParameterSetAction,
+    SetMonitorAction,
+    TrafficSignalControllerAction,
+    TrafficSignalStateAction,
+    TrafficSinkAction,
+    TrafficSourceAction,
+    TrafficStopAction,
+    TrafficSwarmAction,
     VariableModifyAction,
     VariableSetAction,
 )
@@ -27,6 +38,15 @@ GLOBAL_KINDS = (
     ParameterSetAction,
     ParameterModifyAction,
     EnvironmentAction,
+    AddEntityAction,
+    DeleteEntityAction,
+    SetMonitorAction,
+    TrafficSignalStateAction,
+    TrafficSignalControllerAction,
+    TrafficSourceAction,
+    TrafficSinkAction,
+    TrafficSwarmAction,
+    TrafficStopAction,
 )
 
 
@@ -77,7 +97,53 @@ def merge_environment(old: Environment | None, new: Environment) -> Environment:
     )
 
 
+def _delete(engine: ScenarioEngine, b: DeleteEntityAction, where: str) -> None:
+    engine.remove_entity(b.entity, where)
+
+
+def _add(engine: ScenarioEngine, b: AddEntityAction, where: str) -> None:
+    engine.add_entity(b.entity, engine.resolver.resolve(b.position), where)
+
+
+def _monitor(engine: ScenarioEngine, b: SetMonitorAction, where: str) -> None:
+    engine.values.set("monitor", b.monitor, "true" if b.value else "false", where)
+
+
+def _signal(engine: ScenarioEngine, b: TrafficSignalStateAction, where: str) -> None:
+    engine._sim.set_signal_state(b.signal, sumo_state(engine._sim, b.signal, b.state, where))
+
+
+def _controller(engine: ScenarioEngine, b: TrafficSignalControllerAction, where: str) -> None:
+    engine._sim.set_signal_phase(
+        b.controller, phase_index(engine._sim, b.controller, b.phase, where)
+    )
+
+
+def _traffic(engine: ScenarioEngine, b: object, where: str) -> None:
+    kind = {TrafficSourceAction: Source, TrafficSinkAction: Sink, TrafficSwarmAction: Swarm}
+    key = b.name or f"{where}#{len(engine.traffic)}"
+    engine.traffic[key] = kind[type(b)](engine, b)
+
+
+def _traffic_stop(engine: ScenarioEngine, b: TrafficStopAction, where: str) -> None:
+    if b.name not in engine.traffic:
+        raise HiyariError(
+            f"{where}: TrafficStopAction: no traffic action called {b.name!r} runs "
+            f"(running: {', '.join(engine.traffic) or 'none'})"
+        )
+    del engine.traffic[b.name]
+
+
 _RUNNERS: dict[type, Callable[..., None]] = {
+    TrafficSourceAction: _traffic,
+    TrafficSinkAction: _traffic,
+    TrafficSwarmAction: _traffic,
+    TrafficStopAction: _traffic_stop,
+    TrafficSignalStateAction: _signal,
+    TrafficSignalControllerAction: _controller,
+    SetMonitorAction: _monitor,
+    DeleteEntityAction: _delete,
+    AddEntityAction: _add,
     VariableSetAction: _variable_set,
     VariableModifyAction: _variable_modify,
     ParameterSetAction: _parameter_set,

@@ -1,5 +1,6 @@
-"""The run-time values of a scenario: its variables (OpenSCENARIO 1.2+ VariableDeclarations)
-and its top-level parameters (which the deprecated ParameterSetAction / ParameterModifyAction
+"""The run-time values of a scenario: its variables (OpenSCENARIO 1.2+ VariableDeclarations),
+its monitors (1.3 MonitorDeclarations: booleans the storyboard sets for whoever evaluates the
+run) and its top-level parameters (which the deprecated ParameterSetAction / ParameterModifyAction
 may still change). Values are kept as canonical text of their declared type, as the reader
 resolves parameters; conditions compare them numerically when both sides are numbers, else as
 text (equalTo / notEqualTo only)."""
@@ -33,11 +34,15 @@ class ValueStore:
         variables: dict[str, tuple[str, str]],
         parameters: dict[str, object],
         parameter_types: dict[str, str],
+        monitors: dict[str, bool] | None = None,
     ) -> None:
         self._values = {
             "variable": {n: Value(t, v) for n, (t, v) in variables.items()},
             "parameter": {
                 n: Value(parameter_types.get(n, "string"), str(v)) for n, v in parameters.items()
+            },
+            "monitor": {
+                n: Value("boolean", "true" if v else "false") for n, v in (monitors or {}).items()
             },
         }
         #: Bumped by every change: conditions on values are re-read when it moves.

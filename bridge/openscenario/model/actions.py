@@ -24,16 +24,20 @@ __all__ = [
     "FollowTrajectoryAction",
     "LaneChangeAction",
     "LaneOffsetAction",
+    "LightStateAction",
+    "LateralDistanceAction",
     "LongitudinalDistanceAction",
     "RelativeLane",
     "RelativeOffset",
     "RelativeSpeed",
     "Shape",
     "SpeedAction",
+    "SpeedProfileAction",
     "SynchronizeAction",
     "TeleportAction",
     "Timing",
     "TransitionDynamics",
+    "VisibilityAction",
 ]
 
 
@@ -103,6 +107,23 @@ class LongitudinalDistanceAction:
     freespace: bool
     continuous: bool
     displacement: str = "trailingReferencedEntity"
+
+
+@dataclass(frozen=True)
+class SpeedProfileAction:
+    """Speeds to reach one after the other: ``entries`` of (speed m/s, time s or None); with
+    ``entity`` the speeds are added to that entity's speed at the start. A time is how long
+    reaching that speed takes (linearly); without one the change takes as long as
+    ``max_accel`` / ``max_decel`` (m/s^2) allow (at once when they are not given).
+    ``following_mode`` "follow" also keeps a timed change within those limits (it then takes
+    longer); "position" follows the times exactly. ``max_speed`` caps every speed."""
+
+    entries: tuple[tuple[float, float | None], ...]
+    following_mode: str = "follow"
+    entity: str | None = None
+    max_accel: float | None = None
+    max_decel: float | None = None
+    max_speed: float | None = None
 
 
 @dataclass(frozen=True)
@@ -176,6 +197,43 @@ class LaneOffsetAction:
 
 
 @dataclass(frozen=True)
+class LateralDistanceAction:
+    """Hold the actor ``distance`` m across the road from ``entity`` (between the boxes'
+    sides when ``freespace``, else between the reference points), on the side
+    ``displacement`` says (leftToReferencedEntity, rightToReferencedEntity: in the
+    reference's direction of travel; any: the side it is on). ``max_acc`` (m/s^2; None:
+    at once): the peak lateral acceleration of the move there; ``continuous``: hold it
+    every step (the reference may move across)."""
+
+    entity: str
+    distance: float
+    freespace: bool
+    continuous: bool
+    displacement: str = "any"
+    max_acc: float | None = None
+
+
+@dataclass(frozen=True)
+class VisibilityAction:
+    """Whether the entity is seen: by renderers (``graphics``), by other traffic
+    (``traffic``), by the ego's sensors (``sensors``)."""
+
+    graphics: bool
+    traffic: bool
+    sensors: bool
+
+
+@dataclass(frozen=True)
+class LightStateAction:
+    """Set light ``light`` (a vehicleLightType such as brakeLights, or a user-defined light's
+    name) to ``mode`` (on, off, flashing)."""
+
+    light: str
+    mode: str
+    user_defined: bool = False
+
+
+@dataclass(frozen=True)
 class TeleportAction:
     """Place the actor at ``position`` now."""
 
@@ -240,18 +298,25 @@ class AssignControllerAction:
 
 @dataclass(frozen=True)
 class ActivateControllerAction:
-    """Switch the actor's assigned controller on (True) or off (False) per domain."""
+    """Switch the actor's assigned controller on (True) or off (False) per domain;
+    ``controller``: the name of one of the entity's ObjectControllers to make the assigned
+    one first (None: keep the assigned one)."""
 
     lateral: bool | None = None
     longitudinal: bool | None = None
+    controller: str | None = None
 
 
 ActionBody = (
     SpeedAction
+    | SpeedProfileAction
     | SynchronizeAction
     | LongitudinalDistanceAction
     | LaneChangeAction
     | LaneOffsetAction
+    | LateralDistanceAction
+    | VisibilityAction
+    | LightStateAction
     | TeleportAction
     | FollowTrajectoryAction
     | AssignRouteAction

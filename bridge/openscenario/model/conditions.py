@@ -10,6 +10,7 @@ from hiyari.bridge.openscenario.model.positions import Position
 
 __all__ = [
     "AccelerationCondition",
+    "AngleCondition",
     "CollisionCondition",
     "Condition",
     "ConditionBody",
@@ -21,8 +22,11 @@ __all__ = [
     "EndOfRoadCondition",
     "EntityCondition",
     "EntityConditionBody",
+    "OffroadCondition",
     "ParameterCondition",
     "ReachPositionCondition",
+    "RelativeAngleCondition",
+    "RelativeClearanceCondition",
     "RelativeDistanceCondition",
     "RelativeSpeedCondition",
     "Rule",
@@ -31,7 +35,10 @@ __all__ = [
     "StandStillCondition",
     "StoryboardElementStateCondition",
     "TimeHeadwayCondition",
+    "TimeOfDayCondition",
     "TimeToCollisionCondition",
+    "TrafficSignalCondition",
+    "TrafficSignalControllerCondition",
     "TraveledDistanceCondition",
     "Trigger",
     "VariableCondition",
@@ -112,6 +119,33 @@ class VariableCondition:
     variable: str
     value: str
     rule: Rule
+
+
+@dataclass(frozen=True)
+class TimeOfDayCondition:
+    """The scenario's time of day (its EnvironmentAction's, running on with the simulation
+    when animated) compared with ``date_time`` (ISO 8601 text)."""
+
+    date_time: str
+    rule: Rule
+
+
+@dataclass(frozen=True)
+class TrafficSignalCondition:
+    """Traffic signal ``signal`` (a SUMO traffic light) shows ``state`` (as in
+    TrafficSignalStateAction)."""
+
+    signal: str
+    state: str
+
+
+@dataclass(frozen=True)
+class TrafficSignalControllerCondition:
+    """Controller ``controller`` (a SUMO traffic light) is in phase ``phase`` (name or
+    index)."""
+
+    controller: str
+    phase: str
 
 
 @dataclass(frozen=True)
@@ -222,6 +256,53 @@ class EndOfRoadCondition:
 
 
 @dataclass(frozen=True)
+class OffroadCondition:
+    """Off every road (no lane of the network under the reference point) for at least
+    ``duration`` s."""
+
+    duration: float
+
+
+@dataclass(frozen=True)
+class RelativeClearanceCondition:
+    """No other entity (only ``entities`` when given) in the lanes ``lanes`` (ranges of lanes
+    relative to the triggering entity's, 0 its own, positive to its left; all lanes when
+    empty) from ``backward`` m behind to ``forward`` m ahead of it along the road; lanes of
+    the opposite direction count only with ``opposite``; ``freespace``: between the boxes,
+    else the reference points."""
+
+    opposite: bool
+    freespace: bool
+    forward: float = 0.0
+    backward: float = 0.0
+    lanes: tuple[tuple[int, int], ...] = ()
+    entities: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class AngleCondition:
+    """The entity's ``angle_type`` angle (heading; pitch and roll are 0: hiyari's actors are
+    level) is ``angle`` within ``tolerance`` (rad): in the world (coordinate system entity),
+    or relative to the road's direction of travel there (road, lane)."""
+
+    angle_type: str
+    angle: float
+    tolerance: float
+    coordinate_system: CoordinateSystem = CoordinateSystem.ENTITY
+
+
+@dataclass(frozen=True)
+class RelativeAngleCondition:
+    """The entity's ``angle_type`` angle relative to ``entity``'s is ``angle`` within
+    ``tolerance`` (rad)."""
+
+    entity: str
+    angle_type: str
+    angle: float
+    tolerance: float
+
+
+@dataclass(frozen=True)
 class CollisionCondition:
     """In contact with ``entity`` (None: with anything)."""
 
@@ -240,6 +321,10 @@ EntityConditionBody = (
     | StandStillCondition
     | TraveledDistanceCondition
     | EndOfRoadCondition
+    | OffroadCondition
+    | RelativeClearanceCondition
+    | AngleCondition
+    | RelativeAngleCondition
     | CollisionCondition
 )
 
@@ -258,6 +343,9 @@ ConditionBody = (
     | StoryboardElementStateCondition
     | ParameterCondition
     | VariableCondition
+    | TrafficSignalCondition
+    | TrafficSignalControllerCondition
+    | TimeOfDayCondition
     | EntityCondition
 )
 

@@ -57,3 +57,6 @@ class Entity:
     max_decel: float | None = None
     controller: ControllerSpec | None = None
     properties: dict[str, str] = field(default_factory=dict)
+    #: Every ObjectController of the entity (``controller`` is the first: assigned at the
+    #: start), by its ObjectController name, else its Controller's name.
+    controllers: dict[str, ControllerSpec] = field(default_factory=dict)

@@ -5,13 +5,25 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from hiyari.bridge.openscenario.model.positions import Position
+
 __all__ = [
+    "AddEntityAction",
+    "DeleteEntityAction",
     "Environment",
     "EnvironmentAction",
     "Fog",
     "GlobalActionBody",
     "ParameterModifyAction",
     "ParameterSetAction",
+    "SetMonitorAction",
+    "TrafficMix",
+    "TrafficSignalControllerAction",
+    "TrafficSinkAction",
+    "TrafficSourceAction",
+    "TrafficStopAction",
+    "TrafficSwarmAction",
+    "TrafficSignalStateAction",
     "Precipitation",
     "RoadCondition",
     "Sun",
@@ -136,10 +148,121 @@ class EnvironmentAction:
     environment: Environment
 
 
+@dataclass(frozen=True)
+class AddEntityAction:
+    """Put entity ``entity`` (declared in Entities, out of the simulation) at ``position``."""
+
+    entity: str
+    position: Position
+
+
+@dataclass(frozen=True)
+class DeleteEntityAction:
+    """Take entity ``entity`` out of the simulation (its conditions see it absent)."""
+
+    entity: str
+
+
+@dataclass(frozen=True)
+class SetMonitorAction:
+    """Set monitor ``monitor`` (declared in MonitorDeclarations) to ``value``."""
+
+    monitor: str
+    value: bool
+
+
+@dataclass(frozen=True)
+class TrafficSignalStateAction:
+    """Set traffic signal ``signal`` (a SUMO traffic light of the imported net) to ``state``:
+    SUMO's letters per link (r y g G o O u), or OpenSCENARIO's lamp triple "red;yellow;green"
+    of on / off words for every link."""
+
+    signal: str
+    state: str
+
+
+@dataclass(frozen=True)
+class TrafficSignalControllerAction:
+    """Switch traffic-light controller ``controller`` (a SUMO traffic light) to its phase
+    ``phase`` (a phase name, or its index)."""
+
+    controller: str
+    phase: str
+
+
+@dataclass(frozen=True)
+class TrafficMix:
+    """What a traffic action inserts: (weight, vehicle category, length, width, height m;
+    sizes None: SUMO's defaults for the category) entries."""
+
+    entries: tuple[tuple[float, str, float | None, float | None, float | None], ...]
+
+
+@dataclass(frozen=True)
+class TrafficSourceAction:
+    """SUMO traffic inserted ``rate`` vehicles per second within ``radius`` m of
+    ``position`` (on its lane), at ``speed`` m/s (None: the lane's limit); ``name``: the
+    traffic's name (TrafficStopAction ends it)."""
+
+    name: str
+    position: Position
+    radius: float
+    rate: float
+    speed: float | None
+    mix: TrafficMix
+
+
+@dataclass(frozen=True)
+class TrafficSinkAction:
+    """SUMO traffic within ``radius`` m of ``position`` is taken out, ``rate`` vehicles per
+    second at most (None: all)."""
+
+    name: str
+    position: Position
+    radius: float
+    rate: float | None
+
+
+@dataclass(frozen=True)
+class TrafficSwarmAction:
+    """``count`` SUMO vehicles kept around entity ``central`` in the ellipse of semi-axes
+    ``semi_major`` (along its heading) and ``semi_minor`` m whose centre is ``offset`` m ahead
+    of it, outside ``inner_radius`` m; inserted at a speed in ``speed_range`` (m/s; None:
+    the lane's limit), driving its way with weight ``same`` against ``opposite``."""
+
+    name: str
+    central: str
+    inner_radius: float
+    semi_major: float
+    semi_minor: float
+    offset: float
+    count: int
+    speed_range: tuple[float, float] | None
+    same: float
+    opposite: float
+    mix: TrafficMix
+
+
+@dataclass(frozen=True)
+class TrafficStopAction:
+    """End the traffic action called ``name`` (its vehicles drive on)."""
+
+    name: str
+
+
 GlobalActionBody = (
     VariableSetAction
     | VariableModifyAction
     | ParameterSetAction
     | ParameterModifyAction
     | EnvironmentAction
+    | AddEntityAction
+    | DeleteEntityAction
+    | SetMonitorAction
+    | TrafficSignalStateAction
+    | TrafficSignalControllerAction
+    | TrafficSourceAction
+    | TrafficSinkAction
+    | TrafficSwarmAction
+    | TrafficStopAction
 )

@@ -111,6 +111,8 @@ class Scenario:
     source: Path | None = None
     parameter_types: dict[str, str] = field(default_factory=dict)
     variables: dict[str, tuple[str, str]] = field(default_factory=dict)
+    #: Monitors (MonitorDeclarations): name -> initial value.
+    monitors: dict[str, bool] = field(default_factory=dict)
 
     def entity(self, name: str) -> Entity:
         """The entity called ``name``; KeyError when absent."""

@@ -81,7 +81,14 @@ class Ctx:
         return f"{self.file}:{el.sourceline}"
 
     def unsupported(self, el: etree._Element, detail: str = "") -> HiyariError:
-        """The error for an element the engine cannot execute."""
+        """The error for an element the engine cannot execute; without ``detail``, the
+        element table's reason (coverage.REFUSED / NOT_YET) when it has one."""
+        from hiyari.bridge.openscenario.coverage import NOT_YET, REFUSED
+
+        if not detail:
+            detail = REFUSED.get(el.tag) or (
+                f"not yet: {NOT_YET[el.tag]}" if el.tag in NOT_YET else ""
+            )
         extra = f" ({detail})" if detail else ""
         return HiyariError(f"{self.where(el)}: <{el.tag}> is not supported by hiyari{extra}")
 

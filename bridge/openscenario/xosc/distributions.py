@@ -148,7 +148,7 @@ def _draw(ctx: Ctx, el: etree._Element, rng: np.random.Generator) -> str:
         lam = ctx.num(el, "expectedValue")
         return _fmt(_truncated(ctx, el, lambda: rng.poisson(lam), rng))
     if tag == "Histogram":
-        bins = el.findall("HistogramBin")
+        bins = el.findall("Bin")  # HistogramBin elements, named Bin
         w = np.array([ctx.num(b, "weight") for b in bins])
         k = int(rng.choice(len(bins), p=w / w.sum()))
         lo, hi = _range(ctx, ctx.child(bins[k], "Range"))

@@ -17,16 +17,20 @@ from hiyari.bridge.openscenario.model.actions import (
     FollowTrajectoryAction,
     LaneChangeAction,
     LaneOffsetAction,
+    LateralDistanceAction,
+    LightStateAction,
     LongitudinalDistanceAction,
     RelativeLane,
     RelativeOffset,
     RelativeSpeed,
     Shape,
     SpeedAction,
+    SpeedProfileAction,
     SynchronizeAction,
     TeleportAction,
     Timing,
     TransitionDynamics,
+    VisibilityAction,
 )
 from hiyari.bridge.openscenario.model.entities import ControllerSpec
 from hiyari.bridge.openscenario.xosc.context import Ctx
@@ -41,6 +45,28 @@ def read_private_action(ctx: Ctx, el: etree._Element) -> ActionBody:
         return TeleportAction(read_position(ctx, ctx.child(kind, "Position")))
     if kind.tag == "SynchronizeAction":
         return _synchronize(ctx, kind)
+    if kind.tag == "VisibilityAction":
+        if kind.find("SensorReferenceSet") is not None:
+            raise ctx.unsupported(
+                kind.find("SensorReferenceSet"),
+                "hiyari's sensors see an entity all or none (no sensor by reference)",
+            )
+        if not ctx.flag(kind, "traffic"):
+            raise ctx.unsupported(
+                kind, "traffic = false: SUMO's own traffic always sees the vehicles on its lanes"
+            )
+        return VisibilityAction(
+            ctx.flag(kind, "graphics"), ctx.flag(kind, "traffic"), ctx.flag(kind, "sensors")
+        )
+    if kind.tag == "AppearanceAction":
+        what = ctx.one(kind)
+        if what.tag == "AnimationAction":
+            raise ctx.unsupported(what, "hiyari's actors are rigid boxes with no animated parts")
+        light = ctx.one(ctx.child(what, "LightType"))
+        state = ctx.child(what, "LightState")
+        user = light.tag == "UserDefinedLight"
+        name = ctx.text(light, "userDefinedLightType" if user else "vehicleLightType")
+        return LightStateAction(name, ctx.text(state, "mode"), user)
     if kind.tag == "ActivateControllerAction":  # 1.0 placement, deprecated
         return _activate(ctx, kind)
     group = {
@@ -177,6 +203,8 @@ def _assign_controller(ctx: Ctx, el: etree._Element) -> ActionBody:
     src = el.find("Controller")
     if src is None:
         src = el.find("CatalogReference")
+    if src is None and el.find("ObjectController") is not None:
+        src = ctx.one(el.find("ObjectController"))
     if src is None:
         raise ctx.unsupported(el, "no Controller or CatalogReference")
     return AssignControllerAction(
@@ -187,7 +215,11 @@ def _assign_controller(ctx: Ctx, el: etree._Element) -> ActionBody:
 
 
 def _activate(ctx: Ctx, el: etree._Element) -> ActionBody:
-    return ActivateControllerAction(ctx.opt_flag(el, "lateral"), ctx.opt_flag(el, "longitudinal"))
+    return ActivateControllerAction(
+        ctx.opt_flag(el, "lateral"),
+        ctx.opt_flag(el, "longitudinal"),
+        ctx.opt(el, "objectControllerRef") or ctx.opt(el, "controllerRef"),
+    )
 
 
 def _follow_trajectory(ctx: Ctx, el: etree._Element) -> ActionBody:
@@ -219,8 +251,48 @@ def _assign_route(ctx: Ctx, el: etree._Element) -> ActionBody:
     return AssignRouteAction(route.name, route.waypoints, route.closed)
 
 
-_LONGITUDINAL = {"SpeedAction": _speed, "LongitudinalDistanceAction": _long_distance}
-_LATERAL = {"LaneChangeAction": _lane_change, "LaneOffsetAction": _lane_offset}
+def _speed_profile(ctx: Ctx, el: etree._Element) -> ActionBody:
+    dyn = el.find("DynamicConstraints")
+    limit = (lambda k: None) if dyn is None else (lambda k: ctx.opt_num(dyn, k))
+    entries = tuple(
+        (ctx.num(e, "speed"), ctx.opt_num(e, "time")) for e in el.findall("SpeedProfileEntry")
+    )
+    return SpeedProfileAction(
+        entries,
+        ctx.text(el, "followingMode"),
+        ctx.opt(el, "entityRef"),
+        limit("maxAcceleration"),
+        limit("maxDeceleration"),
+        limit("maxSpeed"),
+    )
+
+
+_LONGITUDINAL = {
+    "SpeedAction": _speed,
+    "LongitudinalDistanceAction": _long_distance,
+    "SpeedProfileAction": _speed_profile,
+}
+
+
+def _lateral_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
+    if ctx.text(el, "coordinateSystem", "entity") not in ("entity", "road", "lane"):
+        raise ctx.unsupported(el, f"coordinateSystem {el.get('coordinateSystem')}")
+    dyn = el.find("DynamicConstraints")
+    return LateralDistanceAction(
+        ctx.text(el, "entityRef"),
+        ctx.num(el, "distance", 0.0),
+        ctx.flag(el, "freespace"),
+        ctx.flag(el, "continuous"),
+        ctx.text(el, "displacement", "any"),
+        None if dyn is None else ctx.opt_num(dyn, "maxAcceleration"),
+    )
+
+
+_LATERAL = {
+    "LaneChangeAction": _lane_change,
+    "LaneOffsetAction": _lane_offset,
+    "LateralDistanceAction": _lateral_distance,
+}
 _CONTROLLER = {
     "AssignControllerAction": _assign_controller,
     "ActivateControllerAction": _activate,

@@ -6,6 +6,7 @@ from lxml import etree
 
 from hiyari.bridge.openscenario.model.conditions import (
     AccelerationCondition,
+    AngleCondition,
     CollisionCondition,
     Condition,
     ConditionBody,
@@ -16,8 +17,11 @@ from hiyari.bridge.openscenario.model.conditions import (
     EndOfRoadCondition,
     EntityCondition,
     EntityConditionBody,
+    OffroadCondition,
     ParameterCondition,
     ReachPositionCondition,
+    RelativeAngleCondition,
+    RelativeClearanceCondition,
     RelativeDistanceCondition,
     RelativeSpeedCondition,
     Rule,
@@ -26,7 +30,10 @@ from hiyari.bridge.openscenario.model.conditions import (
     StandStillCondition,
     StoryboardElementStateCondition,
     TimeHeadwayCondition,
+    TimeOfDayCondition,
     TimeToCollisionCondition,
+    TrafficSignalCondition,
+    TrafficSignalControllerCondition,
     TraveledDistanceCondition,
     Trigger,
     VariableCondition,
@@ -90,6 +97,14 @@ def _by_value(ctx: Ctx, el: etree._Element) -> ConditionBody:
     if el.tag == "ParameterCondition":
         return ParameterCondition(
             ctx.text(el, "parameterRef"), ctx.text(el, "value"), _rule(ctx, el)
+        )
+    if el.tag == "TimeOfDayCondition":
+        return TimeOfDayCondition(ctx.text(el, "dateTime"), _rule(ctx, el))
+    if el.tag == "TrafficSignalCondition":
+        return TrafficSignalCondition(ctx.text(el, "name"), ctx.text(el, "state"))
+    if el.tag == "TrafficSignalControllerCondition":
+        return TrafficSignalControllerCondition(
+            ctx.text(el, "trafficSignalControllerRef"), ctx.text(el, "phase")
         )
     if el.tag == "VariableCondition":
         return VariableCondition(ctx.text(el, "variableRef"), ctx.text(el, "value"), _rule(ctx, el))
@@ -186,6 +201,20 @@ def _reach(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
     )
 
 
+def _clearance(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
+    ranges = tuple(
+        (ctx.int(r, "from", -1000), ctx.int(r, "to", 1000)) for r in el.findall("RelativeLaneRange")
+    )
+    return RelativeClearanceCondition(
+        ctx.flag(el, "oppositeLanes"),
+        ctx.flag(el, "freeSpace"),
+        ctx.num(el, "distanceForward", 0.0),
+        ctx.num(el, "distanceBackward", 0.0),
+        ranges,
+        tuple(ctx.text(r, "entityRef") for r in el.findall("EntityRef")),
+    )
+
+
 _ENTITY_READERS = {
     "RelativeDistanceCondition": _relative_distance,
     "DistanceCondition": _distance,
@@ -201,6 +230,20 @@ _ENTITY_READERS = {
     "StandStillCondition": lambda ctx, el: StandStillCondition(ctx.num(el, "duration")),
     "TraveledDistanceCondition": lambda ctx, el: TraveledDistanceCondition(ctx.num(el, "value")),
     "EndOfRoadCondition": lambda ctx, el: EndOfRoadCondition(ctx.num(el, "duration")),
+    "OffroadCondition": lambda ctx, el: OffroadCondition(ctx.num(el, "duration")),
+    "RelativeClearanceCondition": lambda ctx, el: _clearance(ctx, el),
+    "AngleCondition": lambda ctx, el: AngleCondition(
+        ctx.text(el, "angleType"),
+        ctx.num(el, "angle"),
+        ctx.num(el, "angleTolerance"),
+        _coordinate_system(ctx, el),
+    ),
+    "RelativeAngleCondition": lambda ctx, el: RelativeAngleCondition(
+        ctx.text(el, "entityRef"),
+        ctx.text(el, "angleType"),
+        ctx.num(el, "angle"),
+        ctx.num(el, "angleTolerance"),
+    ),
 }
 
 

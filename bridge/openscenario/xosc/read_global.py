@@ -5,6 +5,8 @@ from __future__ import annotations
 from lxml import etree
 
 from hiyari.bridge.openscenario.model.global_actions import (
+    AddEntityAction,
+    DeleteEntityAction,
     Environment,
     EnvironmentAction,
     Fog,
@@ -13,13 +15,18 @@ from hiyari.bridge.openscenario.model.global_actions import (
     ParameterSetAction,
     Precipitation,
     RoadCondition,
+    SetMonitorAction,
     Sun,
+    TrafficSignalControllerAction,
+    TrafficSignalStateAction,
     VariableModifyAction,
     VariableSetAction,
     Weather,
     Wind,
 )
 from hiyari.bridge.openscenario.xosc.context import Ctx, canonical
+from hiyari.bridge.openscenario.xosc.read_positions import read_position
+from hiyari.bridge.openscenario.xosc.read_traffic import read_traffic
 from hiyari.errors import HiyariError
 
 #: The file's modify rules and the model's operations.
@@ -37,6 +44,17 @@ def read_variables(ctx: Ctx, el: etree._Element | None) -> dict[str, tuple[str, 
     return out
 
 
+def read_monitors(ctx: Ctx, el: etree._Element | None) -> dict[str, bool]:
+    """<MonitorDeclarations>: name -> initial value."""
+    out: dict[str, bool] = {}
+    for d in [] if el is None else el.findall("MonitorDeclaration"):
+        name = ctx.text(d, "name")
+        if name in out:
+            raise HiyariError(f"{ctx.where(d)}: monitor {name!r} is declared twice")
+        out[name] = ctx.flag(d, "value")
+    return out
+
+
 def read_global_action(ctx: Ctx, el: etree._Element) -> GlobalActionBody:
     """The body of one <GlobalAction>."""
     kind = ctx.one(el)
@@ -51,6 +69,22 @@ def read_global_action(ctx: Ctx, el: etree._Element) -> GlobalActionBody:
         else:
             ectx = ctx
         return EnvironmentAction(read_environment(ectx.enter(src), src))
+    if kind.tag == "InfrastructureAction":
+        sig = ctx.one(ctx.child(kind, "TrafficSignalAction"))
+        if sig.tag == "TrafficSignalStateAction":
+            return TrafficSignalStateAction(ctx.text(sig, "name"), ctx.text(sig, "state"))
+        return TrafficSignalControllerAction(
+            ctx.text(sig, "trafficSignalControllerRef"), ctx.text(sig, "phase")
+        )
+    if kind.tag == "TrafficAction":
+        return read_traffic(ctx, kind)
+    if kind.tag == "SetMonitorAction":
+        return SetMonitorAction(ctx.text(kind, "monitorRef"), ctx.flag(kind, "value"))
+    if kind.tag == "EntityAction":
+        who, what = ctx.text(kind, "entityRef"), ctx.one(kind)
+        if what.tag == "DeleteEntityAction":
+            return DeleteEntityAction(who)
+        return AddEntityAction(who, read_position(ctx, ctx.child(what, "Position")))
     raise ctx.unsupported(kind)
 
 

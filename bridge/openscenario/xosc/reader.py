@@ -31,7 +31,11 @@ from hiyari.bridge.openscenario.xosc.catalogs import Catalogs
 from hiyari.bridge.openscenario.xosc.context import Ctx, Scope
 from hiyari.bridge.openscenario.xosc.read_actions import read_controller, read_private_action
 from hiyari.bridge.openscenario.xosc.read_conditions import read_trigger
-from hiyari.bridge.openscenario.xosc.read_global import read_global_action, read_variables
+from hiyari.bridge.openscenario.xosc.read_global import (
+    read_global_action,
+    read_monitors,
+    read_variables,
+)
 from hiyari.errors import HiyariError
 from hiyari.traffic.actor_class import ActorClass
 
@@ -53,6 +57,7 @@ _IGNORED_ROOT = (
     "FileHeader",
     "ParameterDeclarations",
     "VariableDeclarations",
+    "MonitorDeclarations",
     "CatalogLocations",
     "RoadNetwork",
 )
@@ -95,6 +100,7 @@ def read_scenario(
         source=path,
         parameter_types=dict(ctx.scope.types),
         variables=variables,
+        monitors=read_monitors(ctx, root.find("MonitorDeclarations")),
     )
 
 
@@ -139,10 +145,14 @@ def _entity(ctx: Ctx, obj: etree._Element) -> Entity:
     if obj.tag != "ScenarioObject":
         raise ctx.unsupported(obj)
     name = ctx.text(obj, "name")
-    controllers = obj.findall("ObjectController")
-    if len(controllers) > 1:
-        raise ctx.unsupported(controllers[1], "more than one controller per entity")
-    controller = read_controller(ctx, ctx.one(controllers[0])) if controllers else None
+    controllers: dict[str, ControllerSpec] = {}
+    for oc in obj.findall("ObjectController"):
+        spec = read_controller(ctx, ctx.one(oc))
+        key = ctx.opt(oc, "name") or spec.name
+        if key in controllers:
+            raise HiyariError(f"{ctx.where(oc)}: entity {name!r} has two controllers {key!r}")
+        controllers[key] = spec
+    controller = next(iter(controllers.values()), None)
     body = next(k for k in obj if k.tag != "ObjectController")
     if body.tag == "CatalogReference":
         body, bctx = ctx.catalogs.resolve(ctx, body)
@@ -173,6 +183,7 @@ def _entity(ctx: Ctx, obj: etree._Element) -> Entity:
         max_decel=None if perf is None else bctx.num(perf, "maxDeceleration"),
         controller=controller,
         properties=props,
+        controllers=controllers,
     )
 
 
@@ -266,7 +277,9 @@ def _maneuver(ctx: Ctx, el: etree._Element) -> Maneuver:
             elif kind.tag == "GlobalAction":
                 body = read_global_action(ctx, kind)
             else:
-                raise ctx.unsupported(kind)
+                raise ctx.unsupported(
+                    kind, "a custom command means something only to the tool it was written for"
+                )
             actions.append(Action(ctx.text(a, "name"), body, ctx.where(a)))
         priority = ctx.text(ev, "priority", "override")
         events.append(

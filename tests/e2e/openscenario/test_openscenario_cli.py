@@ -93,3 +93,18 @@ def test_bad_xosc_is_one_line_naming_file_and_line(tmp_path: Path, capsys, comma
 
     gone = write(tmp_path / "gone.xosc", scenario_xml({"Ego": ""}, "", road=tmp_path / "no.xodr"))
     _bad(tmp_path, capsys, [command, str(gone)], str(gone), "no.xodr not found")
+
+    custom = '<UserDefinedAction><CustomCommandAction type="kick">now</CustomCommandAction></UserDefinedAction>'
+    xml = scenario_xml(
+        {"Ego": "", "Car": ""},
+        teleport_speed("Ego", -4, 5.0, 10.0) + teleport_speed("Car", -5, 5.0, 10.0),
+        story("Car", "MARK", time_condition(1.0)),
+    ).replace("<PrivateAction>MARK</PrivateAction>", custom)
+    unsupported = write(tmp_path / "custom.xosc", xml)
+    line = xml[: xml.index("<UserDefinedAction")].count("\n") + 1
+    _bad(
+        tmp_path,
+        capsys,
+        [command, str(unsupported)],
+        f"{unsupported}:{line}: <UserDefinedAction> is not supported",
+    )

@@ -210,6 +210,23 @@ def test_unknown_parameter_missing_catalog_and_road(tmp_path: Path) -> None:
     assert "road network file" in _one_line(exc) and "gone.xodr not found" in str(exc.value)
 
 
+def test_unsupported_element_names_element_line_and_file(tmp_path: Path) -> None:
+    custom = '<UserDefinedAction><CustomCommandAction type="kick">now</CustomCommandAction></UserDefinedAction>'
+    xml = scenario_xml(
+        {"Ego": "", "Car": ""},
+        teleport_speed("Ego", -4, 5.0, 10.0) + teleport_speed("Car", -3, 5.0, 10.0),
+        story("Car", "MARK", time_condition(1.0)),
+    ).replace("<PrivateAction>MARK</PrivateAction>", custom)
+    path = write(tmp_path / "u.xosc", xml)
+    with pytest.raises(HiyariError) as exc:
+        read_scenario(path)
+    line = xml[: xml.index("<UserDefinedAction")].count("\n") + 1
+    assert _one_line(exc) == (
+        f"{path}:{line}: <UserDefinedAction> is not supported by hiyari (a custom command means "
+        "something only to the tool it was written for)"
+    )
+
+
 def test_deprecated_1_0_constructs_read(tmp_path: Path) -> None:
     """A 1.0-style file: priority overwrite, ReachPositionCondition, alongRoute."""
     reach = """<Condition name="r" delay="0" conditionEdge="rising"><ByEntityCondition>

@@ -1,0 +1,59 @@
+"""LongitudinalDistanceAction with continuous = true keeps its gap to the reference every
+step while the reference changes speed; an actor placed facing against its lane drives the
+other way along it (the Euro NCAP head-on targets)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+from tests.openscenario_files import (
+    run_scenario,
+    scenario_xml,
+    story,
+    teleport_speed,
+    time_condition,
+    write,
+)
+
+KEEP = """<LongitudinalAction><LongitudinalDistanceAction entityRef="Lead" distance="12" freespace="true"
+continuous="true" displacement="trailingReferencedEntity" coordinateSystem="road"/></LongitudinalAction>"""
+BRAKE = """<LongitudinalAction><SpeedAction><SpeedActionDynamics dynamicsShape="linear" dynamicsDimension="rate" value="3"/>
+<SpeedActionTarget><AbsoluteTargetSpeed value="4"/></SpeedActionTarget></SpeedAction></LongitudinalAction>"""
+
+
+def test_continuous_gap_follows_a_braking_reference(tmp_path: Path) -> None:
+    init = teleport_speed("Ego", -5, 20, 10) + teleport_speed("Lead", -4, 200, 20)
+    init += teleport_speed("Follow", -4, 150, 20)
+    init += f'<Private entityRef="Follow"><PrivateAction>{KEEP}</PrivateAction></Private>'
+    stories = story("Lead", BRAKE, time_condition(1.0, "brake"), "B")
+    gaps = []
+
+    def on_step(sim, world, report, engine) -> None:
+        lead, fol = engine.actors["Lead"], engine.actors["Follow"]
+        gaps.append((report.time, lead.s - fol.s, fol.v, lead.v))
+
+    run_scenario(write(tmp_path / "g.xosc", scenario_xml({"Ego": "", "Lead": "", "Follow": ""}, init, stories)),
+                 tmp_path, until=8.0, on_step=on_step)  # fmt: skip
+    # bumper to bumper 12 m: reference points 12 + 5 m (both 5 m long, same centre offset)
+    assert all(g == pytest.approx(17.0, abs=1e-9) for _, g, _, _ in gaps)
+    assert gaps[-1][2] == gaps[-1][3] == pytest.approx(4.0)  # and the lead's speed
+
+
+def test_actor_facing_against_its_lane_drives_the_other_way(tmp_path: Path) -> None:
+    init = teleport_speed("Ego", -4, 20, 10)
+    init += """<Private entityRef="Ghost"><PrivateAction><TeleportAction><Position>
+<LanePosition roadId="0" laneId="-4" s="300"><Orientation h="3.141592653589793" type="relative"/></LanePosition>
+</Position></TeleportAction></PrivateAction>
+<PrivateAction><LongitudinalAction><SpeedAction><SpeedActionDynamics dynamicsShape="step" dynamicsDimension="time" value="0"/>
+<SpeedActionTarget><AbsoluteTargetSpeed value="15"/></SpeedActionTarget></SpeedAction></LongitudinalAction></PrivateAction></Private>"""
+    engine, _ = run_scenario(
+        write(tmp_path / "w.xosc", scenario_xml({"Ego": "", "Ghost": ""}, init)),
+        tmp_path,
+        until=2.0,
+    )
+    g = engine.actors["Ghost"]
+    # 2 s at 15 m/s towards decreasing s (one step ahead: 2.05 s), facing -x
+    assert g.s == pytest.approx(300 - 15 * 2.0, abs=1e-9) and g.lane == -4
+    assert abs(math.remainder(g.h - math.pi, 2 * math.pi)) < 1e-9

@@ -1,0 +1,63 @@
+"""Traffic actions as SUMO traffic on the ALKS straight road: a source inserts SUMO-driven
+vehicles at its rate until a TrafficStopAction ends it, a sink takes them out near its
+position, a swarm keeps its number of vehicles around the ego."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from tests.openscenario_files import (
+    run_scenario,
+    scenario_xml,
+    teleport_speed,
+    time_condition,
+    write,
+)
+
+
+def _global(name: str, action: str, t: float) -> str:
+    return f"""<Story name="{name}S"><Act name="{name}A"><ManeuverGroup maximumExecutionCount="1" name="{name}G">
+<Actors selectTriggeringEntities="false"/><Maneuver name="{name}M"><Event name="{name}" priority="override">
+<Action name="{name}Action"><GlobalAction>{action}</GlobalAction></Action>
+<StartTrigger><ConditionGroup>{time_condition(t, name + "t", "none")}</ConditionGroup></StartTrigger></Event></Maneuver></ManeuverGroup>
+<StartTrigger><ConditionGroup>{time_condition(0, name + "g", "none")}</ConditionGroup></StartTrigger></Act></Story>"""
+
+
+def _traffic(tmp_path: Path, stories: str, until: float) -> dict[float, dict[str, float]]:
+    init = teleport_speed("Ego", -5, 20, 10)
+    text = scenario_xml({"Ego": ""}, init, stories)
+    seen: dict[float, dict[str, float]] = {}
+
+    def on_step(sim, world, report, engine) -> None:
+        seen[round(report.time, 2)] = {
+            i: float(world.xyz[k, 0]) for k, i in enumerate(world.ids.tolist()) if i != "Ego"
+        }
+
+    run_scenario(write(tmp_path / "t.xosc", text), tmp_path, until=until, on_step=on_step)
+    return seen
+
+
+def test_source_sink_and_stop(tmp_path: Path) -> None:
+    source = """<TrafficAction trafficName="src"><TrafficSourceAction radius="0" rate="2" speed="20">
+<Position><LanePosition roadId="0" laneId="-3" s="100"/></Position></TrafficSourceAction></TrafficAction>"""
+    sink = """<TrafficAction trafficName="snk"><TrafficSinkAction radius="15">
+<Position><LanePosition roadId="0" laneId="-3" s="150"/></Position></TrafficSinkAction></TrafficAction>"""
+    stop = '<TrafficAction trafficName="src"><TrafficStopAction/></TrafficAction>'
+    stories = _global("Src", source, 0.0) + _global("Snk", sink, 0.0) + _global("Stop", stop, 1.99)
+    seen = _traffic(tmp_path, stories, 6.5)
+    ids = set().union(*seen.values())
+    # 2 a second from 0.05 s (at 0.55, 1.05, 1.55) until the stop at 2.0 s: 3 vehicles
+    assert len(ids) == 3 and all(i.startswith("src#") for i in ids)
+    assert max(max(v.values(), default=0.0) for v in seen.values()) < 150 - 15 + 20 * 0.05 + 5
+    assert seen[6.0] == {}  # every one taken out by the sink
+
+
+def test_swarm_around_the_ego(tmp_path: Path) -> None:
+    swarm = """<TrafficAction trafficName="sw"><TrafficSwarmAction innerRadius="15" numberOfVehicles="5" offset="20"
+semiMajorAxis="120" semiMinorAxis="15"><CentralObject entityRef="Ego"/><InitialSpeedRange lowerLimit="8" upperLimit="12"/>
+<DirectionOfTravelDistribution same="1" opposite="0"/></TrafficSwarmAction></TrafficAction>"""
+    seen = _traffic(tmp_path, _global("Sw", swarm, 0.0), 3.5)
+    assert len(seen[1.0]) == 5 and len(seen[3.0]) == 5
+    # all around the ego (10 m/s from 20): within the ellipse along x
+    ego_x = 20 + 10 * 3.0 + 1.4
+    assert all(abs(x - (ego_x + 20)) <= 121 for x in seen[3.0].values())
