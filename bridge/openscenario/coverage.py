@@ -1,5 +1,5 @@
 """Which elements of the ASAM OpenSCENARIO XML 1.3 schema hiyari executes, the element table
-of docs/openscenario_elements.md made from the schema itself (tests/test_osc_element_table.py
+of docs/openscenario_elements.md made from the schema itself (tests/unit/openscenario/test_osc_element_table.py
 fails when the table, the schema or the code disagree).
 
 Every element the schema names is one of:
@@ -168,7 +168,7 @@ def status(name: str) -> tuple[str, str]:
 @cache
 def _test_texts() -> dict[str, str]:
     root = HERE.parents[1] / "tests"
-    return {p.name: p.read_text() for p in sorted(root.glob("test_*.py"))}
+    return {p.name: p.read_text() for p in sorted(root.rglob("test_*.py"))}
 
 
 def test_of(name: str) -> str:
@@ -202,7 +202,7 @@ def table() -> str:
         "# OpenSCENARIO XML 1.3 elements in hiyari",
         "",
         "Made from the schema by `python -m hiyari.bridge.openscenario.coverage` (do not edit: "
-        "tests/test_osc_element_table.py checks it against the schema and the code).",
+        "tests/unit/openscenario/test_osc_element_table.py checks it against the schema and the code).",
         "",
         f"{len(rows)} elements: {summary}. *executed*: read into the scenario model and run; "
         "*read*: read with no effect on a simulation; *refused*: a one-line error with the "

@@ -11,7 +11,9 @@ import pytest
 from openscenario_files import (
     ALKS,
     scenario_xml,
+    story,
     teleport_speed,
+    time_condition,
     write,
 )
 

@@ -14,6 +14,7 @@ from openscenario_files import (
     scenario_xml,
     story,
     teleport_speed,
+    time_condition,
     write,
 )
 

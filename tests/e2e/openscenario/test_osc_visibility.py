@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from tests.openscenario_files import net_for, scenario_xml, teleport_speed, write
+from openscenario_files import net_for, scenario_xml, teleport_speed, write
 
 from hiyari.bridge.loop.engine_run import EgoSetup, run_scenario
 from hiyari.bridge.loop.run import RunOptions

@@ -8,7 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from tests.openscenario_files import (
+from openscenario_files import (
     CAR,
     run_scenario,
     scenario_xml,

@@ -8,7 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from tests.xodr_authoring import town_map
+from xodr_authoring import town_map
 
 from hiyari.errors import HiyariError
 from hiyari.net.sumo.opendrive import import_opendrive

@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from tests.openscenario_files import run_scenario, scenario_xml, story, teleport_speed, write
+from openscenario_files import run_scenario, scenario_xml, story, teleport_speed, write
 
 NOOP = """<LongitudinalAction><SpeedAction><SpeedActionDynamics dynamicsShape="step" dynamicsDimension="time" value="0"/>
 <SpeedActionTarget><AbsoluteTargetSpeed value="10"/></SpeedActionTarget></SpeedAction></LongitudinalAction>"""

@@ -8,7 +8,7 @@ import math
 from pathlib import Path
 
 import pytest
-from tests.openscenario_files import run_scenario, scenario_xml, story, teleport_speed, write
+from openscenario_files import run_scenario, scenario_xml, story, teleport_speed, write
 
 ARC = """<RoutingAction><FollowTrajectoryAction><TimeReference><None/></TimeReference>
 <TrajectoryFollowingMode followingMode="position"/><TrajectoryRef><Trajectory name="arc" closed="false"><Shape><ClothoidSpline>

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tests.openscenario_files import scenario_xml, teleport_speed, write
+from openscenario_files import scenario_xml, teleport_speed, write
 
 from hiyari.bridge.openscenario.xosc.distributions import read_distribution
 

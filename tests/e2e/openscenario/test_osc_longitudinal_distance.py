@@ -8,7 +8,7 @@ import math
 from pathlib import Path
 
 import pytest
-from tests.openscenario_files import (
+from openscenario_files import (
     run_scenario,
     scenario_xml,
     story,
