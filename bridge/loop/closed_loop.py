@@ -15,7 +15,7 @@ import numpy as np
 from hiyari.bridge.loop.result import DetectionStats, RunResult
 from hiyari.bridge.loop.stack.interfaces import EgoStack, EgoStep
 from hiyari.kinematics import Pose
-from hiyari.risk.metrics.ground_truth import TruthConfig, gap_to, time_to_collision
+from hiyari.risk.metrics.ground_truth import TruthConfig, gap_to, path_headway, time_to_collision
 from hiyari.sensors.outputs import ObjectList
 from hiyari.traffic.collision import Collision
 from hiyari.traffic.simulation import Simulation
@@ -164,6 +164,7 @@ def _metrics(
     xy = world.xyz[:, :2]
     ttc = time_to_collision(xy, world.heading, world.speed, world.length, world.width, row, truth)
     ttc_true = float(ttc.min())
+    headway = path_headway(xy, world.heading, world.speed, world.length, world.width, row, truth)
     res.min_ttc = min(res.min_ttc, ttc_true)
     gap = float("inf")
     k = hooks.gap_target(world, row)
@@ -181,6 +182,7 @@ def _metrics(
     s.ego_accel_cmd.append(cmd.accel)
     s.gap.append(gap)
     s.ttc_true.append(ttc_true)
+    s.headway_true.append(headway)
     s.ttc_stack.append(cmd.ttc)
     s.aeb_stage.append(int(cmd.aeb_stage))
     s.aeb_decel.append(cmd.aeb_decel)

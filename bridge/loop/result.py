@@ -54,6 +54,8 @@ class TimeSeries:
     t: simulation time, s. ego_speed: m/s. ego_accel_cmd: the stack's command, m/s^2.
     gap: bumper to bumper to the scenario's target along the ego's heading, m (inf: no target).
     ttc_true: ground-truth TTC over all actors, s (inf: none within the horizon).
+    headway_true: ground-truth time headway behind the nearest actor in or entering the ego's
+    path, s (inf: none; risk.metrics.ground_truth.path_headway).
     ttc_stack: the ego stack's own smallest TTC, s. aeb_stage: AEBStage as int (decided this
     step). aeb_decel: the AEB deceleration applied this step (after the actuation delay and
     while latched), m/s^2 >= 0.
@@ -65,6 +67,7 @@ class TimeSeries:
     ego_accel_cmd: list[float] = field(default_factory=list)
     gap: list[float] = field(default_factory=list)
     ttc_true: list[float] = field(default_factory=list)
+    headway_true: list[float] = field(default_factory=list)
     ttc_stack: list[float] = field(default_factory=list)
     aeb_stage: list[int] = field(default_factory=list)
     aeb_decel: list[float] = field(default_factory=list)
@@ -110,7 +113,8 @@ class RunResult:
         """AEB and ACC decelerations without a ground-truth hazard (risk.metrics.false_braking)."""
         s = self.series
         aeb = s.aeb_decel if len(s.aeb_decel) == len(s) else np.zeros(len(s))
-        return false_braking(s.t, s.ego_accel_cmd, s.ttc_true, aeb)
+        headway = s.headway_true if len(s.headway_true) == len(s) else None
+        return false_braking(s.t, s.ego_accel_cmd, s.ttc_true, aeb, headway=headway)
 
     def verdict(self) -> str:
         """'collision' or 'no collision'."""

@@ -1,11 +1,15 @@
 """False-positive braking: braking episodes of the ego stack with no hazard in ground truth.
 
 A step brakes when the commanded acceleration is at or below ``-min_decel``; an episode is a
-maximal run of braking steps. It is false when the ground-truth time to collision with every
-actor (hiyari.risk.metrics.ground_truth, 10 s horizon by default) stays infinite over the whole
-episode: braking that starts early for a hazard that then materialises, or that holds on to
-standstill after one, is not false. An episode is the AEB's when the AEB applied a deceleration
-in it, else the ACC's (following or speed keeping).
+maximal run of braking steps. An episode is the AEB's when the AEB applied a deceleration in
+it, else the ACC's (following or speed keeping). It is false when ground truth gives no reason
+for it at any of its steps: braking that starts early for a hazard that then materialises, or
+that holds on to standstill after one, is not false. Reasons: a finite ground-truth time to
+collision with some actor (hiyari.risk.metrics.ground_truth, 10 s horizon by default); for the
+ACC also a real actor ahead in, or entering, the ego's path within ``follow_thw`` of time
+headway (following braking: a car cutting in slower than the ego and still moving sideways has
+an infinite constant-velocity TTC, as it is predicted to cross the ego's path, yet braking to
+open the gap behind it is right). The AEB, an emergency function, needs a finite TTC.
 """
 
 from __future__ import annotations
@@ -13,6 +17,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+#: s: the ACC's braking is following (not false) while a real actor is ahead in the ego's path
+#: within this time headway (above the usual ACC time gaps of 1-2.5 s, so that settling onto
+#: the gap counts too).
+FOLLOW_THW = 3.0
 
 
 @dataclass(frozen=True)
@@ -31,10 +40,14 @@ def false_braking(
     ttc_true: np.ndarray,
     aeb_decel: np.ndarray,
     min_decel: float = 0.5,
+    headway: np.ndarray | None = None,
+    follow_thw: float = FOLLOW_THW,
 ) -> dict[str, FalseBraking]:
     """{"aeb": ..., "acc": ...} from per-step series: time ``t`` (s), commanded acceleration
-    ``accel`` (m/s^2), ground-truth TTC ``ttc_true`` (s, inf: no hazard) and the AEB's applied
-    deceleration ``aeb_decel`` (m/s^2, positive; 0 when it does not brake).
+    ``accel`` (m/s^2), ground-truth TTC ``ttc_true`` (s, inf: no hazard), the AEB's applied
+    deceleration ``aeb_decel`` (m/s^2, positive; 0 when it does not brake) and the ground-truth
+    time headway behind the nearest actor in the ego's path ``headway`` (s, inf: none; None:
+    not known, only the TTC counts).
 
     Each step lasts until the next one (the last one as long as its predecessor)."""
     t = np.asarray(t, float)
@@ -48,13 +61,14 @@ def false_braking(
     episode = np.cumsum(start) - 1  # episode index per braking step
     k = int(start.sum())
     hazard = np.bincount(episode[brake], np.isfinite(np.asarray(ttc_true, float))[brake], k) > 0
+    near = np.zeros(n, bool) if headway is None else np.asarray(headway, float) < follow_thw
+    following = np.bincount(episode[brake], near[brake], k) > 0
     by_aeb = np.bincount(episode[brake], (np.asarray(aeb_decel, float) > 0)[brake], k) > 0
     length = np.bincount(episode[brake], dt[brake], k)
     peak = np.zeros(k)
     np.maximum.at(peak, episode[brake], -accel[brake])
     out = {}
-    for name, mine in (("aeb", by_aeb), ("acc", ~by_aeb)):
-        hit = mine & ~hazard
+    for name, hit in (("aeb", by_aeb & ~hazard), ("acc", ~by_aeb & ~hazard & ~following)):
         out[name] = FalseBraking(
             events=int(hit.sum()),
             duration=float(length[hit].sum()),

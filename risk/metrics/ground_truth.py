@@ -9,6 +9,9 @@ so any closed loop can call it. Built on hiyari.kinematics:
   (kinematics.footprint_entry_time). TTCs beyond ``horizon`` count as none (inf).
 - Gap: bumper to bumper along the ego's heading to one actor, both taken aligned with the
   ego, and the side-to-side clearance (>= 0: the actor is beside the ego).
+- Path headway: the ego's time headway (bumper gap / ego speed) behind the nearest actor ahead
+  in its path, or entering it (a car cutting in): what following braking answers to, while
+  the constant-velocity TTC of a car still moving sideways can be infinite.
 """
 
 from __future__ import annotations
@@ -27,6 +30,10 @@ class TruthConfig:
 
     horizon: float = 10.0
     min_speed: float = 0.5
+    #: m: an actor ahead whose side-to-side clearance to the ego is below this is in its path
+    path_margin: float = 0.5
+    #: s: an actor moving sideways toward the ego counts as in its path this long before it is
+    entry_time: float = 1.0
 
 
 def time_to_collision(
@@ -72,3 +79,32 @@ def gap_to(
     rel = unrotate(np.asarray(xy[other], float) - xy[ego], float(heading[ego]))
     along, across = bumper_gap(rel, length[ego], width[ego], length[other], width[other])
     return float(along), float(across)
+
+
+def path_headway(
+    xy: np.ndarray,
+    heading: np.ndarray,
+    speed: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    ego: int,
+    config: TruthConfig = TruthConfig(),
+) -> float:
+    """The ego's time headway (s) behind the nearest actor ahead in its path: bumper gap /
+    ego speed (both taken aligned with the ego). An actor is in the path when its
+    side-to-side clearance to the ego is below ``config.path_margin``, now or within
+    ``config.entry_time`` at its sideways speed toward the ego. inf when there is none or the
+    ego stands still. Arrays as :func:`time_to_collision`."""
+    xy = np.asarray(xy, float)
+    v_ego = float(speed[ego])
+    if v_ego <= 0.0 or len(xy) < 2:
+        return float("inf")
+    h0 = float(heading[ego])
+    rel = unrotate(xy - xy[ego], h0)
+    vel = unrotate(np.asarray(speed, float)[:, None] * heading_vector(heading), h0)
+    along, across = bumper_gap(rel, length[ego], width[ego], np.asarray(length), np.asarray(width))
+    toward = np.maximum(-np.sign(rel[:, 1]) * vel[:, 1], 0.0)  # sideways speed toward the ego
+    in_path = across - toward * config.entry_time < config.path_margin
+    ahead = in_path & (along >= 0.0)
+    ahead[ego] = False
+    return float(along[ahead].min() / v_ego) if ahead.any() else float("inf")
