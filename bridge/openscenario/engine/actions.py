@@ -8,6 +8,7 @@ a new action of the same kind overrides the running one).
 from __future__ import annotations
 
 import math
+import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -30,6 +31,7 @@ from hiyari.bridge.openscenario.engine.motion import (
     place_actor,
     read_targets,
 )
+from hiyari.bridge.openscenario.engine.paths.route import random_destination
 from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.engine.positions import Pose, lane_shift
 from hiyari.bridge.openscenario.model.actions import (
@@ -48,6 +50,7 @@ from hiyari.bridge.openscenario.model.actions import (
     LateralDistanceAction,
     LightStateAction,
     LongitudinalDistanceAction,
+    RandomRouteAction,
     Shape,
     SpeedAction,
     SpeedProfileAction,
@@ -56,7 +59,7 @@ from hiyari.bridge.openscenario.model.actions import (
     VisibilityAction,
 )
 from hiyari.bridge.openscenario.model.entities import EntityKind
-from hiyari.bridge.openscenario.model.positions import WorldPosition
+from hiyari.bridge.openscenario.model.positions import LanePosition, WorldPosition
 from hiyari.bridge.openscenario.model.trajectories import Route
 from hiyari.errors import HiyariError
 
@@ -65,6 +68,7 @@ if TYPE_CHECKING:
 
 _MOTION = (
     SpeedAction,
+    RandomRouteAction,
     SpeedProfileAction,
     LateralDistanceAction,
     SynchronizeAction,
@@ -233,6 +237,8 @@ class ActionStarter:
             return self._trajectory(element, a, body, now)
         if isinstance(body, AssignRouteAction):
             return self._route(element, a, body.route)
+        if isinstance(body, RandomRouteAction):
+            return self._route(element, a, self._random_route(a))
         here = WorldPosition(a.x, a.y, a.z, a.h)
         return self._route(element, a, Route("AcquirePositionAction", (here, body.position)))
 
@@ -444,6 +450,21 @@ class ActionStarter:
             times = base + tm.scale * path.times + tm.offset
         motion = PathMotion(path, times, False, body.initial_distance_offset, a.v < 0)
         return self._follow(element, a, motion, now)
+
+    def _random_route(self, a: Actor) -> Route:
+        """A route from where ``a`` is to a destination drawn along the roads ahead."""
+        p = Pose(a.x, a.y, a.z, a.h, "" if a.free else a.road, a.lane, a.s, a.t)
+        if not p.road:
+            p = self.e.resolver.at_xy(a.x, a.y, a.h)
+        if not p.road:
+            raise HiyariError(f"RandomRouteAction: {a.name!r} is not on a road")
+        direction = int(self.e.travel_direction(a.name))
+        rng = np.random.default_rng(zlib.crc32(a.name.encode()))
+        road, s, d = random_destination(self.e.resolver.graph(), p.road, p.s, direction, rng)
+        lane = -1 if d > 0 else 1  # the first lane in the direction of travel
+        return Route(
+            "RandomRouteAction", (WorldPosition(a.x, a.y, a.z, a.h), LanePosition(road, lane, s))
+        )
 
     def _ego_trajectory(
         self, element: int, a: Actor, body: FollowTrajectoryAction, now: float

@@ -132,8 +132,11 @@ class ConditionBank:
             ):
                 cond[i, K.C_KIND] = K.STATIC  # read from SUMO (python_eval) each step
                 self.python_conditions.append((i, c))
-            elif isinstance(b, EntityCondition) and isinstance(
-                b.body, RelativeClearanceCondition | AngleCondition | RelativeAngleCondition
+            elif isinstance(b, EntityCondition) and (
+                isinstance(
+                    b.body, RelativeClearanceCondition | AngleCondition | RelativeAngleCondition
+                )
+                or (isinstance(b.body, CollisionCondition) and b.body.by_type is not None)
             ):
                 cond[i, K.C_KIND] = K.STATIC  # measured in Python (python_eval) each step
                 refs = getattr(b.body, "entities", ()) or (getattr(b.body, "entity", None),)

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 from hiyari.bridge.openscenario.engine.kernels.measures import holds
 from hiyari.bridge.openscenario.model.conditions import (
     AngleCondition,
+    CollisionCondition,
     CoordinateSystem,
     EntityCondition,
     RelativeAngleCondition,
@@ -53,9 +54,31 @@ def entity_holds(engine: ScenarioEngine, ec: EntityCondition) -> bool:
         RelativeClearanceCondition: _clear,
         AngleCondition: _angle,
         RelativeAngleCondition: _relative_angle,
+        CollisionCondition: _collides_with_type,
     }[type(ec.body)]
     results = [_present(engine, n) and measure(engine, n, ec.body) for n in ec.triggering]
     return any(results) if ec.rule != "all" else all(results)
+
+
+_KIND_TYPE = {"vehicle": "vehicle", "pedestrian": "pedestrian", "misc": "miscellaneous"}
+
+
+def _collides_with_type(engine: ScenarioEngine, name: str, b: CollisionCondition) -> bool:
+    """In contact (overlapping outlines) with an object of type ``b.by_type``: a scenario
+    entity of that kind, or SUMO traffic (pedestrian or vehicle)."""
+    world = engine._world
+    for col in engine._sim.collisions:
+        if col.depth <= 0.0 or name not in (col.a, col.b):
+            continue
+        other = col.b if col.a == name else col.a
+        if other in engine.actors:
+            kind = _KIND_TYPE[engine.actors[other].entity.kind.value]
+        else:
+            row = world.index(other) if world is not None and other in world.ids else -1
+            kind = "pedestrian" if row >= 0 and world.is_pedestrian[row] else "vehicle"
+        if kind == b.by_type:
+            return True
+    return False
 
 
 def _angle_of(engine: ScenarioEngine, name: str, kind: str) -> float:

@@ -71,14 +71,18 @@ class PoseResolver:
         self._paths: dict[Trajectory, SampledPath] = {}
 
     # ------------------------------------------------------------------ paths
+    def graph(self) -> RoadGraph:
+        """How this map's roads connect (read once)."""
+        if self._graph is None:
+            self._graph = RoadGraph.from_file(self.odr.path)
+        return self._graph
+
     def route(self, route: Route) -> RoutePath:
         """The legs of ``route`` on this map (found once per route)."""
         found = self._routes.get(route)
         if found is None:
-            if self._graph is None:
-                self._graph = RoadGraph.from_file(self.odr.path)
             found = route_path(
-                route, self.odr, self._graph, self.resolve,
+                route, self.odr, self.graph(), self.resolve,
                 lambda r, ln: 1.0 if self.odr.road(r).drives_forward(ln) else -1.0,
             )  # fmt: skip
             self._routes[route] = found

@@ -27,6 +27,7 @@ __all__ = [
     "LightStateAction",
     "LateralDistanceAction",
     "LongitudinalDistanceAction",
+    "RandomRouteAction",
     "RelativeLane",
     "RelativeOffset",
     "RelativeSpeed",
@@ -281,6 +282,12 @@ class AssignRouteAction:
 
 
 @dataclass(frozen=True)
+class RandomRouteAction:
+    """Drive to a destination drawn at random along the roads ahead (about 1 km on, through
+    junctions chosen at random; repeatable: drawn from the actor's name)."""
+
+
+@dataclass(frozen=True)
 class AcquirePositionAction:
     """Go to ``position`` at the actor's speed (a route from where it is)."""
 
@@ -321,6 +328,7 @@ ActionBody = (
     | FollowTrajectoryAction
     | AssignRouteAction
     | AcquirePositionAction
+    | RandomRouteAction
     | AssignControllerAction
     | ActivateControllerAction
 )

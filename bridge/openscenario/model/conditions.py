@@ -304,9 +304,11 @@ class RelativeAngleCondition:
 
 @dataclass(frozen=True)
 class CollisionCondition:
-    """In contact with ``entity`` (None: with anything)."""
+    """In contact with ``entity``, or with any object of type ``by_type`` (vehicle,
+    pedestrian, miscellaneous; SUMO's own traffic included), else with anything."""
 
     entity: str | None = None
+    by_type: str | None = None
 
 
 EntityConditionBody = (

@@ -20,6 +20,7 @@ from hiyari.bridge.openscenario.model.actions import (
     LateralDistanceAction,
     LightStateAction,
     LongitudinalDistanceAction,
+    RandomRouteAction,
     RelativeLane,
     RelativeOffset,
     RelativeSpeed,
@@ -303,4 +304,5 @@ _ROUTING = {
     "AcquirePositionAction": lambda ctx, el: AcquirePositionAction(
         read_position(ctx, ctx.child(el, "Position"))
     ),
+    "RandomRouteAction": lambda ctx, el: RandomRouteAction(),
 }

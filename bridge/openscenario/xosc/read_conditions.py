@@ -191,7 +191,7 @@ def _collision(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
     if ref is not None:
         return CollisionCondition(entity=ctx.text(ref, "entityRef"))
     if by_type is not None:
-        raise ctx.unsupported(by_type, "collisions by object type")
+        return CollisionCondition(by_type=ctx.text(by_type, "type"))
     return CollisionCondition()
 
 

@@ -10,11 +10,13 @@ cannot execute is a HiyariError naming the element, the file and the line.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 
 from lxml import etree
 
 from hiyari.bridge.openscenario.model.actions import Action
+from hiyari.bridge.openscenario.model.conditions import EntityCondition, Trigger
 from hiyari.bridge.openscenario.model.entities import ControllerSpec, Entity, EntityKind
 from hiyari.bridge.openscenario.model.storyboard import (
     Act,
@@ -86,9 +88,12 @@ def read_scenario(
     ctx.catalogs = Catalogs.from_locations(ctx, root.find("CatalogLocations"))
     variables = read_variables(ctx, root.find("VariableDeclarations"))
     road = _road_network(ctx, root.find("RoadNetwork"))
-    entities = tuple(_entity(ctx, o) for o in ctx.child(root, "Entities"))
+    objects = ctx.child(root, "Entities")
+    entities = tuple(_entity(ctx, o) for o in objects if o.tag != "EntitySelection")
     names = [e.name for e in entities]
-    storyboard = _storyboard(ctx, root.find("Storyboard"), set(names))
+    selections = _selections(ctx, objects.findall("EntitySelection"), entities)
+    storyboard = _storyboard(ctx, root.find("Storyboard"), {*names, *selections})
+    storyboard = expand_selections(storyboard, selections)
     header = root.find("FileHeader")
     return Scenario(
         name=path.stem if header is None else (header.get("description") or path.stem),
@@ -141,6 +146,108 @@ def _pick_ego(entities: tuple[Entity, ...], ego: str | None, path: Path) -> str 
 
 
 # ---------------------------------------------------------------------------- entities
+#: ByType object types and the entity kinds they select (external objects: none in hiyari).
+_BY_TYPE = {
+    "vehicle": (EntityKind.VEHICLE,),
+    "pedestrian": (EntityKind.PEDESTRIAN,),
+    "miscellaneous": (EntityKind.MISC,),
+    "external": (),
+}
+
+
+def _selections(
+    ctx: Ctx, els: list[etree._Element], entities: tuple[Entity, ...]
+) -> dict[str, tuple[str, ...]]:
+    """EntitySelections: name -> the entities they select (members by name, selections
+    nested, or by type), in scenario order without repeats."""
+    raw = {ctx.text(el, "name"): el for el in els}
+    names = {e.name for e in entities}
+    out: dict[str, tuple[str, ...]] = {}
+
+    def expand(name: str, seen: tuple[str, ...]) -> tuple[str, ...]:
+        if name in out:
+            return out[name]
+        if name in seen:
+            raise HiyariError(f"{ctx.where(raw[name])}: entity selection {name!r} contains itself")
+        members: list[str] = []
+        for m in ctx.child(raw[name], "Members"):
+            if m.tag == "ByType":
+                kinds = _BY_TYPE[ctx.text(m, "objectType")]
+                members += [e.name for e in entities if e.kind in kinds]
+                continue
+            ref = ctx.text(m, "entityRef")
+            if ref in raw:
+                members += expand(ref, (*seen, name))
+            elif ref in names:
+                members.append(ref)
+            else:
+                raise HiyariError(f"{ctx.where(m)}: no entity {ref!r} in the scenario")
+        out[name] = tuple(dict.fromkeys(members))
+        return out[name]
+
+    for name in raw:
+        expand(name, ())
+    return out
+
+
+def expand_selections(sb: Storyboard, selections: dict[str, tuple[str, ...]]) -> Storyboard:
+    """``sb`` with every EntitySelection named as actors or triggering entities replaced by
+    the entities it selects."""
+    if not selections:
+        return sb
+
+    def names(refs: tuple[str, ...]) -> tuple[str, ...]:
+        out: list[str] = []
+        for r in refs:
+            out += selections.get(r, (r,))
+        return tuple(dict.fromkeys(out))
+
+    def trig(t: Trigger) -> Trigger:
+        return tuple(
+            tuple(
+                replace(c, body=replace(c.body, triggering=names(c.body.triggering)))
+                if isinstance(c.body, EntityCondition)
+                else c
+                for c in group
+            )
+            for group in t
+        )
+
+    stories = tuple(
+        replace(
+            st,
+            acts=tuple(
+                replace(
+                    act,
+                    start_trigger=trig(act.start_trigger),
+                    stop_trigger=trig(act.stop_trigger),
+                    groups=tuple(
+                        replace(
+                            g,
+                            actors=names(g.actors),
+                            maneuvers=tuple(
+                                replace(
+                                    m,
+                                    events=tuple(
+                                        replace(e, start_trigger=trig(e.start_trigger))
+                                        for e in m.events
+                                    ),
+                                )
+                                for m in g.maneuvers
+                            ),
+                        )
+                        for g in act.groups
+                    ),
+                )
+                for act in st.acts
+            ),
+        )
+        for st in sb.stories
+    )
+    init = tuple(replace(ia, entity=n) for ia in sb.init for n in names((ia.entity,)) or ("",))
+    return replace(sb, init=init, stories=stories, stop_trigger=trig(sb.stop_trigger))
+
+
 def _entity(ctx: Ctx, obj: etree._Element) -> Entity:
     if obj.tag != "ScenarioObject":
         raise ctx.unsupported(obj)
@@ -242,8 +349,6 @@ def _story(ctx: Ctx, el: etree._Element, entities: set[str]) -> Story:
 
 def _group(ctx: Ctx, el: etree._Element, entities: set[str]) -> ManeuverGroup:
     actors_el = ctx.child(el, "Actors")
-    if actors_el.find("EntitySelection") is not None:
-        raise ctx.unsupported(actors_el.find("EntitySelection"))
     actors = tuple(ctx.text(r, "entityRef") for r in actors_el.findall("EntityRef"))
     for r, name in zip(actors_el.findall("EntityRef"), actors, strict=True):
         _known(ctx, r, name, entities)

@@ -64,6 +64,27 @@ class RoutePath:
         return SampledPath.through(np.vstack(pts))
 
 
+def random_destination(
+    graph: RoadGraph,
+    road: str,
+    s: float,
+    direction: int,
+    rng: np.random.Generator,
+    length: float = 1000.0,
+) -> tuple[str, float, int]:
+    """(road, s, direction) about ``length`` m on from road point (``road``, ``s``) driven in
+    ``direction``, turning at random where the roads branch (a dead end stops short)."""
+    left = length - (graph.lengths[road] - s if direction > 0 else s)
+    while left > 0:
+        exits = graph.exits.get((road, direction), ())
+        if not exits:
+            return road, (graph.lengths[road] if direction > 0 else 0.0), direction
+        road, direction = exits[int(rng.integers(len(exits)))]
+        left -= graph.lengths[road]
+    end = graph.lengths[road] + left if direction > 0 else -left
+    return road, float(np.clip(end, 0.0, graph.lengths[road])), direction
+
+
 class _RoadPose:
     """What a resolver gives for a waypoint: its road, lane and s."""
 
