@@ -1,4 +1,4 @@
-"""Exit statuses of the ``hiyari`` command (table in docs/cli.md).
+"""Exit statuses of the ``hiyari`` command (table in docs/guide/cli.md).
 
 A pipeline tells "the tool could not do its job" (1) from "the tool did its job and the
 system under test failed" (3); an interrupt is the shell's usual 128 + signal number.
