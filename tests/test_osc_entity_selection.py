@@ -6,9 +6,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-
-from hiyari.bridge.openscenario.xosc.reader import read_scenario
-from hiyari.errors import HiyariError
 from tests.openscenario_files import (
     run_scenario,
     scenario_xml,
@@ -17,6 +14,9 @@ from tests.openscenario_files import (
     time_condition,
     write,
 )
+
+from hiyari.bridge.openscenario.xosc.reader import read_scenario
+from hiyari.errors import HiyariError
 
 STOP = """<LongitudinalAction><SpeedAction><SpeedActionDynamics dynamicsShape="step" dynamicsDimension="time" value="0"/>
 <SpeedActionTarget><AbsoluteTargetSpeed value="0"/></SpeedActionTarget></SpeedAction></LongitudinalAction>"""

@@ -17,8 +17,12 @@ Layout (every time stamp is simulation time in nanoseconds, ``log_time == publis
   mount: ``sensor_id``, mounting position in the vehicle frame, view configuration (field of
   view), host vehicle id; its ground truth is the ``/osi/ground_truth`` message of that time.
   SensorData of such a sensor carries the ego as ``host_vehicle_location`` and the sensor's
-  ``mounting_position``; the vehicle frame's origin is the ego's ground-rectangle centre
-  (``bbcenter_to_rear`` of the host in the ground truth says so).
+  ``mounting_position``, both mountings in OSI's vehicle frame: origin at the middle of the
+  ego's rear axle, the box centre + ``bbcenter_to_rear`` of the host in the ground truth
+  (format 3 and older: the ego's ground-rectangle centre, which their ``bbcenter_to_rear``
+  says too). Every vehicle's ``vehicle_attributes`` (axles, wheels, ground clearance) come
+  from its class and size (:mod:`hiyari.bridge.record.osi_vehicle`); docs/osi_fields.md
+  lists every OSI field written.
 - ``/lidar/<sensor>``: every point of every scan as ``hiyari.LidarScan`` (below); with
   ``RecorderConfig(lidar_encoding="float32")`` instead a ``foxglove.PointCloud`` of float32
   fields x y z intensity range truth_id, bit for bit (as format version 2).
@@ -85,7 +89,7 @@ import math
 
 #: Bumped when the layout above changes in a way readers must know about.
 FORMAT_NAME = "hiyari-recording"
-FORMAT_VERSION = "3"
+FORMAT_VERSION = "4"
 PART_SUFFIX = ".part"
 
 TOPIC_GROUND_TRUTH = "/osi/ground_truth"

@@ -7,6 +7,9 @@ radians counter-clockwise from +x; velocity and acceleration are world-frame vec
 heading. OSI ids are small integers from an :class:`OsiIdMap`; every moving object's first
 ``source_reference`` carries its SUMO id (type ``org.eclipse.sumo.vehicle`` or
 ``org.eclipse.sumo.person``), a second one its SUMO lane and edge (``org.eclipse.sumo.lane``).
+Every vehicle (host or not) has ``vehicle_attributes`` from its class and size
+(:mod:`hiyari.bridge.record.osi_vehicle`); sensor mounting positions are in OSI's vehicle
+frame, whose origin is the host's rear-axle middle (``bbcenter_to_rear``).
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from osi3.osi_groundtruth_pb2 import GroundTruth
 from osi3.osi_object_pb2 import MovingObject
 from osi3.osi_sensordata_pb2 import SensorData
 
+from hiyari.bridge.record.osi_vehicle import vehicle_attributes
 from hiyari.bridge.record.wire import FixedLayout, key, splice
 from hiyari.sensors.outputs import ObjectList
 from hiyari.traffic.actor_class import ActorClass
@@ -182,8 +186,8 @@ class GroundTruthEncoder:
     """Encodes WorldStates as serialized ``osi3.GroundTruth``, vectorised over actors.
 
     Each moving object is its BaseMoving (numpy, see recording_wire) followed by the parts
-    that change rarely (OSI id, type, classification, SUMO references), which are encoded
-    with the protobuf library once per actor and lane and cached.
+    that change rarely (OSI id, type, classification, vehicle attributes, SUMO references),
+    which are encoded with the protobuf library once per actor, lane and size and cached.
     """
 
     def __init__(self) -> None:
@@ -234,19 +238,20 @@ class GroundTruthEncoder:
                 state.edge.tolist(),
                 state.cls.tolist(),
                 list(osi_ids),
+                state.length.tolist(),
+                state.width.tolist(),
+                state.height.tolist(),
                 strict=True,
             )
         )
         cache = self._tails
         tails = [cache.get(k) or _tail(*k) for k in keys]
         self._tails = dict(zip(keys, tails, strict=True))  # only actors still present
-        if ego_osi_id is not None:
-            for i in np.flatnonzero(np.asarray(osi_ids) == ego_osi_id).tolist():
-                tails[i] = tails[i] + _host_tail(float(state.height[i]))
         return head + splice(_MOVING_OBJECT_KEY, rows, tails)
 
 
-def _tail(sumo_id: str, lane: str, edge: str, cls: int, osi_id: int) -> bytes:
+def _tail(sumo_id: str, lane: str, edge: str, cls: int, osi_id: int, length: float,
+          width: float, height: float) -> bytes:  # fmt: skip
     """The non-double fields of one moving object, serialized."""
     m = MovingObject()
     m.id.value = osi_id
@@ -255,19 +260,12 @@ def _tail(sumo_id: str, lane: str, edge: str, cls: int, osi_id: int) -> bytes:
         m.source_reference.add(type=REF_PERSON, identifier=[sumo_id])
     else:
         m.type = MovingObject.TYPE_VEHICLE
+        m.vehicle_attributes.CopyFrom(vehicle_attributes(cls, length, width, height))
         m.vehicle_classification.type = _TO_OSI_VEHICLE.get(cls, _VC.TYPE_OTHER)
         m.vehicle_classification.role = _VC.ROLE_CIVIL
         m.source_reference.add(type=REF_VEHICLE, identifier=[sumo_id])
     if lane or edge:
         m.source_reference.add(type=REF_LANE, identifier=[lane, edge])
-    return m.SerializeToString()
-
-
-def _host_tail(height: float) -> bytes:
-    """The host vehicle's reference point (what OSI calls the rear-axle centre) put at the
-    centre of its ground rectangle, hiyari's vehicle frame (sensor mounts are given in it)."""
-    m = MovingObject()
-    m.vehicle_attributes.bbcenter_to_rear.z = -0.5 * height
     return m.SerializeToString()
 
 
@@ -497,12 +495,14 @@ def sensor_data_message(
 ) -> SensorData:
     """One ``osi3.SensorData`` for an object list.
 
-    ``host``: (vehicle frame to world (4, 4), (length, width, height) m) of the ego at this
-    time. With it, ``host_vehicle_location`` is the ego's bounding box (centre pose and
-    dimension, as OSI's BaseMoving) and ``mounting_position`` the list's frame in the vehicle
-    frame (ground-rectangle centre, see ``bbcenter_to_rear`` of the host in the ground truth),
-    so world = vehicle pose, then mounting, applied to each object. Without it the host
-    location is the list's frame itself and the mounting the identity.
+    ``host``: (vehicle frame to world (4, 4), origin at the centre of the ground rectangle;
+    (length, width, height) m; ``bbcenter_to_rear`` (3,) m) of the ego at this time. With it,
+    ``host_vehicle_location`` is the ego's bounding box (centre pose and dimension, as OSI's
+    BaseMoving) and ``mounting_position`` the list's frame in OSI's vehicle frame (origin at
+    the rear-axle middle, the box centre + ``bbcenter_to_rear``, as the host's
+    ``vehicle_attributes`` in the ground truth say), so world = box pose, then
+    ``bbcenter_to_rear``, then mounting, applied to each object. Without it the host location
+    is the list's frame itself and the mounting the identity.
     Track / detection ids go to ``header.tracking_id``, confidence to
     ``existence_probability``, the truth to ``ground_truth_id``; components that are nan are
     left unset.
@@ -525,7 +525,7 @@ def sensor_data_message(
         set_pose(centre, sd.host_vehicle_location)
         d = sd.host_vehicle_location.dimension
         d.length, d.width, d.height = float(length), float(width), float(height)
-        set_pose(np.linalg.solve(vehicle, frame), sd.mounting_position)
+        set_pose(np.linalg.solve(_offset(centre, host[2]), frame), sd.mounting_position)
     pos, vel, size = objects.position.tolist(), objects.velocity.tolist(), objects.size.tolist()
     conf, oid, cls = objects.confidence.tolist(), objects.object_id.tolist(), objects.cls.tolist()
     for i in range(len(objects)):
@@ -549,10 +549,22 @@ def sensor_data_message(
     return sd
 
 
+def _offset(pose: np.ndarray, vector: Sequence[float]) -> np.ndarray:
+    """``pose`` moved by ``vector`` given in its own frame."""
+    out = pose.copy()
+    out[:3, 3] += pose[:3, :3] @ np.asarray(vector, np.float64)
+    return out
+
+
 def object_list_from_sensor_data(
-    sd: SensorData, source: str, id_names: Mapping[int, str]
+    sd: SensorData,
+    source: str,
+    id_names: Mapping[int, str],
+    bbcenter_to_rear: Sequence[float] | None = None,
 ) -> ObjectList:
-    """ObjectList from an ``osi3.SensorData`` (``id_names``: OSI id -> SUMO id)."""
+    """ObjectList from an ``osi3.SensorData`` (``id_names``: OSI id -> SUMO id).
+    ``bbcenter_to_rear``: the host's, from the ground truth of the same time (None: the
+    centre of the host's ground rectangle, as recordings before format 4 have it)."""
     objs = sd.moving_object
     n = len(objs)
     position, velocity, size = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
@@ -572,8 +584,9 @@ def object_list_from_sensor_data(
             c = d.candidate[0]
             cls[i] = _actor_class(c.type, c.vehicle_classification.type)
     host = sd.host_vehicle_location
-    vehicle = pose_of(host)
-    vehicle[:3, 3] -= vehicle[:3, 2] * (0.5 * host.dimension.height)  # 0 without a dimension
+    if bbcenter_to_rear is None or not host.HasField("dimension"):  # no host: no offset
+        bbcenter_to_rear = (0.0, 0.0, -0.5 * host.dimension.height)  # 0 without a dimension
+    vehicle = _offset(pose_of(host), bbcenter_to_rear)
     return ObjectList(
         time=timestamp_ns(sd.timestamp) / 1e9,
         source=source,

@@ -414,7 +414,25 @@ class Recording:
     def objects_at(self, source: str, i: int) -> ObjectList:
         """The ``i``-th object list of ``source``."""
         sd = SensorData.FromString(self.raw(fmt.TOPIC_SENSOR_DATA + source, i))
-        return osi.object_list_from_sensor_data(sd, source, self.id_names)
+        rear = self._host_rear(osi.timestamp_ns(sd.timestamp))
+        return osi.object_list_from_sensor_data(sd, source, self.id_names, rear)
+
+    def _host_rear(self, ns: int) -> tuple[float, float, float] | None:
+        """The host's ``bbcenter_to_rear`` in the ground truth at time ``ns`` (None: no host
+        there, or none written, as before format 4)."""
+        k = self.latest(fmt.TOPIC_GROUND_TRUTH, ns)
+        if k is None:
+            return None
+        gt = self.ground_truth(k)
+        if not gt.HasField("host_vehicle_id"):
+            return None
+        for m in gt.moving_object:
+            if m.id.value == gt.host_vehicle_id.value:
+                v = m.vehicle_attributes.bbcenter_to_rear
+                return (
+                    (v.x, v.y, v.z) if m.vehicle_attributes.HasField("bbcenter_to_rear") else None
+                )
+        return None
 
     # ------------------------------------------------------------------ status, mesh
     def ego_status(self, k: int, max_age: float | None = None) -> dict[str, Any] | None:

@@ -36,7 +36,7 @@ from osi3.osi_sensorview_pb2 import SensorView
 from hiyari import __version__
 from hiyari.bridge.record import format as fmt
 from hiyari.bridge.record import foxglove_convert as fox
-from hiyari.bridge.record import lidar_scan
+from hiyari.bridge.record import lidar_scan, osi_vehicle
 from hiyari.bridge.record import osi_convert as osi
 from hiyari.bridge.record.osi_road import RoadEncoder
 from hiyari.errors import HiyariError
@@ -226,7 +226,10 @@ class Recorder:
         self._road: RoadEncoder | None = None
         self._road_written = False
         # the ego at the latest step: (time ns, vehicle pose (4, 4), (l, w, h) m, OSI id)
-        self._host: tuple[int, np.ndarray, tuple[float, float, float], int] | None = None
+        # the ego at the last ground truth: time ns, vehicle pose (ground-rectangle centre),
+        # (length, width, height), OSI id, bbcenter_to_rear
+        self._host: tuple[int, np.ndarray, tuple[float, float, float], int, np.ndarray] | None
+        self._host = None
         self._step_ns = -1
         self._flushed_ns = 0
         self._pending = 0
@@ -452,7 +455,8 @@ class Recorder:
             x, y, z = state.xyz[r].tolist()
             pose = osi.vehicle_pose(x, y, z, float(state.heading[r]))
             dims = (float(state.length[r]), float(state.width[r]), float(state.height[r]))
-            self._host = (ns, pose, dims, ego_osi)
+            rear, _ = osi_vehicle.axle_vectors(int(state.cls[r]), dims[0], dims[2])
+            self._host = (ns, pose, dims, ego_osi, rear)
         gt = self._gt.encode(state, osi_ids, ns, ego_osi, environment)
         if self._road is not None:
             if self.config.road_every_frame or not self._road_written:
@@ -542,7 +546,9 @@ class Recorder:
         truth = objects.truth.tolist()
         known = [t for t in truth if t]
         osi_of = dict(zip(known, self._osi_ids(known, ns), strict=True))
-        host = self._host[1:3] if self._host is not None and self._host[0] == ns else None
+        host = None
+        if self._host is not None and self._host[0] == ns:
+            host = (self._host[1], self._host[2], self._host[4])
         sd = osi.sensor_data_message(
             objects, sensor_id, [osi_of.get(t) for t in truth], ns, host
         ).SerializeToString()
@@ -575,9 +581,14 @@ class Recorder:
         sv.version.CopyFrom(osi.interface_version())
         osi.set_timestamp(sv.timestamp, ns)
         sv.sensor_id.value = sensor_id
-        osi.set_pose(np.asarray(mount.sensor_to_vehicle, np.float64), sv.mounting_position)
+        # OSI's vehicle frame has its origin at the rear-axle middle, hiyari's mounts are
+        # given from the centre of the ground rectangle (write_objects calls this with the
+        # host of this time)
+        to_osi = np.eye(4)
         if self._host is not None:
             sv.host_vehicle_id.value = self._host[3]
+            to_osi[:3, 3] = -(self._host[4] + [0.0, 0.0, 0.5 * self._host[2][2]])
+        osi.set_pose(to_osi @ np.asarray(mount.sensor_to_vehicle, np.float64), sv.mounting_position)
         view = getattr(sv, _VIEWS[mount.kind]).add().view_configuration
         view.sensor_id.value = sensor_id
         view.mounting_position.CopyFrom(sv.mounting_position)

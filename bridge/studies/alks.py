@@ -86,6 +86,17 @@ def row_of(task: AlksTask, d: dict, wall: float) -> dict:
     }
 
 
+def crashed_row(task: AlksTask, crash: object) -> dict:
+    """The results.csv row of a run whose worker process died (``crash``: why)."""
+    return {
+        **dict.fromkeys(COLUMNS, ""),
+        "scenario": task.path.stem.removesuffix("_template"),
+        "perception": task.perception,
+        "verdict": "crashed",
+        "collided_with": str(crash),
+    }
+
+
 def finished_row(task: AlksTask) -> dict | None:
     """The row of a task whose outputs (result.json, replay.html) are already there."""
     result = task.out / "result.json"
@@ -107,6 +118,9 @@ def markdown(rows: list[dict]) -> str:
             r = by.get((name, m))
             if r is None:
                 cells.append("not run")
+                continue
+            if r["verdict"] == "crashed":
+                cells.append(f"**crashed** ({r['collided_with']}; run again to retry)")
                 continue
             verdict = (
                 f"**collision** ({r['collided_with']}, {r['impact_speed_kmh']} km/h)"
@@ -130,10 +144,12 @@ def run_table(
     run: bool = True,
 ) -> list[dict]:
     """Run every .xosc in ``folder`` per perception mode (runs whose outputs are already in
-    ``out`` are kept; ``run`` False: only those); write results.csv / results.md."""
+    ``out`` are kept; ``run`` False: only those); write results.csv / results.md. A run whose
+    worker process dies is a "crashed" row (the reason in ``collided_with``), run again by
+    the next call."""
     from tqdm import tqdm
 
-    from hiyari.bridge.studies.pool import PoolOptions, run_all
+    from hiyari.bridge.studies.pool import Crashed, PoolOptions, run_all
 
     files = sorted(p for p in folder.glob("*.xosc") if only in p.name)
     tasks = [AlksTask(p, m, out / p.stem / m) for m in perceptions for p in files]
@@ -141,7 +157,7 @@ def run_table(
     todo = [i for i, r in enumerate(rows) if r is None] if run else []
     with tqdm(total=len(tasks), initial=len(tasks) - len(todo), unit="run", desc="alks") as bar:
         for k, row in run_all(run_task, [tasks[i] for i in todo], PoolOptions(workers=workers)):
-            rows[todo[k]] = row
+            rows[todo[k]] = crashed_row(tasks[todo[k]], row) if isinstance(row, Crashed) else row
             bar.update(1)
     done = [r for r in rows if r is not None]
     with atomic_path(out / "results.csv") as tmp, tmp.open("w", newline="") as f:
@@ -169,7 +185,7 @@ def main(argv: list[str] | None = None) -> int:
     modes = args.perception or ["perfect", "sensors"]
     rows = run_table(args.folder, args.out, modes, args.workers, args.only, not args.no_run)
     print(markdown(rows))
-    return 0
+    return 4 if any(r["verdict"] == "crashed" for r in rows) else 0  # 4: hiyari's RUNS_CRASHED
 
 
 if __name__ == "__main__":

@@ -10,7 +10,9 @@ Each point's expectation is checked against the C&C model the judge is given
 (``JudgeOptions.params``; the points file's own when it is JSON): for a cut-in, whether its
 gap lies in an exact colliding region of its (Ve0, Vo0, Vy). A file whose verdicts disagree
 (made with another model or convention) is refused rather than judged against the wrong
-expectation. The figures show the points over those regions, one panel per ego speed and
+expectation. A run whose worker process dies (a native crash, an out-of-memory kill) gets the
+verdict "crashed" (counted per condition, and a failed condition if the point is Preventable);
+the other runs go on. The figures show the points over those regions, one panel per ego speed and
 relative speed, so nothing drawn mixes two ego speeds.
 """
 
@@ -25,7 +27,7 @@ from hiyari.bridge.loop.result import JUDGE_KEYS, RESULT_KEYS
 from hiyari.bridge.loop.run import RunOptions, run_concrete
 from hiyari.bridge.loop.warm import ProcessCache
 from hiyari.bridge.openscenario.presets.toml_file import SENSOR_NAMES, ConcreteScenario
-from hiyari.bridge.studies.pool import PoolOptions, run_all
+from hiyari.bridge.studies.pool import Crashed, PoolOptions, run_all
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.model import CCParams
 from hiyari.risk.cc.r157_points import R157Point, expected_verdicts
@@ -44,6 +46,7 @@ class JudgeOptions:
     settle_time: float = 8.0  # s simulated after the manoeuvre can have played out
     workers: int = 2
     backend: str = "local"
+    in_process: bool = False  # runs one after the other in this process (a crash ends all)
     sample: int | None = None  # run a seeded random subset of this many points
     seed: int = 1
     lane_width: float = 3.5
@@ -88,6 +91,7 @@ class JudgeReport:
             prev = [r for r in rows if r["expected"] == "preventable"]
             failed = [r["id"] for r in prev if r["verdict"] != "pass"]
             out[cond] = {
+                "crashed": sum(r["verdict"] == "crashed" for r in rows),
                 "points": len(rows),
                 "preventable": len(prev),
                 "passed": len(prev) - len(failed),
@@ -183,6 +187,17 @@ def run_point(task: PointRun) -> dict:
 TIMING_KEYS = ("sim_seconds", "loop_seconds", "run_seconds", "cpu_seconds")
 
 
+def crashed_row(task: PointRun, crash: Crashed) -> dict:
+    """The row of a point whose worker process died (the signal in ``error``)."""
+    return {
+        "index": task.scenario.index,
+        **dict.fromkeys(TIMING_KEYS, 0.0),
+        "status": "crashed",
+        "error": str(crash),
+        **dict.fromkeys(RESULT_KEYS, ""),
+    }
+
+
 def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True) -> JudgeReport:
     """Run every point under every condition; return the report (rows in point order)."""
     from tqdm import tqdm
@@ -203,11 +218,15 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
             meta.append((p, f"{perception}/{preset}" if perception == "sensors" else perception))
     report = JudgeReport([c for c in dict.fromkeys(m[1] for m in meta)], params=options.params)
     results: dict[int, dict] = {}
-    pool = PoolOptions(workers=options.workers, backend=options.backend)
+    pool = PoolOptions(
+        workers=options.workers, backend=options.backend, in_process=options.in_process
+    )
     tasks = [PointRun(cs, options.warm, options.end_when_decided) for cs in runs]
     try:
         with tqdm(total=len(runs), unit="run", disable=not progress, desc="r157 judge") as bar:
-            for _, row in run_all(run_point, tasks, pool):
+            for i, row in run_all(run_point, tasks, pool):
+                if isinstance(row, Crashed):
+                    row = crashed_row(tasks[i], row)
                 results[row["index"]] = row
                 for key in TIMING_KEYS:
                     setattr(report, key, getattr(report, key) + row[key])
@@ -216,7 +235,9 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
         WORKER_CACHE.clear()  # runs made in this process (one worker) leave nothing behind
     for i, (point, cond) in enumerate(meta):
         r = results[i]
-        if r["status"] != "ok":
+        if r["status"] == "crashed":
+            verdict = "crashed"
+        elif r["status"] != "ok":
             verdict = "error"
         elif point.expected != "preventable":
             verdict = "n/a"

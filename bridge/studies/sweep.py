@@ -6,7 +6,10 @@ libsumo runs one simulation per process, so runs go to the campaign pool
 index, so the result table is the same whichever backend or worker count ran them.
 Results stream to ``results.csv`` as runs finish (one row per run, flushed), so a killed sweep
 resumes where it stopped: a re-run skips the rows already there. An interrupted sweep (Ctrl-C,
-SIGTERM) stops its workers, keeps the rows done and says how to resume. At the end the table
+SIGTERM) stops its workers, keeps the rows done and says how to resume. A run whose worker
+process dies (a native crash in SUMO or a sensor library, an out-of-memory kill) is recorded
+with ``status = "crashed"`` and the signal in ``error``; the other runs go on, and a re-run
+retries the crashed rows (failed ones only with ``retry_failed``: they are deterministic). At the end the table
 is rewritten sorted by run index; wall-clock timings go to ``timings.csv`` so that
 ``results.csv`` is reproducible byte for byte.
 
@@ -27,7 +30,7 @@ from hiyari.atomic import atomic_path
 from hiyari.bridge.loop.result import RESULT_KEYS
 from hiyari.bridge.loop.xosc_runs import XoscPlan, XoscRun
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario, LogicalScenario
-from hiyari.bridge.studies.pool import PoolOptions, run_all
+from hiyari.bridge.studies.pool import Crashed, PoolOptions, run_all
 from hiyari.errors import HiyariError
 
 #: What a sweep runs: a TOML logical scenario, or the runs of an OpenSCENARIO file.
@@ -46,15 +49,17 @@ class SweepOptions:
     retry_failed: bool = False
     progress: bool = True
     max_runs: int = 10_000  # refuse sweeps with more runs than this
+    in_process: bool = False  # runs one after the other in this process (a crash ends all)
 
     def pool(self) -> PoolOptions:
         """The pool these options ask for."""
-        return PoolOptions(self.workers, self.backend, self.ray_address)
+        return PoolOptions(self.workers, self.backend, self.ray_address, self.in_process)
 
 
 @dataclass
 class SweepSummary:
-    """Counts of one sweep call (runs skipped were already in the table)."""
+    """Counts of one sweep call (runs skipped were already in the table; ``failed`` and
+    ``crashed`` count the table's rows with that status)."""
 
     total: int
     ran: int
@@ -62,6 +67,7 @@ class SweepSummary:
     failed: int
     wall_seconds: float
     table: Path
+    crashed: int = 0
 
 
 def run_one(cs: ConcreteScenario | XoscRun) -> tuple[dict, float]:
@@ -78,6 +84,18 @@ def run_one(cs: ConcreteScenario | XoscRun) -> tuple[dict, float]:
         msg = " ".join(f"{type(exc).__name__}: {exc}".split())
         row.update(status="failed", error=msg, **dict.fromkeys(RESULT_KEYS, ""))
     return row, time.perf_counter() - t0
+
+
+def crashed_row(cs: ConcreteScenario | XoscRun, crash: Crashed) -> dict:
+    """The row of a run whose worker process died: its seed and parameters, and the signal."""
+    return {
+        "index": cs.index,
+        "seed": cs.seed,
+        **cs.params,
+        "status": "crashed",
+        "error": str(crash),
+        **dict.fromkeys(RESULT_KEYS, ""),
+    }
 
 
 def count_runs(logical: Plan) -> int:
@@ -148,10 +166,13 @@ def run_sweep(logical: Plan, options: SweepOptions) -> SweepSummary:
     done = read_table(table)
     if done and list(next(iter(done.values()))) != cols:
         raise HiyariError(f"{table}: columns differ from this scenario's; use another folder")
-    keep = {i: r for i, r in done.items() if r["status"] == "ok" or not options.retry_failed}
+    # crashed runs are always run again; failed ones (deterministic) only when asked
+    retry = {"crashed", "failed"} if options.retry_failed else {"crashed"}
+    keep = {i: r for i, r in done.items() if r["status"] not in retry}
     todo = [cs for cs in runs if cs.index not in keep]
     t0 = time.perf_counter()
     failed = sum(r["status"] == "failed" for r in keep.values())
+    crashed = 0
     # rewrite the kept rows (drops torn lines), then append as runs finish
     _write_rows(table, cols, sorted(keep.values(), key=lambda r: int(r["index"])))
     timings = out / "timings.csv"
@@ -168,14 +189,19 @@ def run_sweep(logical: Plan, options: SweepOptions) -> SweepSummary:
     ):
         writer = csv.DictWriter(f, fieldnames=cols)
         try:
-            for _, (row, wall) in run_all(run_one, todo, options.pool()):
+            for i, result in run_all(run_one, todo, options.pool()):
+                if isinstance(result, Crashed):
+                    row = crashed_row(todo[i], result)
+                    crashed += 1
+                else:
+                    row, wall = result
+                    tf.write(f"{row['index']},{wall:.4f}\n")
+                    tf.flush()
                 writer.writerow({k: _fmt(row.get(k)) for k in cols})
                 f.flush()
-                tf.write(f"{row['index']},{wall:.4f}\n")
-                tf.flush()
                 failed += row["status"] == "failed"
                 bar.update(1)
-                bar.set_postfix(failed=failed, remaining=len(runs) - bar.n)
+                bar.set_postfix(failed=failed, crashed=crashed, remaining=len(runs) - bar.n)
         except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: workers are stopped by now
             f.flush()
             kept = len(read_table(table))
@@ -186,7 +212,9 @@ def run_sweep(logical: Plan, options: SweepOptions) -> SweepSummary:
             raise
     final = read_table(table)
     _write_rows(table, cols, [final[i] for i in sorted(final)])
-    summary = SweepSummary(len(runs), len(todo), len(keep), failed, time.perf_counter() - t0, table)
+    summary = SweepSummary(
+        len(runs), len(todo), len(keep), failed, time.perf_counter() - t0, table, crashed
+    )
     return summary
 
 

@@ -18,6 +18,8 @@ from hiyari.bridge.studies.perception.blindspot.run import CaseResult
 
 
 def _verdict(r: CaseResult) -> str:
+    if r.crashed:
+        return f"crashed ({r.crashed}; run again)"
     if r.collision is None:
         return "not run"
     if r.collision:

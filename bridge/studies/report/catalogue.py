@@ -155,6 +155,10 @@ def write_report(out: Path, cells: list[Cell], rows: list[dict], config: dict,
         ["concrete runs", str(len(rows))],
         ["passed", f"{n_pass} ({100 * n_pass / max(len(rows), 1):.1f} %)"],
         ["Preventable runs (C&C avoids) passed", f"{prevent_pass} / {len(prevent)}"],
+        [
+            "crashed runs (worker process died; the same command again retries them)",
+            str(sum(r["passed"] == "crashed" for r in rows)),
+        ],  # fmt: skip
         ["cells (position x lane count)", str(len(cells))],
         *[[k, str(v)] for k, v in sorted(cov.items())],
     ]

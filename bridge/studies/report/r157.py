@@ -58,6 +58,7 @@ _STYLE = {
     "n/a collided": ("0.2", "s", "Unpreventable point, collided (allowed)"),
     "n/a avoided": ("0.65", "s", "Unpreventable point, avoided"),
     "error": ("k", "*", "run error"),
+    "crashed": ("tab:purple", "*", "run crashed (worker process died)"),
 }
 _REGION = "#f4a6a6"
 

@@ -45,6 +45,7 @@ class ArmSummary:
     controller_interventions: int
     wall_seconds: float
     evaluated_share: float
+    crashed_runs: int = 0  # runs whose worker process died: not in any figure above
 
 
 def summarise(config: StudyConfig, results: list[ArmResult]) -> list[ArmSummary]:
@@ -76,6 +77,7 @@ def summarise(config: StudyConfig, results: list[ArmResult]) -> list[ArmSummary]
                     wall_seconds=sum(r.wall_seconds for r in rs),
                     evaluated_share=sum(r.evaluated_steps for r in rs)
                     / max(sum(r.steps for r in rs), 1),
+                    crashed_runs=sum(bool(r.crashed) for r in rs),
                 )
             )
     return out
@@ -326,6 +328,15 @@ def _markdown(
             f"{s.pet_incidents} | {s.collisions} | {s.mean_travel_time:.1f} | "
             f"{s.mean_time_loss:.1f} | {s.mean_pedestrian_time_loss:.1f} |"
         )
+    lost = [s for s in summaries if s.crashed_runs]
+    if lost:
+        lines += [
+            "",
+            "**Incomplete**: "
+            + ", ".join(f"{s.variant} {s.arm}: {s.crashed_runs} run(s)" for s in lost)
+            + " crashed (the worker process died) and are left out of every figure here; "
+            "the arms are not comparable until the same command is run again.",
+        ]
     lines += [
         "",
         "| | baseline incidents | SCT incidents | reduction | travel-time cost |",

@@ -27,13 +27,14 @@ def plot_sweep(name: str, varied: list[str], rows: list[dict], out: Path) -> Pat
         if pts:
             ax.scatter(*zip(*pts, strict=True), c=color, label=label, s=25, edgecolors="k", lw=0.3)
     failed = [r for r in rows if r["status"] == "failed"]
+    crashed = [r for r in rows if r["status"] == "crashed"]
     ax.set_xlabel(xk)
     ax.set_ylabel(yk)
     ax.grid(alpha=0.3)
     ax.legend()
     ax.set_title(
         f"{name}: {len(ok)} runs, {sum(r['collision'] == 'True' for r in ok)} "
-        f"collisions, {len(failed)} failed"
+        f"collisions, {len(failed)} failed" + f", {len(crashed)} crashed" * bool(crashed)
     )
     fig.tight_layout()
     with atomic_path(out) as tmp:

@@ -31,7 +31,7 @@ from lxml import etree
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.loop.drivers.sct_controller import SCTController, SCTControllerConfig
-from hiyari.bridge.studies.pool import PoolOptions, report_progress, run_all
+from hiyari.bridge.studies.pool import Crashed, PoolOptions, report_progress, run_all
 from hiyari.bridge.studies.sct.scan import zone_scan
 from hiyari.errors import HiyariError
 from hiyari.net.sumo.build import IntersectionParams, build_intersection
@@ -159,6 +159,14 @@ class ArmResult:
     person_time_loss: np.ndarray  # (persons,) s
     interventions: int = 0
     cpu_seconds: float = 0.0  # this process's CPU time over the same span as wall_seconds
+    crashed: str = ""  # why the run's worker process died ("": it did not); nothing else set
+
+    @classmethod
+    def lost(cls, task: ArmTask, crash: Crashed) -> ArmResult:
+        """The result of a run whose worker process died: no time simulated, nothing seen."""
+        empty = np.zeros(0)
+        return cls(task.variant, task.arm, task.run, task.seed, 0.0, 0.0, 0, 0, [],
+                   np.zeros(0, bool), empty, empty, empty, crashed=str(crash))  # fmt: skip
 
     @property
     def incidents(self) -> list[Encounter]:
@@ -514,15 +522,19 @@ def run_tasks(
     tasks: list[ArmTask],
     jobs: int | None = None,
     on_progress: Callable[[float], None] | None = None,
+    in_process: bool = False,
 ) -> list[ArmResult]:
-    """Run every task, ``jobs`` processes in parallel (default: one per CPU); results in
-    task order. ``on_progress`` receives simulated seconds done, summed over runs."""
+    """Run every task, ``jobs`` worker processes in parallel (default: one per CPU); results
+    in task order. ``on_progress`` receives simulated seconds done, summed over runs. A run
+    whose worker dies gives :meth:`ArmResult.lost` (its ``crashed`` says why).
+    ``in_process``: one run after the other in this process (a crash ends them all)."""
     # the SCT arms take longest: start them first so the pool ends evenly
     order = sorted(range(len(tasks)), key=lambda k: tasks[k].arm != "sct")
-    pool = PoolOptions(workers=jobs or os.cpu_count() or 1)
+    pool = PoolOptions(workers=jobs or os.cpu_count() or 1, in_process=in_process)
     results: list[ArmResult | None] = [None] * len(tasks)
     for i, result in run_all(_run_reporting, [tasks[k] for k in order], pool, on_progress):
-        results[order[i]] = result
+        task = tasks[order[i]]
+        results[order[i]] = ArmResult.lost(task, result) if isinstance(result, Crashed) else result
     return results
 
 
@@ -531,16 +543,18 @@ def run_study(
     folder: str | Path,
     jobs: int | None = None,
     progress: bool = True,
+    in_process: bool = False,
 ) -> tuple[list[ArmResult], float]:
     """Build the inputs under ``folder``/inputs and run every arm, variant and run in
-    parallel processes; returns the results and the wall time (s)."""
+    parallel processes (``in_process``: here, one after the other); returns the results and
+    the wall time (s)."""
     from tqdm import tqdm
 
     tasks = build_inputs(config, Path(folder) / "inputs")
     total = config.days * 86400.0 * len(config.variants) * len(ARMS)
     t0 = time.perf_counter()
     with tqdm(total=round(total), unit="sim s", disable=not progress, desc="study") as bar:
-        results = run_tasks(tasks, jobs, lambda s: bar.update(round(s)))
+        results = run_tasks(tasks, jobs, lambda s: bar.update(round(s)), in_process)
     return results, time.perf_counter() - t0
 
 

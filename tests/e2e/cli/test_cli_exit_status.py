@@ -27,7 +27,7 @@ vy_ms = 2.0
 
 
 def test_statuses_are_distinct_and_the_shells():
-    assert (status.OK, status.ERROR, status.VERDICT_FAIL) == (0, 1, 3)
+    assert (status.OK, status.ERROR, status.VERDICT_FAIL, status.RUNS_CRASHED) == (0, 1, 3, 4)
     assert (status.INTERRUPTED, status.TERMINATED) == (128 + 2, 128 + 15)
 
 

@@ -286,7 +286,10 @@ def test_sensor_data_and_views_per_sensor_with_mounting(tmp_path):
     assert Counter(m.sensor_id.value for m in messages) == {1: 3, 2: 3, 3: 3}
     radar = [m for m in messages if m.sensor_id.value == 1][0]
     mp = radar.mounting_position
-    assert (mp.position.x, mp.position.y, mp.position.z) == pytest.approx((2.3, 0.0, 0.5))
+    # OSI's vehicle frame: origin at the middle of the rear axle, which for the 4.5 x 1.8 x
+    # 1.5 m car is 0.18 x 4.5 = 0.81 m ahead of its rear end (2.25 - 0.81 = 1.44 m behind the
+    # centre) and 0.21 x 1.5 = 0.315 m up; the radar 2.3 m ahead of the centre, 0.5 m up
+    assert (mp.position.x, mp.position.y, mp.position.z) == pytest.approx((3.74, 0.0, 0.185))
     host = radar.host_vehicle_location
     assert (host.position.x, host.position.y) == pytest.approx((10.0, 5.0))
     assert host.orientation.yaw == pytest.approx(0.3)
@@ -297,7 +300,8 @@ def test_sensor_data_and_views_per_sensor_with_mounting(tmp_path):
         views.close()
     assert len(sv) == 6 and {v.sensor_id.value for v in sv} == {1, 2}
     lidar = [v for v in sv if v.sensor_id.value == 2][0]
-    assert lidar.mounting_position.position.z == pytest.approx(1.9)
+    assert lidar.mounting_position.position.x == pytest.approx(1.44)
+    assert lidar.mounting_position.position.z == pytest.approx(1.9 - 0.315)
     assert lidar.mounting_position.orientation.pitch == pytest.approx(np.radians(2.0))
     assert lidar.lidar_sensor_view[0].view_configuration.field_of_view_horizontal == 1.0
     assert lidar.host_vehicle_id.value == 1
@@ -306,4 +310,16 @@ def test_sensor_data_and_views_per_sensor_with_mounting(tmp_path):
     back = rec.objects("lidar", 2)
     want = vehicle_pose(12.0, 5.0, 1.0, 0.3) @ mounts["lidar"].sensor_to_ego()
     np.testing.assert_allclose(back.frame_to_world, want, atol=1e-12)
+    # and OSI's rule gives the same place: the host's box centre + R bbcenter_to_rear
+    # (ground truth of the same time), then the mounting position of the sensor view
+    gt = rec.ground_truth(2)
+    (ego,) = [m for m in gt.moving_object if m.id.value == gt.host_vehicle_id.value]
+    b2r = ego.vehicle_attributes.bbcenter_to_rear
+    assert (b2r.x, b2r.y, b2r.z) == pytest.approx((-1.44, 0.0, 0.315 - 0.75))
+    c, s = np.cos(ego.base.orientation.yaw), np.sin(ego.base.orientation.yaw)
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    p = ego.base.position
+    origin = np.array([p.x, p.y, p.z]) + rot @ [b2r.x, b2r.y, b2r.z]
+    m = lidar.mounting_position.position
+    np.testing.assert_allclose(origin + rot @ [m.x, m.y, m.z], want[:3, 3], atol=1e-12)
     assert rec.object_sources == ["fusion", "lidar", "radar"]

@@ -184,3 +184,40 @@ def test_run_count_guard_counts_without_expanding(tmp_path, capsys):
     logical = load_scenario(_scenario(tmp_path))
     with pytest.raises(HiyariError, match="give 13 runs, more than --max-runs 12"):
         run_sweep(logical, SweepOptions(tmp_path / "o2", max_runs=12, progress=False))
+
+
+def test_crashed_run_is_recorded_then_retried(reference, tmp_path, monkeypatch, capsys):
+    """A worker killed by SIGSEGV in the middle of run 2 (the test-only hook) of a 4-run sweep
+    (the reference's first 4): the other runs finish, run 2 is recorded as crashed with its
+    seed, parameters and the signal, the command exits RUNS_CRASHED; the same command again
+    runs only run 2, and the table is the uninterrupted sweep's byte for byte."""
+    from hiyari.bridge.cli import status
+    from hiyari.bridge.cli.main import main
+    from hiyari.bridge.studies.pool import TEST_CRASH_ENV
+
+    scen = _scenario(tmp_path)
+    scen.write_text(scen.read_text().replace("range = [20, 69]", "range = [20, 33]"))
+    out = tmp_path / "crash"
+    argv = ["sweep", str(scen), "-o", str(out), "-j", "2", "-q"]
+    monkeypatch.setenv(TEST_CRASH_ENV, "2")
+    assert main(argv) == status.RUNS_CRASHED
+    printed = capsys.readouterr()
+    assert "4 runs: 4 ran now, 0 already done, 0 failed, 1 crashed" in printed.out
+    assert "1 run(s) crashed" in printed.err and "run the same command again" in printed.err
+    rows = read_table(out / "results.csv")
+    assert sorted(rows) == [0, 1, 2, 3]
+    assert [i for i, r in rows.items() if r["status"] != "ok"] == [2]
+    ref_path = tmp_path / "reference.csv"
+    ref_path.write_bytes(reference)
+    ref = read_table(ref_path)
+    crashed = rows[2]
+    assert (crashed["seed"], crashed["ve0_kmh"]) == (ref[2]["seed"], ref[2]["ve0_kmh"])
+    assert (crashed["seed"], crashed["ve0_kmh"]) == ("102", "28.0")
+    assert crashed["status"] == "crashed"
+    assert crashed["error"] == "worker process died of SIGSEGV (signal 11)"
+    assert crashed["collision"] == ""
+    assert all(rows[i] == ref[i] for i in (0, 1, 3))
+    # the rerun retries the crashed run only (the hook stays set: there is no task 2 of 1)
+    assert main(argv) == status.OK
+    assert "4 runs: 1 ran now, 3 already done, 0 failed, 0 crashed" in capsys.readouterr().out
+    assert (out / "results.csv").read_bytes() == b"".join(reference.splitlines(True)[:5])

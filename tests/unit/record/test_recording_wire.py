@@ -10,6 +10,7 @@ from osi3.osi_object_pb2 import MovingObject
 
 from hiyari.bridge.record.foxglove_convert import truth_boxes
 from hiyari.bridge.record.osi_convert import GroundTruthEncoder, interface_version
+from hiyari.bridge.record.osi_vehicle import vehicle_attributes
 from hiyari.bridge.record.wire import splice, varint
 from hiyari.traffic import ActorClass, WorldState
 
@@ -65,6 +66,11 @@ def _reference(state: WorldState, osi_ids: list[int], ns: int, ego: int | None) 
             m.source_reference.add(type="org.eclipse.sumo.person", identifier=[state.ids[i]])
         else:
             m.type = MovingObject.TYPE_VEHICLE
+            m.vehicle_attributes.CopyFrom(
+                vehicle_attributes(
+                    int(state.cls[i]), state.length[i], state.width[i], state.height[i]
+                )
+            )
             m.vehicle_classification.type = osi_type[int(state.cls[i])]
             m.vehicle_classification.role = vc.ROLE_CIVIL
             m.source_reference.add(type="org.eclipse.sumo.vehicle", identifier=[state.ids[i]])
@@ -72,8 +78,6 @@ def _reference(state: WorldState, osi_ids: list[int], ns: int, ego: int | None) 
             m.source_reference.add(
                 type="org.eclipse.sumo.lane", identifier=[state.lane[i], state.edge[i]]
             )
-        if ego is not None and osi_ids[i] == ego:  # the vehicle frame: ground-rectangle centre
-            m.vehicle_attributes.bbcenter_to_rear.z = -0.5 * state.height[i]
     return gt
 
 

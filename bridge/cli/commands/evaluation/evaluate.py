@@ -64,7 +64,7 @@ def evaluate(args: argparse.Namespace) -> int:
         catalogue=args.catalogue,
         runs_per_cell=args.runs_per_cell,
         seed=args.seed,
-        pool=PoolOptions(args.workers, args.backend, args.ray_address),
+        pool=PoolOptions(args.workers, args.backend, args.ray_address, args.in_process),
         only=tuple(k for k in (args.cells or "").split(",") if k),
     )
     t0 = time.perf_counter()
@@ -105,9 +105,19 @@ def evaluate(args: argparse.Namespace) -> int:
     run_conf["structures folder"] = str(structures)
     html = write_report(out, cells, rows, run_conf, options.ranges, structures)
     n_pass = sum(r["passed"] == "True" for r in rows)
-    print(f"{len(rows)} runs, {n_pass} passed, {len(rows) - n_pass} failed; {wall:.1f} s wall")
+    crashed = sum(r["passed"] == "crashed" for r in rows)
+    print(
+        f"{len(rows)} runs, {n_pass} passed, {len(rows) - n_pass - crashed} failed, "
+        f"{crashed} crashed; {wall:.1f} s wall"
+    )
     print(f"report: {html}")
-    return status.verdict(n_pass == len(rows))
+    if crashed:
+        print(
+            f"hiyari: {crashed} run(s) crashed (their worker process died; see the report's "
+            "failures); run the same command again to retry them",
+            file=sys.stderr,
+        )
+    return status.verdict(n_pass == len(rows), crashed)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -115,7 +125,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "evaluate",
         help="run the JAMA traffic-disturbance catalogue and write the safety-argument report",
         description="Runs the catalogue's concrete cases, judges each against the C&C driver "
-        "and writes the report; exit status 3 when a run did not pass.",
+        "and writes the report; exit status 3 when a run did not pass, 4 when a run "
+        "crashed (rerun to retry it).",
     )
     p.add_argument("--catalogue", choices=["motorway", "general"], default="motorway")
     p.add_argument("--stack", default=None,
@@ -134,6 +145,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="local worker processes (default: all cores)")  # fmt: skip
     p.add_argument("--backend", choices=["local", "ray"], default="local")
     p.add_argument("--ray-address", default=None, help="Ray cluster: 'auto' or host:port")
+    p.add_argument("--in-process", action="store_true",
+                   help="run the runs one after the other in this process, not in worker "
+                        "processes (a native crash then ends the campaign)")  # fmt: skip
     p.add_argument("--export", default="",
                    help="write these cases (comma-separated run ids, e.g. M03-left_rear-2L-004) "
                         "as OpenSCENARIO + OpenDRIVE into OUT/xosc and run nothing")  # fmt: skip

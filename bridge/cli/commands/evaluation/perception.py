@@ -4,8 +4,9 @@ grip use, blind spots)."""
 from __future__ import annotations
 
 import argparse
+import sys
 
-from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli import numbers, status
 from hiyari.bridge.cli.outputs import output_folder
 
 
@@ -46,15 +47,25 @@ def _grip(args: argparse.Namespace) -> int:
 
 def _blindspots(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.perception.blindspot.run import run_catalogue
+    from hiyari.bridge.studies.pool import PoolOptions
     from hiyari.bridge.studies.report.blindspot import write_catalogue
 
     out = output_folder(args.out)
-    results = run_catalogue(out / "blindspot_roads", not args.no_run, args.cases or None)
+    pool = PoolOptions(in_process=args.in_process)
+    results = run_catalogue(out / "blindspot_roads", not args.no_run, args.cases or None, pool=pool)
     paths = write_catalogue(results, out)
     print(paths["md"].read_text())
     for p in paths.values():
         print(f"written: {p}")
-    return 0
+    crashed = sum(bool(r.crashed) for r in results)
+    if crashed:
+        print(
+            f"hiyari: {crashed} closed-loop run(s) crashed (their worker process died); run the "
+            "same command again",
+            file=sys.stderr,
+        )
+        return status.RUNS_CRASHED
+    return status.OK
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -94,5 +105,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     b.add_argument("--cases", nargs="*", help="case names (default: every realisable one)")
     b.add_argument("--no-run", action="store_true", help="occlusion check only, no closed loop")
+    b.add_argument(
+        "--in-process",
+        action="store_true",
+        help="closed-loop runs one after the other in this process, not in worker processes "
+        "(a native crash then ends the command)",
+    )
     b.add_argument("-o", "--out", default="out/perception", help="output folder")
     b.set_defaults(func=_blindspots)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 
 from hiyari.bridge.cli import status
 from hiyari.bridge.cli.commands.evaluation.boundary import add_model_options, model_params
@@ -97,6 +98,7 @@ def run_judge(args: argparse.Namespace) -> int:
         presets=tuple(p.strip() for p in args.presets.split(",") if p.strip()),
         aeb_delay=args.aeb_delay,
         workers=args.workers,
+        in_process=args.in_process,
         sample=args.sample,
         seed=args.seed,
         params=params,
@@ -113,9 +115,19 @@ def run_judge(args: argparse.Namespace) -> int:
             print(f"   failed: {pid}")
         if s["failed"] > 10:
             print(f"   ... and {s['failed'] - 10} more (see judge.csv)")
+        if s["crashed"]:
+            print(f"   {s['crashed']} point(s) crashed (worker process died; see judge.csv)")
     for p in paths:
         print(f"   {p}")
-    return status.verdict(all(s["verdict"] == "pass" for s in report.summary().values()))
+    summary = report.summary().values()
+    crashed = sum(s["crashed"] for s in summary)
+    if crashed:
+        print(
+            f"hiyari: {crashed} run(s) crashed (their worker process died); run the same "
+            "command again to judge them",
+            file=sys.stderr,
+        )
+    return status.verdict(all(s["verdict"] == "pass" for s in summary), crashed)
 
 
 def add_judge(sub: argparse._SubParsersAction) -> None:
@@ -123,7 +135,7 @@ def add_judge(sub: argparse._SubParsersAction) -> None:
         "judge",
         help="run test points through the closed loop and judge pass / fail",
         description="Every Preventable point must be passed without a collision (exit status "
-        "3 when a condition fails). The points' "
+        "3 when a condition fails, 4 when a run crashed). The points' "
         "expected verdicts are checked against the C&C model: the one stored in a JSON points "
         "file (model options that differ from it are refused), else the model options given "
         "here.",
@@ -141,6 +153,12 @@ def add_judge(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--aeb-delay", type=float, default=0.2, help="brake actuation delay, s")
     p.add_argument("--workers", "-j", type=int, default=os.cpu_count() or 1)
+    p.add_argument(
+        "--in-process",
+        action="store_true",
+        help="run the points one after the other in this process, not in worker processes "
+        "(a native crash then ends the judge)",
+    )
     p.add_argument("-q", "--quiet", action="store_true")
     add_model_options(p)
     p.set_defaults(func=run_judge)

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli import numbers, status
 from hiyari.bridge.cli.outputs import output_folder
 from hiyari.errors import HiyariError
 
@@ -57,7 +58,9 @@ def run_sct(args: argparse.Namespace) -> int:
     if args.jobs is not None and args.jobs < 1:
         raise HiyariError(f"--jobs must be >= 1, got {args.jobs}")
     out = output_folder(args.out)
-    results, wall = run_study(config, out, args.jobs, progress=not args.quiet)
+    results, wall = run_study(
+        config, out, args.jobs, progress=not args.quiet, in_process=args.in_process
+    )
     sensitivity = None
     if args.sensitivity:
         from hiyari.bridge.studies.sct.sensitivity import run_sensitivity
@@ -83,7 +86,16 @@ def run_sct(args: argparse.Namespace) -> int:
         )
     print(f"study wall time {wall:.0f} s; report: {report}")
     print(f"outputs in {out.resolve()}: report.md, summary.json, incidents.csv, *.png, inputs/")
-    return 0
+    crashed = [r for r in results if r.crashed]
+    if crashed:
+        print(
+            f"hiyari: {len(crashed)} run(s) crashed and are left out of the report (e.g. "
+            f"{crashed[0].variant} {crashed[0].arm} seed {crashed[0].seed}: "
+            f"{crashed[0].crashed}); run the same command again",
+            file=sys.stderr,
+        )
+        return status.RUNS_CRASHED
+    return status.OK
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -159,6 +171,12 @@ def _sct_arguments(s: argparse.ArgumentParser) -> None:
     )
     s.add_argument(
         "--jobs", "-j", type=numbers.count(1, 4096), help="parallel processes (default: CPU count)"
+    )
+    s.add_argument(
+        "--in-process",
+        action="store_true",
+        help="run the runs one after the other in this process, not in worker processes "
+        "(a native crash then ends the study)",
     )
     s.add_argument(
         "--sensitivity",

@@ -5,10 +5,11 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 from dataclasses import replace
 from pathlib import Path
 
-from hiyari.bridge.cli import numbers
+from hiyari.bridge.cli import numbers, status
 from hiyari.bridge.cli.outputs import output_folder
 from hiyari.errors import HiyariError, about
 
@@ -59,6 +60,7 @@ def run(args: argparse.Namespace) -> int:
             retry_failed=args.retry_failed,
             progress=not args.quiet,
             max_runs=args.max_runs,
+            in_process=args.in_process,
         ),
     )
     rows = read_table(s.table)
@@ -67,11 +69,18 @@ def run(args: argparse.Namespace) -> int:
         s.table.parent / "summary.png",
     )  # fmt: skip
     print(
-        f"{s.total} runs: {s.ran} ran now, {s.skipped} already done, {s.failed} failed; "
-        f"{s.wall_seconds:.1f} s wall"
+        f"{s.total} runs: {s.ran} ran now, {s.skipped} already done, {s.failed} failed, "
+        f"{s.crashed} crashed; {s.wall_seconds:.1f} s wall"
     )
     print(f"table: {s.table}" + (f"\nplot:  {plot}" if plot else ""))
-    return 0
+    if s.crashed:
+        print(
+            f"hiyari: {s.crashed} run(s) crashed (their worker process died; see the error "
+            "column); run the same command again to retry them",
+            file=sys.stderr,
+        )
+        return status.RUNS_CRASHED
+    return status.OK
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -107,6 +116,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--dry-run", action="store_true", help="check the file and count its runs; run nothing"
     )
     p.add_argument("--retry-failed", action="store_true", help="run failed rows again")
+    p.add_argument(
+        "--in-process",
+        action="store_true",
+        help="run the runs one after the other in this process, not in worker processes "
+        "(a native crash then ends the sweep)",
+    )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     add_xosc_options(p)
     p.set_defaults(func=run)

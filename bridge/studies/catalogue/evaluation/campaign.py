@@ -8,12 +8,17 @@ in plan order (workers finish in any order), so the same inputs give the same fi
 ``wall_s`` column (each run's wall time) varies. Failed runs are then re-run with an MCAP
 recording (``<out>/recordings/<run_id>.mcap``; runs are deterministic, so the recording is
 the failing run).
+
+A run whose worker process dies (a native crash, an out-of-memory kill) gets a row with
+``passed = "crashed"`` and the signal in ``cause``; the other runs go on, and the same
+command again runs it anew (its new row replaces the crashed one).
 """
 
 from __future__ import annotations
 
 import csv
 import io
+import logging
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -32,8 +37,10 @@ from hiyari.bridge.studies.catalogue.space.taxonomy import (
     general_combinations,
     motorway_combinations,
 )
-from hiyari.bridge.studies.pool import PoolOptions, run_all
+from hiyari.bridge.studies.pool import Crashed, PoolOptions, run_all
 from hiyari.errors import HiyariError
+
+_log = logging.getLogger(__name__)
 
 CATALOGUES = ("motorway", "general")
 COLUMNS = (
@@ -165,6 +172,26 @@ def run_row(task: tuple[ConcreteCase, RunConfig]) -> dict:
     }
 
 
+def crashed_row(case: ConcreteCase, crash: Crashed) -> dict:
+    """The row of a run whose worker process died: the case, its parameters, the signal."""
+    c = case.cell.combination
+    return {
+        **dict.fromkeys(COLUMNS, ""),
+        "run_id": case.run_id,
+        "cell": case.cell.key,
+        "combination": c.key,
+        "geometry": c.geometry.value,
+        "ego_motion": c.ego.value,
+        "position": case.cell.position.value,
+        "motion": c.motion.value,
+        "lanes": case.cell.lanes,
+        "params": ";".join(f"{k}={v:.4g}" for k, v in case.params.items()),
+        "passed": "crashed",
+        "cause": str(crash),
+        "wall_s": 0.0,  # not empty: an empty wall_s marks a line cut short
+    }
+
+
 def read_results(path: Path) -> dict[str, dict]:
     """Rows of a results table by run_id (a line cut short by a kill is skipped)."""
     if not path.is_file():
@@ -209,7 +236,7 @@ def run_catalogue(options: CatalogueOptions, out: Path,
     table = out / "results.csv"
     _drop_partial_line(table)
     done = read_results(table)
-    todo = [c for c in cases if c.run_id not in done]
+    todo = [c for c in cases if done.get(c.run_id, {}).get("passed", "crashed") == "crashed"]
     fresh = not table.is_file() or table.stat().st_size == 0
     with table.open("a", newline="") as f:
         if fresh:
@@ -218,7 +245,9 @@ def run_catalogue(options: CatalogueOptions, out: Path,
         if on_progress:
             on_progress(count, len(cases))
         try:
-            for _, row in run_all(run_row, [(c, options.run) for c in todo], options.pool):
+            for i, row in run_all(run_row, [(c, options.run) for c in todo], options.pool):
+                if isinstance(row, Crashed):
+                    row = crashed_row(todo[i], row)
                 f.write(_line(row))
                 f.flush()
                 done[row["run_id"]] = {k: str(v) for k, v in row.items()}
@@ -266,9 +295,15 @@ def _record(task: tuple[ConcreteCase, RunConfig, Path]) -> str:
 
 def record_failures(options: CatalogueOptions, cases: list[ConcreteCase], rows: dict[str, dict],
                     folder: Path) -> None:  # fmt: skip
-    """Re-run each failed case with an MCAP recording unless it has one."""
+    """Re-run each failed case with an MCAP recording unless it has one. A recording whose
+    worker dies is skipped with a warning (the row stands; the next call records it)."""
     failed = [c for c in cases if rows[c.run_id]["passed"] in ("False", False)]
     todo = [(c, options.run, folder / f"{c.run_id}.mcap") for c in failed]
     todo = [t for t in todo if not t[2].is_file()]
-    for _ in run_all(_record, todo, options.pool):
-        pass
+    for i, result in run_all(_record, todo, options.pool):
+        if isinstance(result, Crashed):
+            _log.warning(
+                "%s: not recorded, %s; run the same command again to record it",
+                todo[i][2],
+                result,
+            )

@@ -4,12 +4,13 @@ Per realisable combination: the hidden car's start is searched within its slot f
 LiDAR occlusion (occlusion.py); the scenario (scenarios.py) runs in closed loop with the
 sensor ego stack (ray-cast LiDAR, radar, camera, fusion, ACC + AEB) on the road of its geometry
 (road.py, imported to SUMO once per geometry). Verdict: collision of the ego, else the least
-ground-truth TTC.
+ground-truth TTC. The closed-loop runs go to worker processes (the campaign pool): a run whose
+worker dies (a native crash) is reported as crashed, the others go on.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from hiyari.bridge.studies.perception.blindspot.catalogue import Combination, Geometry, combinations
@@ -24,6 +25,7 @@ from hiyari.bridge.studies.perception.blindspot.scenarios import (
     initial_world,
     shifts,
 )
+from hiyari.bridge.studies.pool import Crashed, PoolOptions, run_all
 
 
 @dataclass(frozen=True)
@@ -39,6 +41,8 @@ class CaseResult:
     """None when the closed loop was not run."""
     min_ttc_s: float | None
     aeb_max_stage: int | None
+    crashed: str = ""
+    """Why the closed-loop run's worker process died ("": it did not; then collision is None)."""
 
     @property
     def hidden(self) -> bool:
@@ -53,39 +57,55 @@ def check_occlusion(combo: Combination, probe: OcclusionProbe) -> tuple[float, f
     return cands[best], fraction
 
 
+def _closed_loop(task: tuple[object, Path]) -> tuple[bool, float, int]:
+    """(collision, min TTC s, highest AEB stage) of one scenario run on its SUMO net."""
+    from hiyari.bridge.loop.engine_run import EgoSetup, run_scenario
+    from hiyari.bridge.loop.run import RunOptions
+
+    scenario, net = task
+    res = run_scenario(scenario, RunOptions(), EgoSetup(perception="sensors"), net=net)
+    return res.collision, res.min_ttc, res.aeb_max_stage
+
+
 def run_catalogue(
     workdir: Path,
     closed_loop: bool = True,
     only: list[str] | None = None,
     progress: bool = True,
+    pool: PoolOptions | None = None,
 ) -> list[CaseResult]:
-    """Every realisable combination (or those named in ``only``): occlusion, then closed loop."""
+    """Every realisable combination (or those named in ``only``): occlusion, then closed loop
+    (in ``pool``'s worker processes; default: one per core)."""
     from tqdm import tqdm
 
-    from hiyari.bridge.loop.engine_run import EgoSetup, import_road, run_scenario
-    from hiyari.bridge.loop.run import RunOptions
+    from hiyari.bridge.loop.engine_run import import_road
 
     cases = [c for c in combinations() if c.realisable and (not only or c.name in only)]
     probe = OcclusionProbe()
+    checked = [(combo, *check_occlusion(combo, probe)) for combo in cases]
+    out = [
+        CaseResult(combo, shift, fraction, None, None, None) for combo, shift, fraction in checked
+    ]
+    if not closed_loop:
+        return out
     nets: dict[Geometry, tuple[Path, Path]] = {}
-    out = []
-    for combo in tqdm(cases, desc="blind-spot catalogue", disable=not progress):
-        shift, fraction = check_occlusion(combo, probe)
-        collision = ttc = stage = None
-        if closed_loop:
-            if combo.geometry not in nets:
-                xodr = write_road(
-                    combo.geometry, workdir / f"blindspot_{combo.geometry.name.lower()}.xodr"
-                )
-                sc0 = build_scenario(combo, xodr, shift)
-                nets[combo.geometry] = (xodr, import_road(sc0, workdir / "roads"))
-            xodr, net = nets[combo.geometry]
-            res = run_scenario(
-                build_scenario(combo, xodr, shift),
-                RunOptions(),
-                EgoSetup(perception="sensors"),
-                net=net,
+    tasks = []
+    for combo, shift, _ in checked:
+        if combo.geometry not in nets:
+            xodr = write_road(
+                combo.geometry, workdir / f"blindspot_{combo.geometry.name.lower()}.xodr"
             )
-            collision, ttc, stage = res.collision, res.min_ttc, res.aeb_max_stage
-        out.append(CaseResult(combo, shift, fraction, collision, ttc, stage))
+            nets[combo.geometry] = (
+                xodr,
+                import_road(build_scenario(combo, xodr, shift), workdir / "roads"),
+            )
+        xodr, net = nets[combo.geometry]
+        tasks.append((build_scenario(combo, xodr, shift), net))
+    with tqdm(total=len(tasks), desc="blind-spot catalogue", disable=not progress) as bar:
+        for i, res in run_all(_closed_loop, tasks, pool or PoolOptions()):
+            if isinstance(res, Crashed):
+                out[i] = replace(out[i], crashed=str(res))
+            else:
+                out[i] = replace(out[i], collision=res[0], min_ttc_s=res[1], aeb_max_stage=res[2])
+            bar.update(1)
     return out
