@@ -123,7 +123,7 @@ TESTS: tuple[NcapTest, ...] = (
 )  # fmt: skip
 
 
-def tests_of(protocol: str, only: tuple[str, ...] = ()) -> list[NcapTest]:
+def select_tests(protocol: str, only: tuple[str, ...] = ()) -> list[NcapTest]:
     """The tests of ``protocol`` ("c2c", "vru" or "all"), restricted to the keys in ``only``
     when given; HiyariError for an unknown protocol or key."""
     if protocol not in (*PROTOCOL_NAMES, "all"):
@@ -145,7 +145,7 @@ def default_root() -> Path:
     return Path(__file__).resolve().parents[4] / "shared" / "data" / "openscenario" / "ncap"
 
 
-def test_file(root: Path, test: NcapTest) -> Path:
+def variations_file(root: Path, test: NcapTest) -> Path:
     """The Variations file of ``test`` under ``root``; HiyariError naming it when missing."""
     path = root / "OpenSCENARIO" / "NCAP" / test.file
     if not path.is_file():

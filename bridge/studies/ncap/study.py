@@ -28,8 +28,8 @@ from hiyari.bridge.studies.ncap.protocols import (
     PROTOCOL_NAMES,
     NcapTest,
     default_root,
-    test_file,
-    tests_of,
+    select_tests,
+    variations_file,
 )
 from hiyari.bridge.studies.ncap.stack import stack_factory
 from hiyari.bridge.studies.pool import PoolOptions, run_all
@@ -74,7 +74,7 @@ def plan(options: NcapOptions) -> list[NcapPoint]:
     """Every test point, checked (files, parameters, stack, presets); nothing is written."""
     from hiyari.sensors.environment.presets import disturbance_preset
 
-    tests = tests_of(options.protocol, options.only)
+    tests = select_tests(options.protocol, options.only)
     for preset in (options.environment, NIGHT_PRESET):
         try:
             disturbance_preset(preset)
@@ -83,7 +83,7 @@ def plan(options: NcapOptions) -> list[NcapPoint]:
     stack_factory(options.stack)  # a bad --stack fails here, before any run
     points = []
     for test in tests:
-        path = test_file(options.files, test)
+        path = variations_file(options.files, test)
         for lighting in test.lightings:
             env = options.environment if lighting == "day" else NIGHT_PRESET
             setup = EgoSetup(
@@ -191,7 +191,7 @@ def run_study(
     scored = {pid: score_row(by_id[pid].test, r) for pid, r in rows.items()}
     lost = [p for p in points if _lost(scored[p.point_id])]
     record_lost(lost, out, options)
-    tests = tests_of(options.protocol, options.only)
+    tests = select_tests(options.protocol, options.only)
     return NcapResult(
         tests, rows, scored, totals(tests, scored.values(), options.protocol), len(todo),
         len(points) - len(todo),
