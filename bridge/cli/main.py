@@ -28,6 +28,7 @@ COMMAND_MODULES = [
     "hiyari.bridge.cli.commands.sensors",
     "hiyari.bridge.cli.commands.evaluation.study",
     "hiyari.bridge.cli.commands.evaluation.evaluate",
+    "hiyari.bridge.cli.commands.evaluation.ncap",
     "hiyari.bridge.cli.commands.evaluation.perception",
 ]
 

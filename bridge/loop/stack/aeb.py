@@ -62,6 +62,9 @@ class ACCConfig:
     max_accel: float = 1.5
     max_decel: float = 3.0
     stopped_speed: float = 0.5  # m/s: a lead slower than this is treated as stopped
+    # False: speed keeping only, as a test driver holding the test speed (Euro NCAP tests the
+    # AEB with ACC off); the AEB still brakes
+    follow: bool = True
 
 
 def time_to_collision(tracks: ObjectList, ego: Pose, cfg: AEBConfig) -> np.ndarray:
@@ -199,7 +202,7 @@ class AEBPlanner:
     def _acc(self, tracks: ObjectList, ego: Pose) -> float:
         c = self.acc
         accel = c.k_speed * (c.set_speed - ego.speed)
-        if len(tracks):
+        if len(tracks) and c.follow:
             ext_x, ext_y = track_extent(tracks, ego)
             ahead = (tracks.position[:, 0] > 0) & (
                 np.abs(tracks.position[:, 1]) < ext_y + ego.width / 2

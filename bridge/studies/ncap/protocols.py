@@ -1,0 +1,153 @@
+"""The Euro NCAP 2023 AEB tests that ``hiyari ncap`` runs: for each test its Variations file
+in Vector's OSC-NCAP-scenarios set, the grid's axes as the datasheet draws them (test speed x
+overlap, impact position, target speed...), how it is scored, its lightings and its points.
+
+The grids are the Variations files' own distributions (nothing is re-declared here): a test's
+runs are exactly the file's runs. The scenario points are assumed (see
+bridge.studies.ncap.scoring): the assessment protocols' point tables were not found.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from hiyari.errors import HiyariError
+
+#: Environment variable naming the root of the Euro NCAP set (the folder holding OpenSCENARIO/).
+ENV_DIR = "HIYARI_NCAP_DIR"
+PROTOCOL_NAMES = ("c2c", "vru")
+
+
+@dataclass(frozen=True)
+class NcapTest:
+    """One test of a protocol.
+
+    ``file``: its Variations file under OpenSCENARIO/NCAP. ``row`` / ``col``: the parameters
+    of the datasheet grid's rows (the test speed) and columns (None: one column).
+    ``scoring``: "impact" (colour by speed reduction), "avoidance" or "fcw".
+    ``target_speed``: the parameter whose value (km/h) the target moves at along the ego's
+    path; the reference speed of the impact bands is the ego's test speed minus it.
+    ``lightings``: ("day",) or ("day", "night"); ``night_assumed``: the night test is not
+    confirmed by a source. ``max_points``: the scenario's points (assumed)."""
+
+    key: str
+    protocol: str
+    title: str
+    file: str
+    row: str
+    col: str | None
+    scoring: str
+    max_points: float
+    target_speed: str | None = None
+    lightings: tuple[str, ...] = ("day",)
+    night_assumed: bool = True
+
+    @property
+    def relative(self) -> bool:
+        """Whether the impact bands use the closing speed (rear and longitudinal tests:
+        the target moves along the ego's path) rather than the ego's speed."""
+        return self.target_speed is not None or self.key == "CCRb"
+
+
+_C = "AEB_C2C_2023/Variations/NCAP_AEB_C2C_"
+_V = "AEB_VRU_2023/Variations/NCAP_AEB_VRU_"
+DN = ("day", "night")
+
+#: Every test, in datasheet order.
+TESTS: tuple[NcapTest, ...] = (
+    NcapTest("CCRs", "c2c", "Car-to-Car Rear stationary", f"{_C}CCRs_Variation_2023.xosc",
+             "Ego_speed_kph", "Overlap", "impact", 1.5, "GVT_init_speed_kph"),
+    NcapTest("CCRs-FCW", "c2c", "Car-to-Car Rear stationary, FCW",
+             f"{_C}CCRs_FCW_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "fcw", 0.5),
+    NcapTest("CCRm", "c2c", "Car-to-Car Rear moving", f"{_C}CCRm_Variation_2023.xosc",
+             "Ego_speed_kph", "Overlap", "impact", 1.5, "GVT_init_speed_kph"),
+    NcapTest("CCRb", "c2c", "Car-to-Car Rear braking", f"{_C}CCRb_Variation_2023.xosc",
+             "GVT_headway", "GVT_deceleration", "impact", 1.0),
+    NcapTest("CCFtap", "c2c", "Car-to-Car Front turn-across-path",
+             f"{_C}CCFtap_Variation_2023.xosc", "Ego_speed_kph", "Target_finalSpeed_kph",
+             "avoidance", 1.5),
+    NcapTest("CCFhos", "c2c", "Car-to-Car Front head-on straight",
+             f"{_C}CCFhos_Variation_2023.xosc", "Ego_speed_kph", None, "avoidance", 1.0),
+    NcapTest("CCFhol", "c2c", "Car-to-Car Front head-on lane change",
+             f"{_C}CCFhol_Variation_2023.xosc", "Ego_speed_kph", None, "avoidance", 1.0),
+    NcapTest("CPNA-25", "vru", "Pedestrian Nearside Adult 25 %",
+             f"{_V}CPNA-25_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "impact", 1.0,
+             lightings=DN),
+    NcapTest("CPNA-75", "vru", "Pedestrian Nearside Adult 75 %",
+             f"{_V}CPNA-75_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "impact", 1.0,
+             lightings=DN),
+    NcapTest("CPFA-50", "vru", "Pedestrian Farside Adult 50 %",
+             f"{_V}CPFA-50_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "impact", 1.0,
+             lightings=DN),
+    # MathWorks' ncapSpec("VRU AEB Crossing CPNCO") lists Day and Night variations
+    NcapTest("CPNCO-50", "vru", "Pedestrian Nearside Child Obstructed 50 %",
+             f"{_V}CPNCO-50_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "impact", 1.0,
+             lightings=DN, night_assumed=False),
+    NcapTest("CPLA-25", "vru", "Pedestrian Longitudinal Adult 25 %",
+             f"{_V}CPLA-25_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "impact", 0.5,
+             "VRU_finalSpeed_kph", lightings=DN),
+    NcapTest("CPLA-50", "vru", "Pedestrian Longitudinal Adult 50 %",
+             f"{_V}CPLA-50_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "impact", 0.5,
+             "VRU_finalSpeed_kph"),
+    NcapTest("CPTAfo-50", "vru", "Pedestrian Turning Adult, farside opposite",
+             f"{_V}CPTAfo-50_Variation_2023.xosc", "Ego_speed_kph", None, "avoidance", 0.5),
+    NcapTest("CPTAfs-50", "vru", "Pedestrian Turning Adult, farside same direction",
+             f"{_V}CPTAfs-50_Variation_2023.xosc", "Ego_speed_kph", None, "avoidance", 0.5),
+    # the set has no Variations file for the nearside turns: their one concrete run each
+    NcapTest("CPTAno-50", "vru", "Pedestrian Turning Adult, nearside opposite",
+             f"{_V}CPTAno-50_10kph_2023.xosc", "Ego_speed_kph", None, "avoidance", 0.25),
+    NcapTest("CPTAns-50", "vru", "Pedestrian Turning Adult, nearside same direction",
+             f"{_V}CPTAns-50_10kph_2023.xosc", "Ego_speed_kph", None, "avoidance", 0.25),
+    NcapTest("CPRA-Cm", "vru", "Pedestrian Reverse Adult/Child moving",
+             f"{_V}CPRA_Cm_Variation_2023.xosc", "Ego_speed_kph", "VRU_catalogEntry",
+             "avoidance", 0.5),
+    NcapTest("CPRA-Cs", "vru", "Pedestrian Reverse Adult/Child stationary",
+             f"{_V}CPRA_Cs_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "avoidance", 0.5),
+    NcapTest("CBNA-50", "vru", "Bicyclist Nearside Adult 50 %",
+             f"{_V}CBNA-50_Variation_2023.xosc", "Ego_speed_kph", None, "impact", 1.0),
+    NcapTest("CBNAO-50", "vru", "Bicyclist Nearside Adult Obstructed 50 %",
+             f"{_V}CBNAO-50_Variation_2023.xosc", "Ego_speed_kph", None, "impact", 1.0),
+    NcapTest("CBFA-50", "vru", "Bicyclist Farside Adult 50 %",
+             f"{_V}CBFA-50_Variation_2023.xosc", "Ego_speed_kph", None, "impact", 1.0),
+    NcapTest("CBLA-25", "vru", "Bicyclist Longitudinal Adult 25 %",
+             f"{_V}CBLA-25_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "impact", 1.0,
+             "VRU_finalSpeed_kph"),
+    NcapTest("CBLA-50", "vru", "Bicyclist Longitudinal Adult 50 %",
+             f"{_V}CBLA-50_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "impact", 1.0,
+             "VRU_finalSpeed_kph"),
+    NcapTest("CMFtap", "vru", "Motorcyclist Front turn-across-path",
+             f"{_V}CMFtap_Variation_2023.xosc", "Ego_speed_kph", "Target_finalSpeed_kph",
+             "avoidance", 1.0),
+)  # fmt: skip
+
+
+def select_tests(protocol: str, only: tuple[str, ...] = ()) -> list[NcapTest]:
+    """The tests of ``protocol`` ("c2c", "vru" or "all"), restricted to the keys in ``only``
+    when given; HiyariError for an unknown protocol or key."""
+    if protocol not in (*PROTOCOL_NAMES, "all"):
+        raise HiyariError(f"--protocol: unknown protocol {protocol!r} (c2c, vru or all)")
+    tests = [t for t in TESTS if protocol in ("all", t.protocol)]
+    unknown = sorted(set(only) - {t.key for t in tests})
+    if unknown:
+        known = ", ".join(t.key for t in tests)
+        raise HiyariError(f"--tests: {', '.join(unknown)} not in protocol {protocol} ({known})")
+    return [t for t in tests if not only or t.key in only]
+
+
+def default_root() -> Path:
+    """The Euro NCAP set: $HIYARI_NCAP_DIR, else ../shared/data/openscenario/ncap beside the
+    source checkout."""
+    env = os.environ.get(ENV_DIR)
+    if env:
+        return Path(env)
+    return Path(__file__).resolve().parents[4] / "shared" / "data" / "openscenario" / "ncap"
+
+
+def variations_file(root: Path, test: NcapTest) -> Path:
+    """The Variations file of ``test`` under ``root``; HiyariError naming it when missing."""
+    path = root / "OpenSCENARIO" / "NCAP" / test.file
+    if not path.is_file():
+        raise HiyariError(f"{path}: no such file (test {test.key}; --files names the set)")
+    return path
