@@ -1,5 +1,5 @@
 """Traffic-signal actions and conditions on a SUMO traffic light: the town junction of
-tests/xodr_authoring signalised by netconvert; TrafficSignalStateAction (SUMO letters and
+tests/support/xodr_authoring signalised by netconvert; TrafficSignalStateAction (SUMO letters and
 OpenSCENARIO lamp triples), TrafficSignalControllerAction (a phase by index) and the two
 conditions reading them back; an unknown signal is one line naming the file."""
 

@@ -7,7 +7,6 @@ other fields of each message written."""
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,6 +17,7 @@ from osi3.osi_object_pb2 import MovingObject
 from osi3.osi_sensordata_pb2 import SensorData
 from osi3.osi_sensorview_pb2 import SensorView
 from osi_utilities import MultiTraceReader
+from paths import REPO_ROOT
 
 from hiyari.bridge.record.recorder import Recorder, RecorderConfig, SensorMount
 from hiyari.net.mesh.road_mesh import build_scene_mesh
@@ -26,7 +26,7 @@ from hiyari.sensors.frames import Mount
 from hiyari.sensors.outputs import ObjectList
 from hiyari.traffic import ActorClass, SimConfig, Simulation
 
-DOC = Path(__file__).resolve().parents[1] / "docs" / "osi_fields.md"
+DOC = REPO_ROOT / "docs" / "osi_fields.md"
 ROOTS = {"GroundTruth": GroundTruth, "SensorData": SensorData, "SensorView": SensorView}
 #: (front overhang, rear overhang, wheel radius / height, track / width) per class, from
 #: published dimensions (osi_vehicle.AXLES): the car's rear axle 0.18 L from its rear end

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tests.openscenario_files import run_scenario, scenario_xml, story, teleport_speed, write
+from openscenario_files import run_scenario, scenario_xml, story, teleport_speed, write
 
 PED = """<Pedestrian name="p" mass="70" model="m" pedestrianCategory="pedestrian"><BoundingBox><Center x="0" y="0" z="0.9"/>
 <Dimensions width="0.5" length="0.5" height="1.8"/></BoundingBox><Properties/></Pedestrian>"""

@@ -1,7 +1,7 @@
 """A worker process that dies mid-run (the pool's test-only SIGSEGV hook) costs one run of
 ``hiyari evaluate`` and ``hiyari r157 judge``, never the campaign: the run is recorded as
 crashed, the report counts it, the command exits RUNS_CRASHED (4), and the same command again
-runs it. (Sweeps: tests/test_sweep.py; the pool: tests/test_pool_crash.py.)"""
+runs it. (Sweeps: tests/e2e/studies/test_sweep.py; the pool: tests/unit/studies/test_pool_crash.py.)"""
 
 from __future__ import annotations
 

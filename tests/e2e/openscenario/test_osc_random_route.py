@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tests.openscenario_files import (
+from openscenario_files import (
     SHARED,
     run_scenario,
     scenario_xml,

@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from tests.openscenario_files import (
+from openscenario_files import (
     run_scenario,
     scenario_xml,
     story,
