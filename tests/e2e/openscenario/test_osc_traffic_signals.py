@@ -7,13 +7,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import openscenario_files as F
 import pytest
 from xodr_authoring import town_map
 
 from hiyari.errors import HiyariError
 from hiyari.net.sumo.opendrive import import_opendrive
 from hiyari.sumo_tools import run_sumo_tool
-from tests import openscenario_files as F
 
 
 def _net(tmp_path: Path) -> tuple[Path, str]:
