@@ -73,8 +73,13 @@ def _files(path: Path, name: str, text: str) -> tuple[Path, ...]:
     out = []
     for part in text.replace(",", " ").split():
         file = Path(part) if Path(part).is_absolute() else path.parent / part
-        if not file.is_file():
-            raise HiyariError(f"{path}: {name} names {part}, which does not exist")
+        shown = part if len(part) <= 80 else part[:77] + "..."
+        try:
+            found = file.is_file()
+        except OSError as exc:  # e.g. a name longer than the file system allows
+            raise HiyariError(f"{path}: {name} names {shown}: {exc.strerror}") from None
+        if not found:
+            raise HiyariError(f"{path}: {name} names {shown}, which does not exist")
         out.append(file)
     return tuple(out)
 

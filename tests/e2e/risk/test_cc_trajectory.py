@@ -3,11 +3,14 @@ the evaluator."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from hiyari.errors import HiyariError
 from hiyari.risk.cc.evaluator import evaluate_cut_in, evaluate_cut_out, evaluate_decel
+from hiyari.risk.cc.model import CCParams
 from hiyari.risk.cc.trajectory import cut_in_tracks, cut_out_tracks, decel_tracks
 
 KMH = 1 / 3.6
@@ -31,11 +34,14 @@ def test_cut_in_other_vehicle_follows_annex_g():
 
 
 def test_tracks_reproduce_the_evaluated_gap():
-    """Other vehicle rear - C&C ego front, sampled, matches the evaluator's minimum gap."""
+    """Other vehicle rear - C&C ego front, sampled, matches the evaluator's minimum gap (the
+    cut-in under the 'wait' convention: the C&C driver reacts when TTC falls to 2 s, so the
+    tracks hold the whole braking; under the default 'end' this cut-in is not critical)."""
     ve, vo, dx0, vy = 80 * KMH, 50 * KMH, 25.0, 1.5
-    tracks = cut_in_tracks(ve, vo, dx0, vy, T)
+    wait = replace(CCParams(), above_ttc="wait")
+    tracks = cut_in_tracks(ve, vo, dx0, vy, T, wait)
     gap = tracks["other"].x_front_m - 5.3 - tracks["cc_ego"].x_front_m
-    r = evaluate_cut_in(ve, vo, dx0, vy)
+    r = evaluate_cut_in(ve, vo, dx0, vy, wait)
     assert gap.min() == pytest.approx(r.min_gap_m[0], abs=1e-6)
     ego = tracks["cc_ego"]
     assert ego.vx_mps[0] == ve and ego.vx_mps[-1] == pytest.approx(vo)
