@@ -27,6 +27,10 @@ def run(args: argparse.Namespace) -> int:
         f"{d['realtime_factor']:.0f}x real time, {len(d['collision_pairs'])} collision pairs "
         f"({time.perf_counter() - t:.1f} s)"
     )
+    print(
+        f"   contacts by reason: {d['contact_reasons']} (actors, where and why: "
+        f"{out / 'traffic' / 'collisions.csv'})"
+    )
 
     t = _stage("C&C driver Preventable boundaries (JAMA Fig. 26/28/30), Ve0 10-130 km/h")
     paths = cl.run_datasheets(out / "datasheets")
