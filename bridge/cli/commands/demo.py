@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import shlex
 import time
 from pathlib import Path
 
@@ -76,9 +77,11 @@ def run(args: argparse.Namespace) -> int:
     t = _stage(f"JAMA catalogue: {args.catalogue_runs} runs per motorway cell, safety argument")
     from hiyari.bridge.cli.demo.catalogue import run_catalogue_demo
 
-    c = run_catalogue_demo(out / "catalogue", args.catalogue_runs, args.workers)
+    command = shlex.join(["hiyari", *args.argv]) + " (its catalogue stage)"
+    c = run_catalogue_demo(out / "catalogue", args.catalogue_runs, args.workers, command)
     print(
-        f"   {c['passed']}/{c['runs']} runs passed, {c['preventable_passed']}/{c['preventable']} "
+        f"   {c['verdict']}: {c['passed']}/{c['runs']} runs passed, "
+        f"{c['preventable_passed']}/{c['preventable']} "
         f"Preventable; {c['report']} ({time.perf_counter() - t:.1f} s)"
     )
 
