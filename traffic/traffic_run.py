@@ -1,14 +1,16 @@
-"""Run a traffic-only simulation for a duration and summarise it."""
+"""Run a traffic-only simulation for a duration and summarise it (each contact with where it
+happened and why, traffic.contact_context)."""
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 from tqdm import tqdm
 
 from hiyari.traffic.collision import Collision
+from hiyari.traffic.contact_context import ContactContext, explain
 from hiyari.traffic.simulation import SimConfig, Simulation
 
 
@@ -28,6 +30,8 @@ class TrafficSummary:
     vehicle_counts: np.ndarray = field(repr=False)  # (steps,) actors in the network
     person_counts: np.ndarray = field(repr=False)
     mean_vehicle_speed: np.ndarray = field(repr=False)  # (steps,) m/s, nan when empty
+    #: (a, b) -> the context of the pair's first contact
+    contexts: dict[tuple[str, str], ContactContext] = field(default_factory=dict)
 
     @property
     def steps_per_second(self) -> float:
@@ -61,8 +65,9 @@ class TrafficSummary:
                     "kind": c.kind,
                     "depth_m": round(c.depth, 3),
                     "reported_by_sumo": c.reported_by_sumo,
+                    **(asdict(self.contexts[key]) if key in self.contexts else {}),
                 }
-                for c in first.values()
+                for key, c in first.items()
             ],
         }
 
@@ -77,6 +82,7 @@ def run_traffic(config: SimConfig, duration: float, progress: bool = True) -> Tr
     persons: set[str] = set()
     times, nveh, nper, vmean = [], [], [], []
     collisions: list[Collision] = []
+    contexts: dict[tuple[str, str], ContactContext] = {}
     with Simulation(config) as sim:
         end = sim.time + duration
         n_steps = int(round(duration / config.step_length))
@@ -91,6 +97,9 @@ def run_traffic(config: SimConfig, duration: float, progress: bool = True) -> Tr
                 nper.append(int(ped.sum()))
                 vmean.append(float(state.speed[~ped].mean()) if (~ped).any() else np.nan)
                 collisions.extend(sim.collisions)
+                for c in sim.collisions:
+                    if (c.a, c.b) not in contexts:
+                        contexts[(c.a, c.b)] = explain(c, state)
                 bar.update(1)
                 if len(times) % 50 == 0:
                     bar.set_postfix(veh=nveh[-1], ped=nper[-1], coll=len(collisions))
@@ -108,4 +117,5 @@ def run_traffic(config: SimConfig, duration: float, progress: bool = True) -> Tr
         vehicle_counts=np.array(nveh),
         person_counts=np.array(nper),
         mean_vehicle_speed=np.array(vmean),
+        contexts=contexts,
     )

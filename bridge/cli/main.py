@@ -66,6 +66,7 @@ def main(argv: list[str] | None = None) -> int:
         previous = signal.signal(signal.SIGTERM, _terminate)
     try:
         args = build_parser().parse_args(argv)
+        args.argv = list(sys.argv[1:] if argv is None else argv)  # the command as given
         return int(args.func(args) or status.OK)
     except HiyariError as exc:
         print(f"hiyari: error: {exc}", file=sys.stderr)

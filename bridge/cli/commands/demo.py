@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import shlex
 import time
 
 from hiyari.bridge.cli import numbers
@@ -26,6 +27,10 @@ def run(args: argparse.Namespace) -> int:
         f"   {d['vehicles_seen']} vehicles and {d['persons_seen']} pedestrians, "
         f"{d['realtime_factor']:.0f}x real time, {len(d['collision_pairs'])} collision pairs "
         f"({time.perf_counter() - t:.1f} s)"
+    )
+    print(
+        f"   contacts by reason: {d['contact_reasons']} (actors, where and why: "
+        f"{out / 'traffic' / 'collisions.csv'})"
     )
 
     t = _stage("C&C driver Preventable boundaries (JAMA Fig. 26/28/30), Ve0 10-130 km/h")
@@ -72,9 +77,11 @@ def run(args: argparse.Namespace) -> int:
     t = _stage(f"JAMA catalogue: {args.catalogue_runs} runs per motorway cell, safety argument")
     from hiyari.bridge.cli.demo.catalogue import run_catalogue_demo
 
-    c = run_catalogue_demo(out / "catalogue", args.catalogue_runs, args.workers)
+    command = shlex.join(["hiyari", *args.argv]) + " (its catalogue stage)"
+    c = run_catalogue_demo(out / "catalogue", args.catalogue_runs, args.workers, command)
     print(
-        f"   {c['passed']}/{c['runs']} runs passed, {c['preventable_passed']}/{c['preventable']} "
+        f"   {c['verdict']}: {c['passed']}/{c['runs']} runs passed, "
+        f"{c['preventable_passed']}/{c['preventable']} "
         f"Preventable; {c['report']} ({time.perf_counter() - t:.1f} s)"
     )
 

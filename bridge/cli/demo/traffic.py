@@ -1,4 +1,5 @@
-"""Demo stage: a generated city intersection with vehicles and pedestrians."""
+"""Demo stage: a generated city intersection with vehicles and pedestrians; every contact in
+collisions.csv with the actors, where and why (traffic.contact_context)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ from matplotlib.figure import Figure
 
 from hiyari.atomic import atomic_path  # noqa: E402
 from hiyari.net.sumo.build import IntersectionParams, build_intersection  # noqa: E402
+from hiyari.traffic.contact_context import reason_counts
 from hiyari.traffic.demand import DemandConfig, write_demand  # noqa: E402
 from hiyari.traffic.simulation import SimConfig  # noqa: E402
 from hiyari.traffic.traffic_run import TrafficSummary, run_traffic  # noqa: E402
@@ -59,8 +61,11 @@ def run_traffic_demo(out_dir: Path, duration: float = 300.0, seed: int = 42) -> 
         tmp.write_text(json.dumps(d, indent=2))
     with atomic_path(out_dir / "collisions.csv") as tmp, tmp.open("w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["time_s", "a", "b", "kind", "depth_m", "reported_by_sumo"])
+        cols = ["time", "a", "b", "kind", "depth_m", "reported_by_sumo", "a_class", "b_class",
+                "a_lane", "b_lane", "a_speed", "b_speed", "where", "reason", "why"]  # fmt: skip
+        w.writerow(["time_s", *cols[1:10], "a_speed_mps", "b_speed_mps", *cols[12:]])
         for c in d["collision_pairs"]:
-            w.writerow([c["time"], c["a"], c["b"], c["kind"], c["depth_m"], c["reported_by_sumo"]])
+            w.writerow([c.get(k, "") for k in cols])
     plot_traffic(summary, out_dir / "traffic.png")
+    d["contact_reasons"] = reason_counts(list(summary.contexts.values()))
     return d

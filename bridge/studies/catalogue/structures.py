@@ -33,6 +33,16 @@ class StructurePage:
     png: bytes | None
 
 
+def ensure_coverage(folder: Path) -> Path:
+    """Write the factor x principle coverage page (camera, radar, LiDAR) into ``folder``
+    unless it is there: it takes seconds and is always part of the argument."""
+    if not (folder / "coverage.md").is_file():
+        from hiyari.bridge.studies.perception.coverage_run import parse_sensors, write_coverage
+
+        write_coverage(parse_sensors("camera,radar,lidar"), folder)
+    return folder
+
+
 def read_pages(folder: Path | None) -> list[StructurePage]:
     """The four pages from ``folder`` (missing ones with ``markdown=None``)."""
     out = []

@@ -4,13 +4,16 @@
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.colors import LinearSegmentedColormap
+from matplotlib.colors import to_rgba
 from matplotlib.figure import Figure
 
 from hiyari.bridge.studies.catalogue.space.obstruction import Cell
 from hiyari.units import mps_to_kmh
 
-RED_GREEN = LinearSegmentedColormap.from_list("pass", ["#c62828", "#f9a825", "#2e7d32"])
+#: A cell is green only when every run passed; one failure makes it red (a pass rate shaded
+#: between the two read as "mostly passed", which a failure is not).
+PASSED = "#2e7d32"
+FAILED = "#c62828"
 NOT_APPLICABLE = "#e0e0e0"
 NOT_RUN = "#ffffff"
 
@@ -42,8 +45,9 @@ def matrix_layout(cells: list[Cell]) -> tuple[list[str], list[str]]:
 
 
 def matrix_figure(cells: list[Cell], stats: dict[str, tuple[int, int]]) -> Figure:
-    """The catalogue matrix: each (row, column) coloured by pass rate over its lane counts,
-    with "passed/run"; grey: not applicable; white: applicable but not run.
+    """The catalogue matrix: each (row, column) over its lane counts green when every run
+    passed, red when one failed, with "passed/run"; grey: not applicable; white: applicable
+    but not run.
     ``stats``: cell key -> (passed, runs)."""
     rows, cols = matrix_layout(cells)
     passed = np.zeros((len(rows), len(cols)))
@@ -59,9 +63,9 @@ def matrix_figure(cells: list[Cell], stats: dict[str, tuple[int, int]]) -> Figur
     fig = Figure(figsize=(max(10.0, 0.55 * len(cols) + 3.0), height), dpi=110)
     ax = fig.add_axes((0.16, 0.02, 0.83, 1 - 1.45 / height))
     rgba = np.ones((len(rows), len(cols), 4))
-    rate = np.divide(passed, runs, out=np.zeros_like(passed), where=runs > 0)
-    rgba[runs > 0] = RED_GREEN(rate[runs > 0])
-    rgba[~valid] = (0.88, 0.88, 0.88, 1.0)
+    rgba[(runs > 0) & (passed == runs)] = to_rgba(PASSED)
+    rgba[(runs > 0) & (passed < runs)] = to_rgba(FAILED)
+    rgba[~valid] = to_rgba(NOT_APPLICABLE)
     ax.imshow(rgba, aspect="auto", interpolation="nearest")
     for i in range(len(rows)):
         for j in range(len(cols)):
@@ -77,8 +81,9 @@ def matrix_figure(cells: list[Cell], stats: dict[str, tuple[int, int]]) -> Figur
     ax.set_yticks(np.arange(-0.5, len(rows)), minor=True)
     ax.grid(which="minor", color="white", linewidth=1.5)
     ax.tick_params(which="minor", length=0)
-    fig.suptitle("JAMA traffic-disturbance catalogue: passed / concrete runs per cell "
-                 "(both lane counts); grey –: not applicable", fontsize=10, y=0.99)  # fmt: skip
+    fig.suptitle("JAMA traffic-disturbance catalogue: passed / concrete runs per cell (both "
+                 "lane counts); green: all passed, red: a failure; grey –: not applicable",
+                 fontsize=10, y=0.99)  # fmt: skip
     return fig
 
 

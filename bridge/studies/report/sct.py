@@ -98,6 +98,11 @@ def reduction(base: int, sct: int) -> float:
     return (base - sct) / base if base else math.nan
 
 
+def change_text(red: float) -> str:
+    """The incident change for people ("-68%"), or why there is none."""
+    return "n/a (no baseline incidents)" if math.isnan(red) else f"{-red:+.0%}"
+
+
 def write_report(
     folder: str | Path,
     config: StudyConfig,
@@ -111,22 +116,24 @@ def write_report(
     folder.mkdir(parents=True, exist_ok=True)
     summaries = summarise(config, results)
     _write_csv(folder / "incidents.csv", config, results)
-    _bar_chart(folder / "incidents_bar.png", config, summaries)
-    _histograms(folder / "ttc_sct_hist.png", config, results)
-    _by_hour(folder / "incidents_by_hour.png", config, results)
+    _save(incidents_figure(config, summaries), folder / "incidents_bar.png")
+    _save(encounters_figure(config, results), folder / "ttc_sct_hist.png")
+    _save(timeline_figure(config, results), folder / "incidents_by_hour.png")
     facts = {v: _residual_facts(config, results, v) for v in config.variants}
     summary = {
         "config": _config_dict(config),
         "wall_seconds": round(wall_seconds, 1),
         "arms": [asdict(s) for s in summaries],
-        "reduction": {
-            v: reduction(*(s.incidents for s in _pair(summaries, v))) for v in config.variants
+        "reduction": {  # null: no baseline incidents (JSON has no nan)
+            v: _finite(reduction(*(s.incidents for s in _pair(summaries, v))))
+            for v in config.variants
         },
         "seed": {"baseline": SEED_BASELINE, "sct": SEED_SCT, "reduction": SEED_REDUCTION},
     }
     write_text_atomic(folder / "summary.json", json.dumps(summary, indent=2, default=str))
-    text = _markdown(config, summaries, wall_seconds, facts)
-    if sensitivity is not None and sensitivity[1]:
+    with_sensitivity = sensitivity is not None and bool(sensitivity[1])
+    text = _markdown(config, summaries, wall_seconds, facts, with_sensitivity)
+    if with_sensitivity:
         from hiyari.bridge.studies.sct.sensitivity import write_sensitivity
 
         write_sensitivity(folder, sensitivity[1], sensitivity[0])
@@ -155,6 +162,10 @@ def _sensitivity_markdown(hours: float, points: list) -> str:
     return "\n".join(lines)
 
 
+def _finite(x: float) -> float | None:
+    return x if math.isfinite(x) else None
+
+
 def _config_dict(config: StudyConfig) -> dict:
     d = asdict(config)
     d["run_seconds"] = config.run_seconds
@@ -178,38 +189,46 @@ def _save(fig: Figure, path: Path) -> None:
         fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
 
 
-def _bar_chart(path: Path, config: StudyConfig, summaries: list[ArmSummary]) -> None:
-    """Incidents per arm, each variant next to the seed's Vissim study."""
-    groups = [("DIVP seed\n(Vissim, 2 days)", SEED_BASELINE, SEED_SCT)]
+def incidents_figure(config: StudyConfig, summaries: list[ArmSummary]) -> Figure:
+    """Incidents per arm: the seed's Vissim study and hiyari's variants on separate axes (their
+    simulated times and tools differ, so their counts do not share a scale)."""
+    ours = []
     for v in config.variants:
         base, sct = _pair(summaries, v)
-        groups.append((f"hiyari {v}\n({base.sim_days:g} days)", base.incidents, sct.incidents))
-    fig = Figure(figsize=(2.6 + 2.2 * len(groups), 4.2))
-    ax = fig.subplots()
-    x = np.arange(len(groups))
-    w = 0.36
-    b = ax.bar(x - w / 2, [g[1] for g in groups], w, label="standard drivers", color="#888")
-    s = ax.bar(x + w / 2, [g[2] for g in groups], w, label="SCT drivers", color="#2a7")
-    ax.bar_label(b, padding=2)
-    ax.bar_label(s, padding=2)
-    for k, (_, nb, ns) in enumerate(groups):
-        red = reduction(nb, ns)
-        if not math.isnan(red):
-            top = max(nb, ns) * 1.12 + 1
-            ax.text(k, top, f"{-red:+.0%}", ha="center", fontweight="bold")
-    ax.set_xticks(x, [g[0] for g in groups])
-    ax.set_ylabel("incidents")
-    ax.set_ylim(0, max(max(g[1], g[2]) for g in groups) * 1.3 + 2)
-    ax.set_title(f"Pedestrian incidents, {config.vehicles_per_hour:g} veh/h")
-    ax.legend(loc="upper right")
-    _save(fig, path)
+        ours.append((v, base.incidents, sct.incidents))
+    days = summaries[0].sim_days if summaries else config.days
+    fig = Figure(figsize=(4.0 + 2.4 * len(ours), 4.4), layout="constrained")
+    left, right = fig.subplots(1, 2, width_ratios=[1.4, 1.0 + len(ours)])
+    panels = (
+        (left, [("Vissim", SEED_BASELINE, SEED_SCT)], "DIVP seed, 2 simulated days"),
+        (right, ours, f"hiyari, {days:.3g} simulated days per arm"),
+    )
+    for ax, groups, title in panels:
+        x = np.arange(len(groups))
+        w = 0.36
+        b = ax.bar(x - w / 2, [g[1] for g in groups], w, label="standard drivers", color="#888")
+        s = ax.bar(x + w / 2, [g[2] for g in groups], w, label="SCT drivers", color="#2a7")
+        ax.bar_label(b, padding=2)
+        ax.bar_label(s, padding=2)
+        top = max(max(g[1], g[2]) for g in groups)
+        for k, (_, nb, ns) in enumerate(groups):
+            red = reduction(nb, ns)
+            text = "no baseline\nincidents" if math.isnan(red) else f"{-red:+.0%}"
+            ax.text(k, max(nb, ns) + 0.12 * top + 0.4, text, ha="center", fontweight="bold")
+        ax.set_xticks(x, [g[0] for g in groups])
+        ax.set_ylabel("incidents")
+        ax.set_ylim(0, top * 1.35 + 2)
+        ax.set_title(title, fontsize=10)
+    left.legend(loc="upper right", fontsize=8)
+    fig.suptitle(f"Pedestrian incidents, {config.vehicles_per_hour:g} veh/h")
+    return fig
 
 
-def _histograms(path: Path, config: StudyConfig, results: list[ArmResult]) -> None:
+def encounters_figure(config: StudyConfig, results: list[ArmResult]) -> Figure:
     """Per-encounter minimum TTC and SCT, baseline against SCT arm, per variant."""
     h = config.metric_horizon
     bins = np.linspace(0.0, h, int(round(h / 0.25)) + 1)  # coarser than the 0.1 s step
-    fig = Figure(figsize=(10, 3.2 * len(config.variants)))
+    fig = Figure(figsize=(10, 3.4 * len(config.variants)), layout="constrained")
     axes = fig.subplots(len(config.variants), 2, squeeze=False)
     for row, v in enumerate(config.variants):
         for col, (name, field) in enumerate((("TTC", "min_ttc"), ("SCT", "min_sct"))):
@@ -230,34 +249,40 @@ def _histograms(path: Path, config: StudyConfig, results: list[ArmResult]) -> No
             mark = config.incidents.ttc_threshold if name == "TTC" else config.controller.sct_safe
             if mark <= h:
                 ax.axvline(mark, color="r", ls="--", lw=1)
-            ax.set_title(f"{v}: minimum {name} per encounter (logged below {h:g} s)")
+            ax.set_title(f"{v}: minimum {name} per encounter\n(logged below {h:g} s)", fontsize=10)
             ax.set_xlabel(f"{name}, s")
             ax.set_ylabel("encounters")
+            ax.set_ylim(bottom=0, top=max(ax.get_ylim()[1], 1.0))
             ax.legend()
-    _save(fig, path)
+    return fig
 
 
-def _by_hour(path: Path, config: StudyConfig, results: list[ArmResult]) -> None:
-    """Incidents per simulated hour across the whole study time, per arm and variant."""
-    hours = int(math.ceil(config.days * 24))
-    fig = Figure(figsize=(10, 2.8 * len(config.variants)))
+def timeline_figure(config: StudyConfig, results: list[ArmResult]) -> Figure:
+    """Incidents per simulated hour across the whole study time, per arm and variant (per
+    minute when the study is shorter than two hours)."""
+    total = config.days * 86400.0
+    unit, name = (3600.0, "hour") if total >= 7200.0 else (60.0, "minute")
+    edges = np.append(np.arange(0.0, total / unit, 1.0), total / unit)
+    fig = Figure(figsize=(10, 2.8 * len(config.variants)), layout="constrained")
     axes = fig.subplots(len(config.variants), 1, squeeze=False)
     for row, v in enumerate(config.variants):
         ax = axes[row, 0]
         for arm, color in zip(ARMS, ("#888", "#2a7"), strict=True):
-            counts = np.zeros(hours)
+            counts = np.zeros(len(edges) - 1)
             for r in results:
                 if r.variant != v or r.arm != arm:
                     continue
                 for e in r.incidents:
                     t = r.run * config.run_seconds + (0.0 if math.isnan(e.time) else e.time)
-                    counts[min(int(t // 3600), hours - 1)] += 1
-            ax.step(np.arange(hours), counts, where="post", color=color, label=arm)
-        ax.set_title(f"{v}: incidents per simulated hour")
-        ax.set_xlabel("simulated hour")
+                    counts[min(int(t // unit), len(counts) - 1)] += 1
+            ax.stairs(counts, edges, color=color, label=arm, lw=1.6)
+        ax.set_title(f"{v}: incidents per simulated {name}", fontsize=10)
+        ax.set_xlabel(f"simulated {name}s")
         ax.set_ylabel("incidents")
+        ax.set_xlim(0, edges[-1])
+        ax.set_ylim(bottom=0, top=max(ax.get_ylim()[1], 1.0))
         ax.legend()
-    _save(fig, path)
+    return fig
 
 
 def _residual_facts(config: StudyConfig, results: list[ArmResult], variant: str) -> list[str]:
@@ -302,7 +327,11 @@ def _residual_facts(config: StudyConfig, results: list[ArmResult], variant: str)
 
 
 def _markdown(
-    config: StudyConfig, summaries: list[ArmSummary], wall: float, facts: dict[str, list[str]]
+    config: StudyConfig,
+    summaries: list[ArmSummary],
+    wall: float,
+    facts: dict[str, list[str]],
+    with_sensitivity: bool = False,
 ) -> str:
     c = config
     lines = [
@@ -344,17 +373,19 @@ def _markdown(
         f"| DIVP seed (Vissim) | {SEED_BASELINE} | {SEED_SCT} | {SEED_REDUCTION:.0%} | "
         "not reported |",
     ]
-    short = []
+    short, undecided = [], []
     for v in c.variants:
         base, sct = _pair(summaries, v)
         red = reduction(base.incidents, sct.incidents)
         cost = sct.mean_travel_time - base.mean_travel_time
         rel = cost / base.mean_travel_time if base.mean_travel_time else math.nan
         lines.append(
-            f"| hiyari, {v} | {base.incidents} | {sct.incidents} | {red:.0%} | "
-            f"{cost:+.1f} s ({rel:+.1%}) |"
+            f"| hiyari, {v} | {base.incidents} | {sct.incidents} | "
+            f"{'n/a' if math.isnan(red) else f'{red:.0%}'} | {cost:+.1f} s ({rel:+.1%}) |"
         )
-        if not red >= SEED_REDUCTION:
+        if math.isnan(red):
+            undecided.append(v)
+        elif red < SEED_REDUCTION:
             short.append((v, red))
     lines += [
         "",
@@ -372,6 +403,18 @@ def _markdown(
     ]
     lines += [f"- {f}" for v in c.variants for f in facts.get(v, [])]
     lines.append("")
+    if undecided:
+        lines += [
+            f"No baseline incidents in {', '.join(undecided)} over {c.days:g} simulated days "
+            f"(the seed counted {SEED_BASELINE} in 2 days): there is nothing to reduce, so no "
+            "reduction is given. A longer run (--days) is needed to compare with the seed.",
+            "",
+        ]
+    range_note = (
+        "the sensitivity section shows the range the model gives."
+        if with_sensitivity
+        else "`--sensitivity HOURS` adds a section with the range the model gives."
+    )
     if short:
         names = ", ".join(f"{v} ({r:.0%})" for v, r in short)
         lines += [
@@ -385,8 +428,7 @@ def _markdown(
             "minimum SCT of these encounters (above) shows the driver had well under SCT_safe "
             "of warning, and braking is bounded to 0.4 g with a 3 m/s^3 jerk. The seed's "
             "Vissim drivers, pedestrian model and incident criterion are not published, so its "
-            "baseline count and what can be removed differ: the sensitivity section shows the "
-            "range the model gives.",
+            "baseline count and what can be removed differ: " + range_note,
             "",
             "What would change it: anticipating pedestrians who approach a crossing end "
             "(a dart-out zone that follows the walking direction, not only the heading within "
@@ -394,7 +436,7 @@ def _markdown(
             "before stepping in, and the incident thresholds (--ttc-threshold, "
             "--pet-threshold).",
         ]
-    else:
+    elif not undecided:
         lines.append(
             f"The reduction reaches the seed's {SEED_REDUCTION:.0%} in every variant, at the "
             "travel-time cost in the table."

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 import os
-import platform
+import shlex
 import sys
 import time
 from pathlib import Path
@@ -14,25 +14,7 @@ from hiyari.bridge.cli import numbers, status
 from hiyari.bridge.cli.outputs import output_folder
 
 
-def _versions() -> dict[str, str]:
-    from importlib.metadata import version
-
-    import numpy
-
-    from hiyari import __version__
-
-    out = {"hiyari": __version__, "python": platform.python_version(), "numpy": numpy.__version__}
-    for dist in ("eclipse-sumo", "libsumo"):
-        try:
-            out[dist] = version(dist)
-        except Exception:  # noqa: BLE001 - a missing distribution just is not listed
-            continue
-    return out
-
-
 def evaluate(args: argparse.Namespace) -> int:
-    from dataclasses import asdict
-
     from tqdm import tqdm
 
     from hiyari.bridge.studies.catalogue.evaluation.campaign import (
@@ -40,7 +22,9 @@ def evaluate(args: argparse.Namespace) -> int:
         catalogue_cells,
         run_catalogue,
     )
+    from hiyari.bridge.studies.catalogue.evaluation.provenance import run_configuration
     from hiyari.bridge.studies.catalogue.evaluation.runner import RunConfig
+    from hiyari.bridge.studies.catalogue.structures import ensure_coverage
     from hiyari.bridge.studies.pool import PoolOptions
     from hiyari.bridge.studies.report.catalogue import write_report
 
@@ -83,26 +67,10 @@ def evaluate(args: argparse.Namespace) -> int:
         for bar in bars:
             bar.close()
     wall = time.perf_counter() - t0
-    run_conf = {
-        "command": " ".join(["hiyari", *sys.argv[1:]]),
-        "catalogue": args.catalogue,
-        "stack": args.stack or "hiyari default (perception -> Kalman fusion -> ACC + AEB)",
-        "perception": args.perception,
-        "runs per cell": args.runs_per_cell,
-        "sampling": f"scrambled Sobol, seed {args.seed} (per cell: crc32(cell) xor seed)",
-        "step length (s)": args.step,
-        "workers / backend": f"{args.workers} / {args.backend}",
-        "wall time of this invocation (s)": f"{wall:.1f}",
-        "logical ranges (SI)": asdict(options.ranges),
-        **{f"version {k}": v for k, v in _versions().items()},
-    }
     cells = catalogue_cells(args.catalogue, options.ranges)
-    structures = Path(args.structures) if args.structures else out / "structures"
-    if not (structures / "coverage.md").is_file():  # seconds: always part of the argument
-        from hiyari.bridge.studies.perception.coverage_run import parse_sensors, write_coverage
-
-        write_coverage(parse_sensors("camera,radar,lidar"), structures)
-    run_conf["structures folder"] = str(structures)
+    structures = ensure_coverage(Path(args.structures) if args.structures else out / "structures")
+    command = shlex.join(["hiyari", *args.argv])
+    run_conf = run_configuration(options, command, wall, structures)
     html = write_report(out, cells, rows, run_conf, options.ranges, structures)
     n_pass = sum(r["passed"] == "True" for r in rows)
     crashed = sum(r["passed"] == "crashed" for r in rows)

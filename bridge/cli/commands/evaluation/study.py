@@ -48,6 +48,7 @@ def study_config(args: argparse.Namespace) -> StudyConfig:
 def run_sct(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.report.sct import (
         SEED_REDUCTION,
+        change_text,
         reduction,
         summarise,
         write_report,
@@ -81,7 +82,7 @@ def run_sct(args: argparse.Namespace) -> int:
         red = reduction(base.incidents, sct.incidents)
         cost = sct.mean_travel_time - base.mean_travel_time
         print(
-            f"{v}: {base.incidents} -> {sct.incidents} incidents ({-red:+.0%}; seed "
+            f"{v}: {base.incidents} -> {sct.incidents} incidents ({change_text(red)}; seed "
             f"{-SEED_REDUCTION:+.0%}), travel time {cost:+.1f} s per vehicle"
         )
     print(f"study wall time {wall:.0f} s; report: {report}")

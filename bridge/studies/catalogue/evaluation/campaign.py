@@ -7,7 +7,7 @@ finished and a new one runs only the missing rows. When every row is in, the tab
 in plan order (workers finish in any order), so the same inputs give the same file; only the
 ``wall_s`` column (each run's wall time) varies. Failed runs are then re-run with an MCAP
 recording (``<out>/recordings/<run_id>.mcap``; runs are deterministic, so the recording is
-the failing run).
+the failing run) and its static replay page (``<run_id>.html``).
 
 A run whose worker process dies (a native crash, an out-of-memory kill) gets a row with
 ``passed = "crashed"`` and the signal in ``cause``; the other runs go on, and the same
@@ -288,18 +288,27 @@ def _sort_table(path: Path, order: list[str]) -> None:
 
 
 def _record(task: tuple[ConcreteCase, RunConfig, Path]) -> str:
+    """Record the case unless its recording exists, then its static replay page beside it."""
+    from hiyari.bridge.record.reader import Recording
+    from hiyari.bridge.replay.export import export_html
+
     case, config, path = task
-    run_case(case, config, record=path)
+    if not path.is_file():
+        run_case(case, config, record=path)
+    page = path.with_suffix(".html")
+    if not page.is_file():
+        export_html(Recording.open(path), page, progress=False)
     return str(path)
 
 
 def record_failures(options: CatalogueOptions, cases: list[ConcreteCase], rows: dict[str, dict],
                     folder: Path) -> None:  # fmt: skip
-    """Re-run each failed case with an MCAP recording unless it has one. A recording whose
-    worker dies is skipped with a warning (the row stands; the next call records it)."""
+    """Re-run each failed case with an MCAP recording and write its static replay page
+    (``<run_id>.html``, the report links it), unless they exist. A recording whose worker
+    dies is skipped with a warning (the row stands; the next call records it)."""
     failed = [c for c in cases if rows[c.run_id]["passed"] in ("False", False)]
     todo = [(c, options.run, folder / f"{c.run_id}.mcap") for c in failed]
-    todo = [t for t in todo if not t[2].is_file()]
+    todo = [t for t in todo if not (t[2].is_file() and t[2].with_suffix(".html").is_file())]
     for i, result in run_all(_record, todo, options.pool):
         if isinstance(result, Crashed):
             _log.warning(
