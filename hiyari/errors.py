@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 from collections.abc import Iterator
 
@@ -18,15 +19,38 @@ class HiyariError(Exception):
         super().__init__(" ".join(str(message).split()))
 
 
+class WriteFailed(HiyariError):
+    """An output could not be written: the disk is full (ENOSPC, or EFBIG / EDQUOT at a size
+    or quota limit), the device failed (EIO) or is read-only (EROFS)."""
+
+
+#: errno values that make an OSError of a write a :class:`WriteFailed`.
+WRITE_ERRNOS = frozenset({errno.ENOSPC, errno.EIO, errno.EFBIG, errno.EDQUOT, errno.EROFS})
+
+
+@contextlib.contextmanager
+def writing(path: str | os.PathLike[str], outcome: str = "") -> Iterator[None]:
+    """Writes to ``path`` inside: an OSError of a full disk or a failed device becomes a
+    WriteFailed naming ``path`` (``outcome``: what is left, appended to the line)."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.errno not in WRITE_ERRNOS:
+            raise
+        tail = f"; {outcome}" if outcome else ""
+        raise WriteFailed(f"{path}: cannot write: {os.strerror(exc.errno)}{tail}") from None
+
+
 @contextlib.contextmanager
 def about(path: str | os.PathLike[str], *also: str | os.PathLike[str]) -> Iterator[None]:
     """Errors raised inside concern the user's file ``path``: a HiyariError whose message
     names neither ``path`` nor one of ``also`` first gets ``path: `` in front, so the one line
-    the CLI prints always starts with the file the user gave (not a generated one)."""
+    the CLI prints always starts with the file the user gave (not a generated one). A
+    WriteFailed is about an output, and names it: it goes on as it is."""
     try:
         yield
     except HiyariError as exc:
         message = str(exc)
-        if any(message.startswith(str(p)) for p in (path, *also)):
+        if isinstance(exc, WriteFailed) or any(message.startswith(str(p)) for p in (path, *also)):
             raise
         raise HiyariError(f"{path}: {message}") from None

@@ -28,7 +28,7 @@ from hiyari.bridge.openscenario.engine import ScenarioEngine
 from hiyari.bridge.openscenario.presets.scenarios import PresetRun, World, build_scenario
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.bridge.record.format import PART_SUFFIX
-from hiyari.errors import HiyariError
+from hiyari.errors import HiyariError, WriteFailed
 from hiyari.net.road.network import RoadNetwork
 from hiyari.sensors.environment.presets import disturbance_preset
 from hiyari.traffic.simulation import SimConfig, Simulation
@@ -177,8 +177,9 @@ def run_folder(out_dir: Path | None) -> Iterator[None]:
     """Around one run writing into ``out_dir``: when the run fails or is interrupted, remove
     the road folder it made there (``roads/``); when it fails (an error, not an interrupt),
     also the recording's ``run.mcap.part``, and ``out_dir`` when the run made it and nothing
-    else is in it. An interrupted run keeps ``run.mcap.part``: readable up to the interrupt
-    (``hiyari replay --recover``) and never taken for a finished recording."""
+    else is in it. An interrupted run, or one stopped by a full disk, keeps ``run.mcap.part``:
+    readable up to the interrupt (``hiyari replay --recover``) and never taken for a finished
+    recording."""
     if out_dir is None:
         yield
         return
@@ -188,7 +189,7 @@ def run_folder(out_dir: Path | None) -> Iterator[None]:
     except BaseException as exc:
         if made_roads:
             shutil.rmtree(out_dir / "roads", ignore_errors=True)
-        if isinstance(exc, Exception):
+        if isinstance(exc, Exception) and not isinstance(exc, WriteFailed):
             (out_dir / f"run.mcap{PART_SUFFIX}").unlink(missing_ok=True)
             if made_out and out_dir.is_dir() and not any(out_dir.iterdir()):
                 out_dir.rmdir()

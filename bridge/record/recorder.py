@@ -39,7 +39,7 @@ from hiyari.bridge.record import foxglove_convert as fox
 from hiyari.bridge.record import lidar_scan, osi_vehicle
 from hiyari.bridge.record import osi_convert as osi
 from hiyari.bridge.record.osi_road import RoadEncoder
-from hiyari.errors import HiyariError
+from hiyari.errors import HiyariError, WriteFailed, writing
 from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.net.road.geometry import RoadGeometry
 from hiyari.sensors.outputs import CameraFrame, ObjectList, PointCloud, RadarDetections
@@ -154,6 +154,42 @@ class SensorMount:
     fov_vertical: float | None = None
 
 
+class _PartFile:
+    """The ``.part`` file the MCAP writer writes into. A write that fails for a full disk or
+    a failed device raises WriteFailed naming the recording, once: the file is then left as
+    it is, readable up to its last complete chunk."""
+
+    def __init__(self, part: Path, final: Path) -> None:
+        self._f = open(part, "wb")  # noqa: SIM115 - closed in close()
+        self._part, self._final = part, final
+        self.failed = False
+
+    def _guard(self, op: Any, *args: Any) -> Any:
+        outcome = f"{self._part} keeps the recording up to its last complete chunk"
+        try:
+            with writing(self._final, outcome):
+                return op(*args)
+        except WriteFailed:
+            self.failed = True
+            raise
+
+    def write(self, data: bytes) -> int:
+        return self._guard(self._f.write, data)
+
+    def flush(self) -> None:
+        self._guard(self._f.flush)
+
+    def tell(self) -> int:
+        return self._f.tell()
+
+    def close(self) -> None:
+        try:  # what is still buffered goes out if it can; a full disk was reported already
+            self._f.close()
+        except OSError:
+            if not self.failed:
+                raise
+
+
 _VIEWS = {
     "lidar": "lidar_sensor_view",
     "radar": "radar_sensor_view",
@@ -208,7 +244,7 @@ class Recorder:
             raise HiyariError(f"{self.path}: a recording file name must end in .mcap")
         self.part_path = self.path.with_name(self.path.name + fmt.PART_SUFFIX)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._file = open(self.part_path, "wb")  # noqa: SIM115 - closed in close()
+        self._file = _PartFile(self.part_path, self.path)
         self._writer = Writer(
             self._file,
             # Chunks are closed by _begin_step between time steps; the writer's own limit
@@ -225,7 +261,6 @@ class Recorder:
         self._mounts: dict[str, SensorMount] = {}
         self._road: RoadEncoder | None = None
         self._road_written = False
-        # the ego at the latest step: (time ns, vehicle pose (4, 4), (l, w, h) m, OSI id)
         # the ego at the last ground truth: time ns, vehicle pose (ground-rectangle centre),
         # (length, width, height), OSI id, bbcenter_to_rear
         self._host: tuple[int, np.ndarray, tuple[float, float, float], int, np.ndarray] | None
@@ -248,12 +283,16 @@ class Recorder:
     def close(self, complete: bool = True) -> Path:
         """Finish the file; rename it to its final name when ``complete`` (safe to call twice).
 
-        Returns the path of the file on disk (the ``.part`` name when not complete).
+        Returns the path of the file on disk (the ``.part`` name when not complete). After a
+        failed write (a full disk: WriteFailed) the ``.part`` file is only closed, readable up
+        to its last complete chunk.
         """
+        complete = complete and not self._file.failed
         if not self._closed:
             self._closed = True
             try:
-                self._writer.finish()
+                if not self._file.failed:
+                    self._writer.finish()
             finally:
                 self._file.close()
             if complete:

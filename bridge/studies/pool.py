@@ -170,7 +170,13 @@ def _worker(conn: Connection, fn: Callable[[Any], Any], temp_root: str) -> None:
     tempfile.tempdir = temp_root
     os.environ["TMPDIR"] = temp_root
     _progress_sink = lambda amount: conn.send(("progress", amount))  # noqa: E731
-    while (job := conn.recv()) is not None:
+    while True:
+        try:
+            job = conn.recv()
+        except EOFError:  # the parent is gone
+            return
+        if job is None:
+            return
         index, task = job
         try:
             message = ("done", index, _call(fn, index, task))
@@ -209,7 +215,8 @@ def _run_local(
         while todo or any(w.job is not None for w in pool):
             while len(pool) < min(workers, len(tasks)) and todo:  # start, or replace the dead
                 parent, child = ctx.Pipe()
-                process = ctx.Process(target=_worker, args=(child, fn, temp_root), daemon=True)
+                # not a daemon: a run may start processes of its own
+                process = ctx.Process(target=_worker, args=(child, fn, temp_root))
                 process.start()
                 child.close()
                 pool.append(_Worker(process, parent))

@@ -232,7 +232,7 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
                     setattr(report, key, getattr(report, key) + row[key])
                 bar.update(1)
     finally:
-        WORKER_CACHE.clear()  # runs made in this process (one worker) leave nothing behind
+        WORKER_CACHE.clear()  # runs made in this process (in_process) leave nothing behind
     for i, (point, cond) in enumerate(meta):
         r = results[i]
         if r["status"] == "crashed":

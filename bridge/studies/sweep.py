@@ -19,19 +19,21 @@ more than ``max_runs`` runs is refused (a typo in a step can otherwise ask for m
 
 from __future__ import annotations
 
+import contextlib
 import csv
+import io
 import math
 import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from hiyari.atomic import atomic_path
+from hiyari.atomic import append_bytes, atomic_path
 from hiyari.bridge.loop.result import RESULT_KEYS
 from hiyari.bridge.loop.xosc_runs import XoscPlan, XoscRun
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario, LogicalScenario
 from hiyari.bridge.studies.pool import Crashed, PoolOptions, run_all
-from hiyari.errors import HiyariError
+from hiyari.errors import HiyariError, WriteFailed
 
 #: What a sweep runs: a TOML logical scenario, or the runs of an OpenSCENARIO file.
 Plan = LogicalScenario | XoscPlan
@@ -177,8 +179,6 @@ def run_sweep(logical: Plan, options: SweepOptions) -> SweepSummary:
     _write_rows(table, cols, sorted(keep.values(), key=lambda r: int(r["index"])))
     timings = out / "timings.csv"
     with (
-        table.open("a", newline="") as f,
-        timings.open("a") as tf,
         tqdm(
             total=len(runs),
             initial=len(keep),
@@ -186,29 +186,29 @@ def run_sweep(logical: Plan, options: SweepOptions) -> SweepSummary:
             disable=not options.progress,
             desc="sweep",
         ) as bar,
+        contextlib.closing(run_all(run_one, todo, options.pool())) as results,
     ):
-        writer = csv.DictWriter(f, fieldnames=cols)
         try:
-            for i, result in run_all(run_one, todo, options.pool()):
+            for i, result in results:
                 if isinstance(result, Crashed):
                     row = crashed_row(todo[i], result)
                     crashed += 1
                 else:
                     row, wall = result
-                    tf.write(f"{row['index']},{wall:.4f}\n")
-                    tf.flush()
-                writer.writerow({k: _fmt(row.get(k)) for k in cols})
-                f.flush()
+                    append_bytes(timings, f"{row['index']},{wall:.4f}\n".encode())
+                append_bytes(table, _csv_line(cols, {k: _fmt(row.get(k)) for k in cols}))
                 failed += row["status"] == "failed"
                 bar.update(1)
                 bar.set_postfix(failed=failed, crashed=crashed, remaining=len(runs) - bar.n)
-        except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: workers are stopped by now
-            f.flush()
-            kept = len(read_table(table))
-            exc.args = (
-                f"{kept} of {len(runs)} runs are kept in {table}; run the same command "
-                "again to resume",
+        except (KeyboardInterrupt, WriteFailed) as exc:  # Ctrl-C, SIGTERM or a full disk
+            results.close()  # the workers stop
+            resume = (
+                f"{len(read_table(table))} of {len(runs)} runs are kept in {table}; run the "
+                "same command again to resume"
             )
+            if isinstance(exc, WriteFailed):
+                raise WriteFailed(f"{exc}; {resume}") from None
+            exc.args = (resume,)
             raise
     final = read_table(table)
     _write_rows(table, cols, [final[i] for i in sorted(final)])
@@ -216,6 +216,12 @@ def run_sweep(logical: Plan, options: SweepOptions) -> SweepSummary:
         len(runs), len(todo), len(keep), failed, time.perf_counter() - t0, table, crashed
     )
     return summary
+
+
+def _csv_line(cols: list[str], row: dict) -> bytes:
+    buf = io.StringIO()
+    csv.DictWriter(buf, fieldnames=cols).writerow(row)
+    return buf.getvalue().encode()
 
 
 def _write_rows(path: Path, cols: list[str], rows: list[dict]) -> None:

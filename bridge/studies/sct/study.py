@@ -412,10 +412,10 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
                 if skip >= 1:
                     sim.skip_ahead(round(now + skip * dt, 6))
                     model.forget_absent(set(sim.vehicle_ids()))
+            if progress is not None:  # the last seconds, as they end (not after the trips)
+                progress(end - reported)
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         trips = _read_tripinfo(trip_file)
-    if progress is not None:
-        progress(end - reported)
     encounters = detector.encounters
     return ArmResult(
         variant=task.variant,
@@ -500,17 +500,24 @@ def _evaluate(
 
 
 def _read_tripinfo(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(vehicle durations, vehicle time losses, person walking time losses), s."""
+    """(vehicle durations, vehicle time losses, person walking time losses), s.
+
+    Streamed, each trip dropped once read: a 48-hour run's file (about 9 MB) parsed as one
+    tree took some 75 MB that the process kept after the tree was freed (the soak's jump at
+    its last sample, docs/performance.md)."""
     if not path.is_file():
         return np.zeros(0), np.zeros(0), np.zeros(0)
-    root = etree.parse(str(path)).getroot()
-    trips = root.findall("tripinfo")
-    dur = np.array([float(t.get("duration")) for t in trips])
-    loss = np.array([float(t.get("timeLoss")) for t in trips])
-    ploss = np.array(
-        [sum(float(w.get("timeLoss", 0)) for w in p.iter("walk")) for p in root.iter("personinfo")]
-    )
-    return dur, loss, ploss
+    dur, loss, ploss = [], [], []
+    for _, el in etree.iterparse(str(path), tag=("tripinfo", "personinfo")):
+        if el.tag == "tripinfo":
+            dur.append(float(el.get("duration")))
+            loss.append(float(el.get("timeLoss")))
+        else:
+            ploss.append(sum(float(w.get("timeLoss", 0)) for w in el.iter("walk")))
+        el.clear()
+        while el.getprevious() is not None:  # the trips read before this one
+            del el.getparent()[0]
+    return np.array(dur), np.array(loss), np.array(ploss)
 
 
 # ---------------------------------------------------------------------------- the study

@@ -221,3 +221,33 @@ def test_crashed_run_is_recorded_then_retried(reference, tmp_path, monkeypatch, 
     assert main(argv) == status.OK
     assert "4 runs: 1 ran now, 3 already done, 0 failed, 0 crashed" in capsys.readouterr().out
     assert (out / "results.csv").read_bytes() == b"".join(reference.splitlines(True)[:5])
+
+
+def test_full_disk_stops_the_sweep_keeping_the_rows_done(reference, tmp_path):
+    """The results table cannot grow past its third row (a file-size limit on the sweep's
+    process, as a full disk): one line naming the table, exit 1, the two rows done kept whole
+    (the cut third one is skipped), nothing else touched; the same command with room again
+    finishes the sweep and the table is the uninterrupted one's byte for byte."""
+    scen = _scenario(tmp_path)
+    scen.write_text(scen.read_text().replace("range = [20, 69]", "range = [20, 33]"))
+    out = tmp_path / "full"
+    lines = reference.splitlines(True)
+    limit = len(b"".join(lines[:3])) + 10  # the header, two rows and 10 bytes of the third
+    argv = ["sweep", str(scen), "-o", str(out), "-j", "1", "-q"]
+    proc = subprocess.run(
+        [sys.executable, str(Path(__file__).parent / "disk_limit.py"), str(limit), *argv],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    table = out / "results.csv"
+    assert proc.returncode == 1, proc.stderr
+    assert proc.stderr.strip().splitlines() == [
+        f"hiyari: error: {table}: cannot write: File too large; 2 of 4 runs are kept in "
+        f"{table}; run the same command again to resume"
+    ]
+    assert table.read_bytes() == b"".join(lines[:3]) + lines[3][:10]
+    assert sorted(read_table(table)) == [0, 1]
+    assert sorted(p.name for p in out.iterdir()) == ["results.csv", "timings.csv"]
+    from hiyari.bridge.cli.main import main
+
+    assert main(argv) == 0
+    assert table.read_bytes() == b"".join(lines[:5])

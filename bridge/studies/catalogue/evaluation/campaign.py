@@ -16,6 +16,7 @@ command again runs it anew (its new row replaces the crashed one).
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import logging
@@ -24,7 +25,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from hiyari.atomic import write_text_atomic
+from hiyari.atomic import append_bytes, write_text_atomic
 from hiyari.bridge.loop.drivers.cc_driver import cc_reference_stack
 from hiyari.bridge.studies.catalogue.evaluation.expectation import Expectation, annex_g, judge
 from hiyari.bridge.studies.catalogue.evaluation.runner import RunConfig, prepare_road, run_case
@@ -38,7 +39,7 @@ from hiyari.bridge.studies.catalogue.space.taxonomy import (
     motorway_combinations,
 )
 from hiyari.bridge.studies.pool import Crashed, PoolOptions, run_all
-from hiyari.errors import HiyariError
+from hiyari.errors import HiyariError, WriteFailed
 
 _log = logging.getLogger(__name__)
 
@@ -237,28 +238,31 @@ def run_catalogue(options: CatalogueOptions, out: Path,
     _drop_partial_line(table)
     done = read_results(table)
     todo = [c for c in cases if done.get(c.run_id, {}).get("passed", "crashed") == "crashed"]
-    fresh = not table.is_file() or table.stat().st_size == 0
-    with table.open("a", newline="") as f:
-        if fresh:
-            f.write(",".join(COLUMNS) + "\n")
-        count = len(cases) - len(todo)
-        if on_progress:
-            on_progress(count, len(cases))
+    if not table.is_file() or table.stat().st_size == 0:
+        append_bytes(table, (",".join(COLUMNS) + "\n").encode())
+    count = len(cases) - len(todo)
+    if on_progress:
+        on_progress(count, len(cases))
+    tasks = [(c, options.run) for c in todo]
+    with contextlib.closing(run_all(run_row, tasks, options.pool)) as results:
         try:
-            for i, row in run_all(run_row, [(c, options.run) for c in todo], options.pool):
+            for i, row in results:
                 if isinstance(row, Crashed):
                     row = crashed_row(todo[i], row)
-                f.write(_line(row))
-                f.flush()
+                append_bytes(table, _line(row).encode())
                 done[row["run_id"]] = {k: str(v) for k, v in row.items()}
                 count += 1
                 if on_progress:
                     on_progress(count, len(cases))
-        except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: the workers are stopped
-            exc.args = (
+        except (KeyboardInterrupt, WriteFailed) as exc:  # Ctrl-C, SIGTERM or a full disk
+            results.close()  # the workers stop
+            resume = (
                 f"{count} of {len(cases)} runs are kept in {table}; run the same command "
-                "again to resume",
+                "again to resume"
             )
+            if isinstance(exc, WriteFailed):
+                raise WriteFailed(f"{exc}; {resume}") from None
+            exc.args = (resume,)
             raise
     _sort_table(table, [c.run_id for c in cases])
     if options.record_failures:
