@@ -54,6 +54,10 @@ class NcapOptions:
     only: tuple[str, ...] = ()
     speeds: tuple[float, ...] = ()
     step_length: float = 0.05
+    #: s of scenario time after which a test ends: a test ends at contact or when its file's
+    #: stop trigger fires, but a reversing ego the AEB stopped short of the child waits for
+    #: a trigger that never comes (the longest tests take 18 s)
+    max_duration: float = 40.0
     pool: PoolOptions = field(default_factory=PoolOptions)
     replays: bool = True
 
@@ -87,7 +91,10 @@ def plan(options: NcapOptions) -> list[NcapPoint]:
         for lighting in test.lightings:
             env = options.environment if lighting == "day" else NIGHT_PRESET
             setup = EgoSetup(
-                perception=options.perception, environment=env, step_length=options.step_length
+                perception=options.perception,
+                environment=env,
+                step_length=options.step_length,
+                max_duration=options.max_duration,
             )
             for run in load_plan(path, setup).expand():
                 if options.speeds and not _kept_speed(test, run.params, options.speeds):
