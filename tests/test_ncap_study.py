@@ -165,3 +165,12 @@ def test_report_in_headless_chromium_shows_the_grids(tmp_path: Path) -> None:
     green = (abs(img[..., 0] - 0) < 8) & (abs(img[..., 1] - 153) < 8) & (abs(img[..., 2] - 51) < 8)
     brown = (abs(img[..., 0] - 150) < 8) & (abs(img[..., 1] - 75) < 8) & (abs(img[..., 2]) < 8)
     assert green.sum() > 2000 and brown.sum() > 2000  # 20 km/h avoided, 50 km/h brown
+
+
+def test_a_folder_resumes_only_the_same_study(default: Path, capsys: pytest.CaptureFixture) -> None:
+    before = (default / "results.csv").read_text()
+    code = main([*GRID, "--stack", "ncap_stacks:no_aeb", "-o", str(default)])
+    assert code == status.ERROR
+    err = capsys.readouterr().err
+    assert "its results were made with stack 'hiyari NCAP stack', not 'ncap_stacks:no_aeb'" in err
+    assert (default / "results.csv").read_text() == before
