@@ -13,13 +13,14 @@ replays exported (``replays/<point>.html``).
 from __future__ import annotations
 
 import csv
+import json
 import shutil
 import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from hiyari.atomic import atomic_path
+from hiyari.atomic import atomic_path, write_text_atomic
 from hiyari.bridge.loop.engine_run import EgoSetup
 from hiyari.bridge.loop.xosc_runs import load_plan
 from hiyari.bridge.studies.ncap import scoring
@@ -54,6 +55,10 @@ class NcapOptions:
     only: tuple[str, ...] = ()
     speeds: tuple[float, ...] = ()
     step_length: float = 0.05
+    #: s of scenario time after which a test ends: a test ends at contact or when its file's
+    #: stop trigger fires, but a reversing ego the AEB stopped short of the child waits for
+    #: a trigger that never comes (the longest tests take 18 s)
+    max_duration: float = 40.0
     pool: PoolOptions = field(default_factory=PoolOptions)
     replays: bool = True
 
@@ -87,7 +92,10 @@ def plan(options: NcapOptions) -> list[NcapPoint]:
         for lighting in test.lightings:
             env = options.environment if lighting == "day" else NIGHT_PRESET
             setup = EgoSetup(
-                perception=options.perception, environment=env, step_length=options.step_length
+                perception=options.perception,
+                environment=env,
+                step_length=options.step_length,
+                max_duration=options.max_duration,
             )
             for run in load_plan(path, setup).expand():
                 if options.speeds and not _kept_speed(test, run.params, options.speeds):
@@ -123,6 +131,33 @@ def _with_roads(points: list[NcapPoint], folder: Path) -> list[NcapPoint]:
             nets[xodr] = import_road(sc, folder)
         out.append(replace(p, run=replace(p.run, road_net=(xodr, nets[xodr]))))
     return out
+
+
+def _identity(options: NcapOptions) -> dict:
+    """What the rows of a study depend on: a folder resumes only the same study."""
+    return {
+        "stack": options.stack or "hiyari NCAP stack",
+        "perception": options.perception,
+        "environment": options.environment,
+        "step_length": options.step_length,
+        "max_duration": options.max_duration,
+        "files": str(Path(options.files).resolve()),
+    }
+
+
+def _check_same_study(out: Path, options: NcapOptions) -> None:
+    """HiyariError when ``out`` holds the rows of a study run with other settings."""
+    path = out / "study.json"
+    if not path.is_file():
+        return
+    before, now = json.loads(path.read_text()), _identity(options)
+    diff = [k for k in now if before.get(k) != now[k]]
+    if diff:
+        k = diff[0]
+        raise HiyariError(
+            f"{out}: its results were made with {k} {before.get(k)!r}, not {now[k]!r}; "
+            "use another folder"
+        )
 
 
 def read_rows(path: Path) -> dict[str, dict]:
@@ -162,7 +197,9 @@ def run_study(
     out = options.out_dir
     table = out / "results.csv"
     done = read_rows(table)  # a foreign table is refused before anything is written
+    _check_same_study(out, options)
     out.mkdir(parents=True, exist_ok=True)
+    write_text_atomic(out / "study.json", json.dumps(_identity(options), indent=1) + "\n")
     points = _with_roads(points, out / "roads")
     by_id = {p.point_id: p for p in points}
     keep = {k: r for k, r in done.items() if k in by_id and r["status"] == "ok"}
