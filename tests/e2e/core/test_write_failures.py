@@ -1,7 +1,7 @@
-"""A full disk (a file-size limit on the command's process: tests/disk_limit.py) while a run
+"""A full disk (a file-size limit on the command's process: tests/support/disk_limit.py) while a run
 records or a report is written: one line naming the file, exit 1, no traceback; what is left
 is readable (the recording up to its last complete chunk) or the previous file, untouched.
-(The results table of a sweep: tests/test_sweep.py.)"""
+(The results table of a sweep: tests/e2e/studies/test_sweep.py.)"""
 
 from __future__ import annotations
 

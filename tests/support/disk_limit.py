@@ -1,5 +1,5 @@
 """Run ``hiyari ARGS`` with files limited to LIMIT bytes, as a full disk stops writes:
-``python tests/disk_limit.py LIMIT ARGS...``. SIGXFSZ is ignored, so a write past the limit
+``python tests/support/disk_limit.py LIMIT ARGS...``. SIGXFSZ is ignored, so a write past the limit
 fails with EFBIG (an OSError, as ENOSPC would) instead of killing the process. Only this
 process is limited: forked children (the campaign pool's workers) get the limit lifted."""
 
