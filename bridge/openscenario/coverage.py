@@ -88,11 +88,6 @@ REFUSED = {
 }
 #: Elements not executed yet (refused as "not supported by hiyari").
 NOT_YET = {
-    "TrafficSignals": "signal controllers defined in the scenario (SUMO's own programs run)",
-    "TrafficSignalController": "signal controllers defined in the scenario",
-    "Phase": "signal controllers defined in the scenario",
-    "TrafficSignalState": "signal controllers defined in the scenario",
-    "TrafficSignalGroupState": "signal controllers defined in the scenario",
     "GeoPosition": "positions in geographic coordinates (the road's geoReference)",
 }
 #: Elements read (or skipped) with no effect on the simulation, and why.

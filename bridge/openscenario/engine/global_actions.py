@@ -116,6 +116,11 @@ def _signal(engine: ScenarioEngine, b: TrafficSignalStateAction, where: str) -> 
 
 
 def _controller(engine: ScenarioEngine, b: TrafficSignalControllerAction, where: str) -> None:
+    clock = engine.controllers.get(b.controller)
+    if clock is not None:  # a controller of the scenario
+        clock.jump(b.phase, engine.now, where)
+        clock.update(engine._sim, engine.now, where)
+        return
     engine._sim.set_signal_phase(
         b.controller, phase_index(engine._sim, b.controller, b.phase, where)
     )
