@@ -87,9 +87,7 @@ REFUSED = {
     ),  # fmt: skip
 }
 #: Elements not executed yet (refused as "not supported by hiyari").
-NOT_YET = {
-    "GeoPosition": "positions in geographic coordinates (the road's geoReference)",
-}
+NOT_YET = {}
 #: Elements read (or skipped) with no effect on the simulation, and why.
 READ = {
     "License": "file metadata",
