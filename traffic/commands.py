@@ -239,6 +239,7 @@ class Commands:
         step (SUMO maps it to the nearest lane of ``edge`` when given, else of any edge);
         ``speed`` m/s is what SUMO reports for it (None: implied by the move)."""
         self._commanded((vehicle_id,))
+        self._moves_pending = True
         s = self._api()
         fx, fy = (float(v) for v in point_ahead((x, y), heading, 0.5 * length))
         # keepRoute 2 | 4: anywhere, mapped to the nearest lane whatever its permissions, so a
@@ -267,6 +268,7 @@ class Commands:
         if {len(edges), len(lanes), len(front_x), len(front_y), len(angle), len(speed)} != {n}:
             raise ValueError("move_vehicle_fronts: arguments of different lengths")
         self._commanded(vehicle_ids)
+        self._moves_pending = True
         speeds = speed.tolist() if isinstance(speed, np.ndarray) else list(speed)
         keep = [v == v for v in speeds]  # NaN: leave the speed set last
         # libsumo's SWIG functions themselves (its Python wrappers add a frame per call),

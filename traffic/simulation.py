@@ -136,6 +136,7 @@ class Simulation(Commands):
         self._collisions: list[Collision] = []
         self._tmpdir: tempfile.TemporaryDirectory[str] | None = None
         self._trap: StderrTrap | None = None
+        self._moves_pending = False  # a moveToXY waits for the next step
 
     # ------------------------------------------------------------------ lifecycle
     def __enter__(self) -> Simulation:
@@ -182,8 +183,15 @@ class Simulation(Commands):
     def close(self) -> None:
         """Close SUMO (safe to call twice)."""
         if self._open:
-            self._sumo.close()
-            self._open = False
+            try:
+                if self._moves_pending:
+                    # libsumo keeps a vehicle moved by moveToXY for the next step in a
+                    # process-wide table: closing with one pending left a dangling entry that
+                    # crashed the next simulation of the process at its first step
+                    self._sumo.simulationStep()
+            finally:
+                self._sumo.close()
+                self._open = False
         self._cleanup_tmp()
 
     def _cleanup_tmp(self) -> None:
@@ -210,6 +218,7 @@ class Simulation(Commands):
         failure becomes one HiyariError naming the user's file; messages of a step that
         went on are passed to stderr as they came."""
         now = self._sumo.simulation.getTime()
+        self._moves_pending = False
         try:
             with self._trap:
                 self._sumo.simulationStep(*until)
