@@ -87,20 +87,7 @@ REFUSED = {
     ),  # fmt: skip
 }
 #: Elements not executed yet (refused as "not supported by hiyari").
-NOT_YET = {
-    "TrafficAreaAction": "traffic kept in an area",
-    "TrafficArea": "traffic kept in an area",
-    "Polygon": "traffic kept in an area",
-    "RoadRange": "traffic kept in an area",
-    "RoadCursor": "traffic kept in an area",
-    "Lane": "traffic kept in an area",
-    "TrafficSignals": "signal controllers defined in the scenario (SUMO's own programs run)",
-    "TrafficSignalController": "signal controllers defined in the scenario",
-    "Phase": "signal controllers defined in the scenario",
-    "TrafficSignalState": "signal controllers defined in the scenario",
-    "TrafficSignalGroupState": "signal controllers defined in the scenario",
-    "GeoPosition": "positions in geographic coordinates (the road's geoReference)",
-}
+NOT_YET = {}
 #: Elements read (or skipped) with no effect on the simulation, and why.
 READ = {
     "License": "file metadata",

@@ -82,6 +82,11 @@ _MOTION = (
 )
 
 
+#: The distance follower's spring constant per unit of its acceleration limit (1/m) and its
+#: limit when none is given (m/s^2); the gap and speed difference that count as reached.
+GAP_SPRING, GAP_TENSION, GAP_REACHED = 0.4, 5.0, 0.1
+
+
 @dataclass
 class Instance:
     """One action running on one actor; ``obj`` is the transition or path it installed."""
@@ -214,6 +219,8 @@ class ActionStarter:
             tr = SpeedTransition(a.v, a.v, sync.goal, Shape.STEP, 0.0, False, True, now)
             a.long, a.long_travelled = tr, 0.0
             return Instance(element, a.name, ("longitudinal",), tr, until=lambda: sync.done)
+        if isinstance(body, LongitudinalDistanceAction) and body.limits is not None:
+            return self._gap_follower(element, a, body, now)
         if isinstance(body, LongitudinalDistanceAction):
             self._claim(element, a.name, ("longitudinal",))
             self._gap(a, body)
@@ -314,7 +321,45 @@ class ActionStarter:
         a.long, a.long_travelled = tr, 0.0
         return Instance(element, a.name, ("longitudinal",), tr, until=lambda: over[0])
 
-    def _gap(self, a: Actor, body: LongitudinalDistanceAction) -> None:
+    def _gap_follower(
+        self, element: int, a: Actor, body: LongitudinalDistanceAction, now: float
+    ) -> Instance:
+        """Drive to the gap (and hold it when continuous) as a critically damped spring on
+        the gap's error and the speed difference, within the DynamicConstraints."""
+        max_acc, max_dec, max_speed = body.limits
+        done = [False]
+
+        def goal() -> float:
+            error = self._gap_error(a, body)  # m short of where the gap puts the actor
+            dv = self.e.speed_of(body.entity) - a.v
+            tension = (max_acc if error > 0 else max_dec) or GAP_TENSION
+            k = GAP_SPRING * tension
+            acc = k * error + 2.0 * math.sqrt(k) * dv
+            acc = min(acc, max_acc) if max_acc else acc
+            acc = max(acc, -max_dec) if max_dec else acc
+            v = max(0.0, a.v + acc * self.e.dt)
+            if max_speed is not None:
+                v = min(v, max_speed)
+            if not body.continuous and abs(error) < GAP_REACHED and abs(dv) < GAP_REACHED:
+                if not done[0]:
+                    done[0] = True
+                    self.e.table.motion_version += 1
+            return v
+
+        self._claim(element, a.name, ("longitudinal",))
+        tr = SpeedTransition(a.v, a.v, goal, Shape.STEP, 0.0, False, True, now)
+        a.long, a.long_travelled = tr, 0.0
+        return Instance(element, a.name, ("longitudinal",), tr, until=lambda: done[0])
+
+    def _gap_error(self, a: Actor, body: LongitudinalDistanceAction) -> float:
+        """Metres ``a`` is short of its gap position along the road (negative: past it)."""
+        s_now, road = a.s, a.road
+        self._gap(a, body, place=False)
+        error = (a.s - s_now) * self.e.travel_direction(body.entity)
+        a.s, a.road = s_now, road
+        return error
+
+    def _gap(self, a: Actor, body: LongitudinalDistanceAction, place: bool = True) -> None:
         ref = self.e.pose_of(body.entity)
         if not ref.road or not a.road:
             raise HiyariError("LongitudinalDistanceAction needs both entities on a road")
@@ -339,7 +384,8 @@ class ActionStarter:
                 else gap
             )
         a.road, a.s = ref.road, ref.s + direction * lead
-        place_actor(self.e.roads.odr, a)
+        if place:
+            place_actor(self.e.roads.odr, a)
 
     def _lateral_distance(
         self, element: int, a: Actor, body: LateralDistanceAction, now: float

@@ -63,7 +63,7 @@ from hiyari.bridge.openscenario.engine.motion import (
 from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.engine.positions import Pose, PoseResolver
 from hiyari.bridge.openscenario.engine.preflight import check_decided_actions
-from hiyari.bridge.openscenario.engine.signals import phase_index, sumo_state
+from hiyari.bridge.openscenario.engine.signals import ControllerClock, phase_index, sumo_state
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.actions import (
     AssignRouteAction,
@@ -78,7 +78,7 @@ from hiyari.bridge.openscenario.model.conditions import (
 )
 from hiyari.bridge.openscenario.model.entities import EntityKind
 from hiyari.bridge.openscenario.model.global_actions import Environment
-from hiyari.bridge.openscenario.model.storyboard import Scenario
+from hiyari.bridge.openscenario.model.storyboard import Scenario, SignalController
 from hiyari.errors import HiyariError
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.traffic.actor_class import ActorClass
@@ -196,6 +196,8 @@ class ScenarioEngine:
         #: inserted so far.
         self.traffic: dict[str, object] = {}
         self.traffic_count = 0
+        #: The signal controllers the scenario defines, running (from the start).
+        self.controllers: dict[str, ControllerClock] = {}
         #: VisibilityActions in force by entity; light modes by (entity, light).
         self.visibility: dict[str, VisibilityAction] = {}
         self.lights: dict[tuple[str, str], str] = {}
@@ -306,12 +308,31 @@ class ScenarioEngine:
         p = self.pose_of(name)
         return forward(self.roads.odr, p.road, p.lane) if p.road else 1.0
 
+    def _start_controllers(self) -> None:
+        """Clocks of the scenario's signal controllers: each starts ``delay`` s after its
+        reference's start (chains of references add up)."""
+        by_name = {c.name: c for c in self.scenario.signal_controllers}
+
+        def start(c: SignalController, seen: tuple[str, ...]) -> float:
+            if not c.reference:
+                return c.delay
+            if c.reference in seen or c.reference not in by_name:
+                raise HiyariError(
+                    f"{self.scenario.source}: signal controller {c.name!r} refers to "
+                    f"{c.reference!r}, which is not a controller here (or refers back)"
+                )
+            return c.delay + start(by_name[c.reference], (*seen, c.name))
+
+        self.controllers = {c.name: ControllerClock(c, start(c, ())) for c in by_name.values()}
+
     def _measure_in_python(self, c: Condition) -> bool:
         """Whether condition ``c`` (relative clearance, traffic signal) holds now."""
         b = c.body
         if isinstance(b, TrafficSignalCondition):
             want = sumo_state(self._sim, b.signal, b.state, c.source)
             return self._sim.signal_states([b.signal])[b.signal] == want
+        if isinstance(b, TrafficSignalControllerCondition) and b.controller in self.controllers:
+            return self.controllers[b.controller].in_phase(b.phase)
         if isinstance(b, TrafficSignalControllerCondition):
             want = phase_index(self._sim, b.controller, b.phase, c.source)
             return self._sim.signal_phase(b.controller) == want
@@ -435,6 +456,7 @@ class ScenarioEngine:
         step is scenario time 0 (the Init state)."""
         self.t0 = sim.time + self.dt
         self._sim = sim
+        self._start_controllers()
         group = self.tree.elements[self.tree.init].children[0]
         maneuver = self.tree.elements[group].children[0]
         for i in (self.tree.init, group, maneuver, self.tree.init_event):
@@ -540,6 +562,8 @@ class ScenarioEngine:
             return self._report()
         for t in list(self.traffic.values()):
             t.update(self, sim, world)
+        for clock in self.controllers.values():
+            clock.update(sim, self.now, str(self.scenario.source))
         quiet = self._quiet_args()
         if quiet is not None:
             if self.table.long_targets:
@@ -625,6 +649,7 @@ class ScenarioEngine:
             and self._idle[1] == (version, tb.motion_version)
             and not bank.needs_contacts and not bank.needs_on_net and not len(bank.point_rows)
             and not self.keepers and not bank.python_conditions and not self.traffic
+            and not self.controllers
         ):  # fmt: skip
             return None
         view = self._view()

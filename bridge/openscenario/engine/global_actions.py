@@ -8,7 +8,7 @@ from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from hiyari.bridge.openscenario.engine.signals import phase_index, sumo_state
-from hiyari.bridge.openscenario.engine.traffic import Sink, Source, Swarm
+from hiyari.bridge.openscenario.engine.traffic import Area, Sink, Source, Swarm
 from hiyari.bridge.openscenario.model.global_actions import (
     AddEntityAction,
     DeleteEntityAction,
@@ -18,6 +18,7 @@ from hiyari.bridge.openscenario.model.global_actions import (
     ParameterModifyAction,
     ParameterSetAction,
     SetMonitorAction,
+    TrafficAreaAction,
     TrafficSignalControllerAction,
     TrafficSignalStateAction,
     TrafficSinkAction,
@@ -46,6 +47,7 @@ GLOBAL_KINDS = (
     TrafficSourceAction,
     TrafficSinkAction,
     TrafficSwarmAction,
+    TrafficAreaAction,
     TrafficStopAction,
 )
 
@@ -114,13 +116,23 @@ def _signal(engine: ScenarioEngine, b: TrafficSignalStateAction, where: str) -> 
 
 
 def _controller(engine: ScenarioEngine, b: TrafficSignalControllerAction, where: str) -> None:
+    clock = engine.controllers.get(b.controller)
+    if clock is not None:  # a controller of the scenario
+        clock.jump(b.phase, engine.now, where)
+        clock.update(engine._sim, engine.now, where)
+        return
     engine._sim.set_signal_phase(
         b.controller, phase_index(engine._sim, b.controller, b.phase, where)
     )
 
 
 def _traffic(engine: ScenarioEngine, b: object, where: str) -> None:
-    kind = {TrafficSourceAction: Source, TrafficSinkAction: Sink, TrafficSwarmAction: Swarm}
+    kind = {
+        TrafficSourceAction: Source,
+        TrafficSinkAction: Sink,
+        TrafficSwarmAction: Swarm,
+        TrafficAreaAction: Area,
+    }
     key = b.name or f"{where}#{len(engine.traffic)}"
     engine.traffic[key] = kind[type(b)](engine, b)
 
@@ -138,6 +150,7 @@ _RUNNERS: dict[type, Callable[..., None]] = {
     TrafficSourceAction: _traffic,
     TrafficSinkAction: _traffic,
     TrafficSwarmAction: _traffic,
+    TrafficAreaAction: _traffic,
     TrafficStopAction: _traffic_stop,
     TrafficSignalStateAction: _signal,
     TrafficSignalControllerAction: _controller,

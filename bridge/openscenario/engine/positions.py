@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -28,6 +28,7 @@ from hiyari.bridge.openscenario.model.positions import (
 )
 from hiyari.bridge.openscenario.model.trajectories import Route, Trajectory
 from hiyari.errors import HiyariError
+from hiyari.net.road.geo import GeoReference
 from hiyari.net.road.opendrive_lanes import OpenDriveMap
 from hiyari.net.road.topology import RoadGraph
 
@@ -66,6 +67,7 @@ class PoseResolver:
         self.odr = odr
         self.pose_of = pose_of
         self._graph: RoadGraph | None = None
+        self._geo: GeoReference | None = None
         self._routes: dict[Route, RoutePath] = {}
         self._lines: dict[Route, SampledPath] = {}
         self._paths: dict[Trajectory, SampledPath] = {}
@@ -149,10 +151,14 @@ class PoseResolver:
         if isinstance(pos, RoutePosition):
             return self._route_position(pos)
         if isinstance(pos, GeoPosition):
-            raise HiyariError(
-                "GeoPosition: hiyari maps no geographic coordinates (give a world, road or lane "
-                "position)"
-            )
+            if self._geo is None:
+                self._geo = GeoReference.from_file(self.odr.path)
+            x, y = self._geo.to_map(pos.latitude, pos.longitude)
+            p = self.at_xy(x, y, 0.0, pos.altitude)
+            # the heading of a geographic position is its orientation's, else the road's
+            if p.road and (pos.orientation is None or pos.orientation.relative):
+                p = replace(p, h=self.at_road(p.road, p.s, p.t, p.lane).h)
+            return self._orient(p, pos.orientation)
         ref = self.pose_of(pos.entity)
         if isinstance(pos, RelativeLanePosition):
             return self._relative_lane(pos, ref)

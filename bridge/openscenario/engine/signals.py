@@ -1,8 +1,10 @@
 """Traffic signals: OpenSCENARIO's signal and controller actions and conditions on the SUMO
-traffic lights of the imported net (a signal or controller is named by its SUMO id)."""
+traffic lights of the imported net (a signal, or a controller the scenario does not define, is
+named by its SUMO id), and the signal controllers a scenario defines, cycling their phases."""
 
 from __future__ import annotations
 
+from hiyari.bridge.openscenario.model.storyboard import SignalController
 from hiyari.errors import HiyariError
 from hiyari.traffic.simulation import Simulation
 
@@ -61,3 +63,48 @@ def _links(sim: Simulation, signal: str, where: str) -> str:
             f"{', '.join(sorted(states)) or 'none'})"
         )
     return states[signal]
+
+
+class ControllerClock:
+    """A signal controller of the scenario running: its phase now and the SUMO states it
+    sets when a phase starts (a TrafficSignalControllerAction may jump to a phase)."""
+
+    def __init__(self, c: SignalController, start: float) -> None:
+        self.c = c
+        self.phase, self.since = 0, start
+        self.applied = -1
+
+    def update(self, sim: Simulation, now: float, where: str) -> None:
+        """Advance to scenario time ``now`` and apply the phase when it changed."""
+        if now < self.since:
+            return
+        while now - self.since >= self.c.phases[self.phase].duration - 1e-9:
+            self.since += self.c.phases[self.phase].duration
+            self.phase = (self.phase + 1) % len(self.c.phases)
+        if self.applied != self.phase:
+            self.applied = self.phase
+            p = self.c.phases[self.phase]
+            for signal, state in p.states:
+                sim.set_signal_state(signal, sumo_state(sim, signal, state, where))
+            if p.group_state:
+                sim.set_signal_state(
+                    self.c.name, sumo_state(sim, self.c.name, p.group_state, where)
+                )
+
+    def jump(self, phase: str, now: float, where: str) -> None:
+        """Switch to phase ``phase`` (name, else index) now."""
+        names = [p.name for p in self.c.phases]
+        if phase in names:
+            k = names.index(phase)
+        elif phase.isdigit() and int(phase) < len(names):
+            k = int(phase)
+        else:
+            raise HiyariError(
+                f"{where}: signal controller {self.c.name!r} has no phase {phase!r} "
+                f"(phases: {', '.join(names)})"
+            )
+        self.phase, self.since, self.applied = k, now, -1
+
+    def in_phase(self, phase: str) -> bool:
+        """Whether the controller is in phase ``phase`` (name or index) now."""
+        return phase in (self.c.phases[self.phase].name, str(self.phase))

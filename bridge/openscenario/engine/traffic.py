@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from hiyari.bridge.openscenario.model.global_actions import (
+    TrafficAreaAction,
     TrafficMix,
     TrafficSinkAction,
     TrafficSourceAction,
@@ -167,9 +168,7 @@ class Swarm(_Traffic):
             if lane.length < 2 * SPOT_STEP or not sim.lane_allows(lane.id, "passenger"):
                 continue
             s = np.arange(SPOT_STEP, lane.length - SPOT_STEP, SPOT_STEP)
-            xy = np.column_stack(
-                [np.interp(s, lane.cum, lane.shape[:, 0]), np.interp(s, lane.cum, lane.shape[:, 1])]
-            )
+            xy = _along(lane, s)
             seg = np.clip(np.searchsorted(lane.cum, s) - 1, 0, len(lane.shape) - 2)
             d = lane.shape[seg + 1] - lane.shape[seg]
             with_it = np.cos(np.arctan2(d[:, 1], d[:, 0]) - c.h) > 0
@@ -178,3 +177,77 @@ class Swarm(_Traffic):
         if not spots:
             return None
         return spots[int(self.rng.integers(len(spots)))]
+
+
+class Area(_Traffic):
+    """A TrafficAreaAction running: its spots (lane, position) every SPOT_STEP m on the car
+    lanes of the area, found once."""
+
+    def __init__(self, engine: ScenarioEngine, b: TrafficAreaAction) -> None:
+        super().__init__(b.name, b.mix)
+        self.b, self.filled = b, False
+        self.seen: set[str] = set()
+        self.spots: list[tuple[object, float]] | None = None
+        self.xy = np.zeros((0, 2))
+
+    def _find_spots(self, engine: ScenarioEngine, sim: Simulation) -> None:
+        spots: list[tuple[object, float]] = []
+        if self.b.polygon:
+            poly = np.array([[p.x, p.y] for p in map(engine.resolver.resolve, self.b.polygon)])
+            for lane in engine.roads.lanes():
+                if lane.length < 2 * SPOT_STEP or not sim.lane_allows(lane.id, "passenger"):
+                    continue
+                s = np.arange(SPOT_STEP, lane.length - SPOT_STEP, SPOT_STEP)
+                xy = _along(lane, s)
+                spots += [(lane, float(x)) for x in s[_in_polygon(xy, poly)].tolist()]
+        for road, s0, s1, lanes in self.b.ranges:
+            rd = engine.roads.odr.road(road)
+            ids = lanes or tuple(
+                k for k, spec in rd.sections[rd.section_at(min(s0, rd.length))].lanes.items()
+                if k != 0 and spec.type == "driving"
+            )  # fmt: skip
+            for s in np.arange(max(min(s0, s1), 0.0), min(max(s0, s1), rd.length), SPOT_STEP):
+                for lane_id in ids:
+                    ln = engine.roads.sumo_lane(road, lane_id, float(s))
+                    if ln is not None and sim.lane_allows(ln.id, "passenger"):
+                        spots.append((ln, engine.roads.place(road, lane_id, float(s)).pos))
+        self.spots = spots
+        self.xy = np.array([_along(ln, np.array([p]))[0] for ln, p in spots]).reshape(-1, 2)
+
+    def update(self, engine: ScenarioEngine, sim: Simulation, world: WorldState) -> None:
+        if self.spots is None:
+            self._find_spots(engine, sim)
+        if not self.spots or (self.filled and not self.b.continuous):
+            return
+        present = set(world.ids.tolist())
+        self.seen |= present & set(self.ids)
+        here = [i for i in self.ids if i in present]
+        inside = 0
+        if here:
+            pts = world.xyz[world.rows(here), :2]
+            near = np.min(np.hypot(*(pts[:, None, :] - self.xy[None]).transpose(2, 0, 1)), axis=1)
+            inside = int((near <= SPOT_STEP).sum())
+        waiting = sum(1 for i in self.ids if i not in self.seen)  # SUMO inserts them yet
+        for _ in range(self.b.count - inside - waiting):
+            lane, pos = self.spots[int(self.rng.integers(len(self.spots)))]
+            self._insert(engine, sim, lane, pos, sim.lane_speed(lane.id))
+        self.filled = True
+
+
+def _along(lane: object, s: np.ndarray) -> np.ndarray:
+    """World x, y (n, 2) at ``s`` m along a SUMO lane's shape."""
+    return np.column_stack(
+        [np.interp(s, lane.cum, lane.shape[:, 0]), np.interp(s, lane.cum, lane.shape[:, 1])]
+    )
+
+
+def _in_polygon(xy: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """(n,) whether each point lies inside the polygon (even-odd rule)."""
+    inside = np.zeros(len(xy), dtype=bool)
+    x, y = xy[:, 0], xy[:, 1]
+    for (x0, y0), (x1, y1) in zip(poly, np.roll(poly, -1, axis=0), strict=True):
+        crosses = (y0 > y) != (y1 > y)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            at = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
+        inside ^= crosses & (x < at)
+    return inside

@@ -17,6 +17,7 @@ __all__ = [
     "ParameterModifyAction",
     "ParameterSetAction",
     "SetMonitorAction",
+    "TrafficAreaAction",
     "TrafficMix",
     "TrafficSignalControllerAction",
     "TrafficSinkAction",
@@ -244,6 +245,20 @@ class TrafficSwarmAction:
 
 
 @dataclass(frozen=True)
+class TrafficAreaAction:
+    """``count`` SUMO vehicles put in an area: inside the ``polygon`` (world x, y points),
+    or on the ``ranges`` of roads ((road, s from, s to, lane ids or () for every lane));
+    ``continuous``: kept at that number while it runs (vehicles leaving no longer count)."""
+
+    name: str
+    count: int
+    continuous: bool
+    polygon: tuple[Position, ...]
+    ranges: tuple[tuple[str, float, float, tuple[int, ...]], ...]
+    mix: TrafficMix
+
+
+@dataclass(frozen=True)
 class TrafficStopAction:
     """End the traffic action called ``name`` (its vehicles drive on)."""
 
@@ -264,5 +279,6 @@ GlobalActionBody = (
     | TrafficSourceAction
     | TrafficSinkAction
     | TrafficSwarmAction
+    | TrafficAreaAction
     | TrafficStopAction
 )

@@ -12,6 +12,8 @@ from hiyari.bridge.openscenario.model.entities import Entity
 
 __all__ = [
     "Act",
+    "SignalController",
+    "SignalPhase",
     "Event",
     "InitAction",
     "Maneuver",
@@ -20,6 +22,30 @@ __all__ = [
     "Story",
     "Storyboard",
 ]
+
+
+@dataclass(frozen=True)
+class SignalPhase:
+    """A phase of a signal controller: ``duration`` s, the ``states`` it gives signals
+    ((signal, state) as in TrafficSignalStateAction) and ``group_state`` (the state of the
+    whole traffic light named like the controller; '' for none)."""
+
+    name: str
+    duration: float
+    states: tuple[tuple[str, str], ...] = ()
+    group_state: str = ""
+
+
+@dataclass(frozen=True)
+class SignalController:
+    """A traffic-signal controller the scenario defines (RoadNetwork/TrafficSignals): its
+    phases cycle from scenario time ``delay`` s after the start of ``reference``'s cycle (its
+    name; '' for the scenario's start)."""
+
+    name: str
+    phases: tuple[SignalPhase, ...]
+    delay: float = 0.0
+    reference: str = ""
 
 
 @dataclass(frozen=True)
@@ -113,6 +139,7 @@ class Scenario:
     variables: dict[str, tuple[str, str]] = field(default_factory=dict)
     #: Monitors (MonitorDeclarations): name -> initial value.
     monitors: dict[str, bool] = field(default_factory=dict)
+    signal_controllers: tuple[SignalController, ...] = ()
 
     def entity(self, name: str) -> Entity:
         """The entity called ``name``; KeyError when absent."""

@@ -135,9 +135,11 @@ def _synchronize(ctx: Ctx, el: etree._Element) -> ActionBody:
 
 
 def _long_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
-    if el.find("DynamicConstraints") is not None:
-        raise ctx.unsupported(
-            el, "DynamicConstraints: hiyari places the actor at the gap kinematically"
+    dyn = el.find("DynamicConstraints")
+    limits = None
+    if dyn is not None:
+        limits = tuple(
+            ctx.opt_num(dyn, k) for k in ("maxAcceleration", "maxDeceleration", "maxSpeed")
         )
     if ctx.text(el, "coordinateSystem", "entity") not in ("entity", "road", "lane"):
         raise ctx.unsupported(el, f"coordinateSystem {el.get('coordinateSystem')}")
@@ -148,6 +150,7 @@ def _long_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
         ctx.flag(el, "freespace"),
         ctx.flag(el, "continuous"),
         ctx.text(el, "displacement", "trailingReferencedEntity"),
+        limits,
     )
 
 

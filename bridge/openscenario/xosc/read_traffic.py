@@ -6,6 +6,7 @@ from lxml import etree
 
 from hiyari.bridge.openscenario.model.global_actions import (
     GlobalActionBody,
+    TrafficAreaAction,
     TrafficMix,
     TrafficSinkAction,
     TrafficSourceAction,
@@ -14,6 +15,7 @@ from hiyari.bridge.openscenario.model.global_actions import (
 )
 from hiyari.bridge.openscenario.xosc.context import Ctx
 from hiyari.bridge.openscenario.xosc.read_positions import read_position
+from hiyari.errors import HiyariError
 
 
 def read_traffic(ctx: Ctx, el: etree._Element) -> GlobalActionBody:
@@ -54,6 +56,27 @@ def read_traffic(ctx: Ctx, el: etree._Element) -> GlobalActionBody:
             0.0 if dot is None else ctx.num(dot, "opposite"),
             _mix(ctx, kind),
         )
+    if kind.tag == "TrafficAreaAction":
+        area = ctx.one(ctx.child(kind, "TrafficArea"))
+        polygon, ranges = (), []
+        if area.tag == "Polygon":
+            polygon = tuple(read_position(ctx, p) for p in area.findall("Position"))
+        else:
+            for rr in ctx.child(kind, "TrafficArea").findall("RoadRange"):
+                cursors = rr.findall("RoadCursor")
+                for a, b in zip(cursors[:-1], cursors[1:], strict=True):
+                    road = ctx.text(a, "roadId")
+                    if ctx.text(b, "roadId") != road:
+                        raise HiyariError(
+                            f"{ctx.where(b)}: a road range runs along one road here "
+                            f"(from road {road} to road {ctx.text(b, 'roadId')})"
+                        )
+                    lanes = tuple(ctx.int(ln, "id") for ln in a.findall("Lane"))
+                    ranges.append((road, ctx.num(a, "s", 0.0), ctx.num(b, "s", 1e9), lanes))
+        return TrafficAreaAction(
+            name, ctx.int(kind, "numberOfEntities"), ctx.flag(kind, "continuous"), polygon,
+            tuple(ranges), _mix(ctx, kind),
+        )  # fmt: skip
     raise ctx.unsupported(kind)
 
 

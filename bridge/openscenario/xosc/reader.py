@@ -25,6 +25,8 @@ from hiyari.bridge.openscenario.model.storyboard import (
     Maneuver,
     ManeuverGroup,
     Scenario,
+    SignalController,
+    SignalPhase,
     Story,
     Storyboard,
 )
@@ -106,6 +108,7 @@ def read_scenario(
         parameter_types=dict(ctx.scope.types),
         variables=variables,
         monitors=read_monitors(ctx, root.find("MonitorDeclarations")),
+        signal_controllers=_signal_controllers(ctx, root.find("RoadNetwork/TrafficSignals")),
     )
 
 
@@ -119,7 +122,7 @@ def _road_network(ctx: Ctx, el: etree._Element | None) -> Path | None:
     if el is None:
         return None
     for child in el:
-        if child.tag not in ("LogicFile", "SceneGraphFile", "UsedArea"):
+        if child.tag not in ("LogicFile", "SceneGraphFile", "UsedArea", "TrafficSignals"):
             raise ctx.unsupported(child)
     logic = el.find("LogicFile")
     if logic is None:
@@ -129,6 +132,36 @@ def _road_network(ctx: Ctx, el: etree._Element | None) -> Path | None:
     if not p.is_file():
         raise HiyariError(f"{ctx.where(logic)}: road network file {p} not found")
     return p
+
+
+def _signal_controllers(ctx: Ctx, el: etree._Element | None) -> tuple[SignalController, ...]:
+    out = []
+    for c in [] if el is None else el.findall("TrafficSignalController"):
+        phases = []
+        for ph in c.findall("Phase"):
+            group = ph.find("TrafficSignalGroupState")
+            phases.append(
+                SignalPhase(
+                    ctx.text(ph, "name"),
+                    ctx.num(ph, "duration"),
+                    tuple(
+                        (ctx.text(s, "trafficSignalId"), ctx.text(s, "state"))
+                        for s in ph.findall("TrafficSignalState")
+                    ),
+                    "" if group is None else ctx.text(group, "state"),
+                )
+            )
+        if sum(p.duration for p in phases) <= 0:
+            raise HiyariError(f"{ctx.where(c)}: signal controller phases of no duration")
+        out.append(
+            SignalController(
+                ctx.text(c, "name"),
+                tuple(phases),
+                ctx.num(c, "delay", 0.0),
+                ctx.text(c, "reference", ""),
+            )  # fmt: skip
+        )
+    return tuple(out)
 
 
 def _pick_ego(entities: tuple[Entity, ...], ego: str | None, path: Path) -> str | None:

@@ -181,6 +181,11 @@ def build_corpus(root: Path) -> Corpus:
     if xosc_dir.is_dir():
         shutil.copytree(xosc_dir, root / "alks", dirs_exist_ok=True)
         xosc = sorted((root / "alks").glob("*.xosc"))
+    # the Euro NCAP set (variables, synchronisation, trajectories, routes, global actions)
+    ncap_dir = SHARED / "data" / "openscenario" / "ncap"
+    if ncap_dir.is_dir():
+        shutil.copytree(ncap_dir, root / "ncap", dirs_exist_ok=True)
+        xosc += sorted((root / "ncap" / "OpenSCENARIO" / "NCAP").glob("AEB_*_2023/*.xosc"))
     return Corpus(root, net, routes, config, tomls, recording, xodr, xosc)
 
 

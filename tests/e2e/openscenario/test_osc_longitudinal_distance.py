@@ -57,3 +57,29 @@ def test_actor_facing_against_its_lane_drives_the_other_way(tmp_path: Path) -> N
     # 2 s at 15 m/s towards decreasing s (one step ahead: 2.05 s), facing -x
     assert g.s == pytest.approx(300 - 15 * 2.0, abs=1e-9) and g.lane == -4
     assert abs(math.remainder(g.h - math.pi, 2 * math.pi)) < 1e-9
+
+
+def test_gap_reached_within_dynamic_constraints(tmp_path: Path) -> None:
+    drive = """<LongitudinalAction><LongitudinalDistanceAction entityRef="Lead" distance="12" freespace="true"
+continuous="false" displacement="trailingReferencedEntity" coordinateSystem="road">
+<DynamicConstraints maxAcceleration="2" maxDeceleration="4" maxSpeed="30"/></LongitudinalDistanceAction></LongitudinalAction>"""
+    init = teleport_speed("Ego", -5, 20, 10) + teleport_speed("Lead", -4, 200, 15)
+    init += teleport_speed("Follow", -4, 120, 15)
+    stories = story("Follow", drive, time_condition(0.0, "go", "none"), "D")
+    rows = []
+
+    def on_step(sim, world, report, engine) -> None:
+        lead, fol = engine.actors["Lead"], engine.actors["Follow"]
+        rows.append((report.time, lead.s - fol.s, fol.v))
+
+    engine, _ = run_scenario(write(tmp_path / "d.xosc", scenario_xml({"Ego": "", "Lead": "", "Follow": ""}, init, stories)),
+                             tmp_path, until=30.0, on_step=on_step)  # fmt: skip
+    v = [r[2] for r in rows]
+    acc = [(b - a) / 0.05 for a, b in zip(v, v[1:], strict=False)]
+    assert max(acc) <= 2.0 + 1e-9 and min(acc) >= -4.0 - 1e-9 and max(v) <= 30.0
+    ends = [t for t, _, n, tr in engine.tree.log if n == "DAction" and tr == "endTransition"]
+    assert ends, "the gap was never reached"
+    at_end = min(rows, key=lambda r: abs(r[0] - ends[0]))
+    assert at_end[1] == pytest.approx(
+        17.0, abs=0.15
+    )  # 12 m bumper to bumper: 17 m between references

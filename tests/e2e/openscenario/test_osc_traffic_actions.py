@@ -61,3 +61,21 @@ semiMajorAxis="120" semiMinorAxis="15"><CentralObject entityRef="Ego"/><InitialS
     # all around the ego (10 m/s from 20): within the ellipse along x
     ego_x = 20 + 10 * 3.0 + 1.4
     assert all(abs(x - (ego_x + 20)) <= 121 for x in seen[3.0].values())
+
+
+def test_area_filled_on_a_road_range_and_kept_full(tmp_path: Path) -> None:
+    area = """<TrafficAction trafficName="ar"><TrafficAreaAction numberOfEntities="4" continuous="true">
+<TrafficDistribution><TrafficDistributionEntry weight="1"><EntityDistribution><EntityDistributionEntry weight="1">
+<ScenarioObjectTemplate><Vehicle name="t" vehicleCategory="car"><BoundingBox><Center x="1.4" y="0" z="0.9"/>
+<Dimensions width="1.9" length="4.6" height="1.5"/></BoundingBox><Performance maxSpeed="50" maxDeceleration="8" maxAcceleration="4"/>
+<Axles><FrontAxle maxSteering="0.5" wheelDiameter="0.6" trackWidth="1.6" positionX="2.8" positionZ="0.3"/>
+<RearAxle maxSteering="0" wheelDiameter="0.6" trackWidth="1.6" positionX="0" positionZ="0.3"/></Axles><Properties/></Vehicle>
+</ScenarioObjectTemplate></EntityDistributionEntry></EntityDistribution></TrafficDistributionEntry></TrafficDistribution>
+<TrafficArea><RoadRange><RoadCursor roadId="0" s="300"><Lane id="-3"/><Lane id="-4"/></RoadCursor>
+<RoadCursor roadId="0" s="400"/></RoadRange></TrafficArea></TrafficAreaAction></TrafficAction>"""
+    seen = _traffic(tmp_path, _global("Ar", area, 0.0), 2.5)
+    # 4 SUMO vehicles between s = 300 and 400 (box centres within 5 m of its spots); one that
+    # drives out no longer counts and another takes its place
+    for t in (1.0, 2.0):
+        inside = [x for x in seen[t].values() if 295 <= x - 1.4 <= 400]
+        assert len(inside) == 4 and all(i.startswith("ar#") for i in seen[t])

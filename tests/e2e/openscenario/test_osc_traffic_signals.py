@@ -81,3 +81,34 @@ def test_unknown_signal(tmp_path: Path) -> None:
         match=r"s\.xosc:\d+: no traffic light 'nope' in the net \(its traffic lights: 100\)",
     ):
         F.run_scenario(F.write(tmp_path / "s.xosc", text), tmp_path, until=1.0)
+
+
+def test_scenario_signal_controller_cycles_and_jumps(tmp_path: Path) -> None:
+    xodr, tls = _net(tmp_path)
+    controller = f"""<TrafficSignals><TrafficSignalController name="ctl" delay="0.5">
+<Phase name="stop" duration="1"><TrafficSignalState trafficSignalId="{tls}" state="on;off;off"/></Phase>
+<Phase name="go" duration="2"><TrafficSignalState trafficSignalId="{tls}" state="off;off;on"/></Phase>
+</TrafficSignalController></TrafficSignals>"""
+    init = F.teleport_speed("Ego", -1, 10, 5).replace('roadId="0"', 'roadId="1"')
+    jump = _global(
+        "Jump",
+        '<TrafficSignalControllerAction trafficSignalControllerRef="ctl" phase="stop"/>',
+        2.49,
+    )
+    stop = _watch(
+        "p", '<TrafficSignalControllerCondition trafficSignalControllerRef="ctl" phase="go"/>'
+    )
+    text = F.scenario_xml({"Ego": ""}, init, jump, stop, road=xodr)
+    text = text.replace("</RoadNetwork>", controller + "</RoadNetwork>")
+    seen = {}
+
+    def on_step(sim, world, report, engine) -> None:
+        vals = {c.name: bool(engine.bank.static[i]) for i, c in enumerate(engine.bank.conditions)}
+        seen[round(report.time, 2)] = (set(sim.signal_states([tls])[tls]), vals["p"])
+
+    F.run_scenario(F.write(tmp_path / "c.xosc", text), tmp_path, until=5.0, on_step=on_step)
+    # from 0.5 s: stop 1 s, go 2 s; a jump back to stop at 2.5 s; SUMO shows a state set at t
+    # from the step after
+    assert seen[1.05][0] == {"r"} and seen[1.55][0] == {"G"} and seen[1.55][1]
+    assert seen[2.55][0] == {"r"} and not seen[2.55][1]
+    assert seen[3.55][0] == {"G"}  # 1 s after the jump: go again
