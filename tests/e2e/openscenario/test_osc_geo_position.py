@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from tests.openscenario_files import STRAIGHT, run_scenario, scenario_xml, write
+from openscenario_files import STRAIGHT, run_scenario, scenario_xml, write
 
 from hiyari.errors import HiyariError
 from hiyari.net.road.geo import parse_proj, tmerc
