@@ -134,7 +134,7 @@ def write_report(
     with_sensitivity = sensitivity is not None and bool(sensitivity[1])
     text = _markdown(config, summaries, wall_seconds, facts, with_sensitivity)
     if with_sensitivity:
-        from hiyari.bridge.studies.sct.sensitivity import write_sensitivity
+        from hiyari.bridge.studies.report.sct_sensitivity import write_sensitivity
 
         write_sensitivity(folder, sensitivity[1], sensitivity[0])
         text += _sensitivity_markdown(*sensitivity)

@@ -4,20 +4,15 @@ the same seeds, so the seed's -68 % can be placed within the model's range.
 
 Every point runs ``hours`` simulated hours per arm (unsignalised variant); points that only
 change the SCT driver (SCT_safe, penetration) share the baseline arm of their demand.
-Writes ``sensitivity.csv`` and ``sensitivity.png``.
+bridge.studies.report.sct_sensitivity writes ``sensitivity.csv`` and ``sensitivity.png``.
 """
 
 from __future__ import annotations
 
-import csv
-import math
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
-from matplotlib.figure import Figure
-
-from hiyari.atomic import atomic_path
-from hiyari.bridge.studies.report.sct import SEED_REDUCTION, reduction, summarise
+from hiyari.bridge.studies.report.sct import reduction, summarise
 from hiyari.bridge.studies.sct.study import ArmTask, StudyConfig, build_inputs, run_tasks
 from hiyari.errors import HiyariError
 
@@ -44,7 +39,8 @@ class SensitivityPoint:
     travel_time_cost: float
 
 
-_PARAMS = {
+#: the varied parameters and their axis labels (the report draws one panel per parameter)
+PARAMETERS = {
     "sct_safe": "SCT_safe, s",
     "penetration": "share of SCT vehicles",
     "persons_per_hour": "pedestrians per hour",
@@ -71,7 +67,7 @@ def run_sensitivity(
     short = replace(config, days=hours / 24.0, runs=1, variants=("unsignalised",))
     short.validate()
     root = Path(folder) / "sensitivity"
-    points = [(p, float(v)) for p in _PARAMS for v in sorted({*getattr(grid, p), _main(short, p)})]
+    points = [(p, float(v)) for p in PARAMETERS for v in sorted({*getattr(grid, p), _main(short, p)})]
     # one demand per pedestrian volume; its baseline serves every point of that demand
     demands: dict[float, list[ArmTask]] = {}
     for p, v in points:
@@ -117,45 +113,3 @@ def _main(config: StudyConfig, parameter: str) -> float:
     if parameter == "sct_safe":
         return config.controller.sct_safe
     return float(getattr(config, parameter))
-
-
-def write_sensitivity(folder: str | Path, points: list[SensitivityPoint], hours: float) -> Path:
-    """``sensitivity.csv`` and ``sensitivity.png`` (reduction against each parameter, the
-    seed's reduction as a line) in ``folder``; returns the PNG's path."""
-    folder = Path(folder)
-    with atomic_path(folder / "sensitivity.csv") as tmp, tmp.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(asdict(points[0])))
-        w.writeheader()
-        for pt in points:
-            w.writerow(asdict(pt))
-    fig = Figure(figsize=(12, 3.8))
-    axes = fig.subplots(1, len(_PARAMS), sharey=True)
-    for ax, (param, label) in zip(axes, _PARAMS.items(), strict=True):
-        pts = [pt for pt in points if pt.parameter == param]
-        x = [pt.value for pt in pts]
-        y = [-100 * pt.reduction for pt in pts]
-        ax.plot(x, y, "o-", color="#2a7", lw=2, label="hiyari (SUMO)")
-        for pt, yy in zip(pts, y, strict=True):
-            if not math.isnan(yy):
-                ax.annotate(
-                    f"{pt.baseline_incidents}→{pt.sct_incidents}",
-                    (pt.value, yy),
-                    textcoords="offset points",
-                    xytext=(0, 7),
-                    ha="center",
-                    fontsize=8,
-                )
-        ax.axhline(-100 * SEED_REDUCTION, color="#c33", ls="--", lw=1.2, label="DIVP seed −68 %")
-        ax.set_xlabel(label)
-        ax.grid(alpha=0.3)
-    axes[0].set_ylabel("incident change, SCT vs baseline, %")
-    top = max([0.0, *(-100 * p.reduction for p in points if not math.isnan(p.reduction))])
-    axes[0].set_ylim(-100, top + 10)
-    axes[0].legend(loc="lower right", fontsize=8)
-    fig.suptitle(
-        f"Sensitivity of the incident reduction ({hours:g} simulated h per arm and point; "
-        "labels: baseline → SCT incidents)"
-    )
-    with atomic_path(folder / "sensitivity.png") as tmp:
-        fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
-    return folder / "sensitivity.png"

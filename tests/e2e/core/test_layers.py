@@ -109,6 +109,24 @@ def test_only_the_cli_picks_the_matplotlib_backend():
     assert not bad, bad
 
 
+def test_only_the_report_and_the_cli_import_matplotlib():
+    """Plots and pages are drawn in bridge/studies/report (and the CLI's demo); every other
+    module computes and writes data."""
+    bad = []
+    for _, path, tree in _modules():
+        rel = path.relative_to(ROOT)
+        if rel.parts[:3] == ("bridge", "studies", "report") or rel.parts[:2] == ("bridge", "cli"):
+            continue
+        for node in ast.walk(tree):
+            names = (
+                [a.name for a in node.names] if isinstance(node, ast.Import)
+                else [node.module or ""] if isinstance(node, ast.ImportFrom) else []
+            )  # fmt: skip
+            if any(n == "matplotlib" or n.startswith("matplotlib.") for n in names):
+                bad.append(str(rel))
+    assert not bad, sorted(set(bad))
+
+
 def _package_folders() -> list[Path]:
     return sorted(
         init.parent

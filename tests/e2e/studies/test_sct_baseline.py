@@ -53,11 +53,8 @@ def test_sensitivity_points_and_files(tmp_path):
 
     import matplotlib.image
 
-    from hiyari.bridge.studies.sct.sensitivity import (
-        SensitivityGrid,
-        run_sensitivity,
-        write_sensitivity,
-    )
+    from hiyari.bridge.studies.report.sct_sensitivity import write_sensitivity
+    from hiyari.bridge.studies.sct.sensitivity import SensitivityGrid, run_sensitivity
 
     grid = SensitivityGrid(sct_safe=(2.0,), penetration=(0.5,), persons_per_hour=(600.0,))
     pts = run_sensitivity(StudyConfig(seed=5), tmp_path, 0.02, grid, jobs=1)
