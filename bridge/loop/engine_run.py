@@ -15,8 +15,13 @@ from __future__ import annotations
 import contextlib
 import math
 import tempfile
+<<<<<<< HEAD
 from collections.abc import Callable, Iterator
 from dataclasses import asdict, dataclass
+=======
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, replace
+>>>>>>> h5
 from pathlib import Path
 
 import numpy as np
@@ -28,13 +33,19 @@ from hiyari.bridge.loop.closed_loop import (
     run_closed_loop,
 )
 from hiyari.bridge.loop.result import RunResult
+<<<<<<< HEAD
 from hiyari.bridge.loop.run import RunOptions, chain, run_folder, write_result
+=======
+from hiyari.bridge.loop.run import RunOptions, chain, write_result
+from hiyari.bridge.loop.scenario_environment import disturbance_from, grip
+>>>>>>> h5
 from hiyari.bridge.loop.stack.aeb import ACCConfig, AEBConfig, AEBPlanner
 from hiyari.bridge.loop.stack.fusion import KalmanFusion
 from hiyari.bridge.loop.stack.interfaces import EgoStack
 from hiyari.bridge.loop.stack.perception_sensors import SensorPerception
 from hiyari.bridge.loop.stack.perception_truth import NoPerception, PerfectPerception
 from hiyari.bridge.openscenario.engine import ScenarioEngine, StepReport
+from hiyari.bridge.openscenario.model.global_actions import Environment as ScenarioEnvironment
 from hiyari.bridge.openscenario.model.scoring import Scoring
 from hiyari.bridge.openscenario.model.storyboard import Scenario
 from hiyari.bridge.openscenario.presets.toml_file import PERCEPTION_MODES, SENSOR_NAMES
@@ -42,8 +53,12 @@ from hiyari.errors import HiyariError
 from hiyari.kinematics import Pose, bumper_gap, unrotate
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.road.opendrive_lanes import RoadLanes
+from hiyari.sensors.environment.presets import disturbance_preset
 from hiyari.traffic.simulation import SimConfig, Simulation
 from hiyari.traffic.world_state import WorldState
+
+#: The environment name under which the sensors see the scenario's own EnvironmentAction.
+SCENARIO_ENVIRONMENT = "scenario"
 
 
 @dataclass(frozen=True)
@@ -82,13 +97,14 @@ class EgoSetup:
 @dataclass(frozen=True)
 class StackContext:
     """What a stack factory gets: the run's road, setup, the ego's id and its ACC set speed
-    (m/s), and the scenario."""
+    (m/s), the scenario, and the environment its Init actions set (None: none)."""
 
     network: RoadNetwork
     setup: EgoSetup
     ego_id: str
     set_speed: float
     scenario: Scenario
+    environment: ScenarioEnvironment | None = None
 
 
 #: Builds the ego stack for one run (called once, after the Init actions are applied).
@@ -96,17 +112,29 @@ StackFactory = Callable[[StackContext], EgoStack]
 
 
 def default_stack(ctx: StackContext) -> EgoStack:
-    """hiyari's stack: perfect / no / sensor perception, Kalman fusion, ACC + AEB."""
+    """hiyari's stack: perfect / no / sensor perception, Kalman fusion, ACC + AEB. With the
+    environment "scenario" the sensors see the scenario's EnvironmentAction (clear when it
+    has none); the road's friction scales the decelerations the planner commands."""
     s = ctx.setup
     if s.perception == "perfect":
         perception = PerfectPerception()
     elif s.perception == "none":
         perception = NoPerception()
     else:
+        preset = None
+        if s.environment == SCENARIO_ENVIRONMENT:
+            preset = disturbance_preset("clear")
+            if ctx.environment is not None:
+                preset = disturbance_from(ctx.environment)
         perception = SensorPerception.default_rig(
-            ctx.network, s.sensors, s.environment, s.step_length, s.seed, ego_id=ctx.ego_id
-        )
-    planner = AEBPlanner(ACCConfig(set_speed=ctx.set_speed), AEBConfig(actuation_delay=s.aeb_delay))
+            ctx.network, s.sensors, s.environment, s.step_length, s.seed, ego_id=ctx.ego_id,
+            preset=preset,
+        )  # fmt: skip
+    mu = min(1.0, grip(ctx.environment))
+    aeb = AEBConfig(actuation_delay=s.aeb_delay)
+    aeb = replace(aeb, partial_decel_g=aeb.partial_decel_g * mu, full_decel_g=aeb.full_decel_g * mu)
+    acc = ACCConfig(set_speed=ctx.set_speed)
+    planner = AEBPlanner(replace(acc, max_decel=acc.max_decel * mu), aeb)
     return EgoStack(perception, KalmanFusion(), planner)
 
 
@@ -198,8 +226,25 @@ def run_scenario(
     doc = scenario_doc(scenario, setup)
     with run_folder(options.out_dir), tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
         work = options.out_dir / "roads" if options.out_dir else Path(tmp)
+<<<<<<< HEAD
         prepared = prepared_scenario(scenario, setup, work, net, stack_factory)
         with prepared as (sim, hooks, stack, network):
+=======
+        net = net or import_road(scenario, work)
+        roads = RoadLanes.from_files(scenario.road_network, net)
+        network = RoadNetwork(net)
+        cfg = SimConfig(net=net, step_length=setup.step_length, seed=setup.seed, generated=(net,))
+        with Simulation(cfg) as sim:
+            engine = ScenarioEngine(scenario, roads, setup.step_length)
+            hooks = EngineHooks(engine, sim)
+            set_speed = setup.set_speed
+            if set_speed is None:  # a backing ego's speed is negative: the stack holds |v|
+                set_speed = abs(engine.actors[scenario.ego].v)
+            ctx = StackContext(
+                network, setup, scenario.ego, set_speed, scenario, engine.environment
+            )
+            stack = (stack_factory or default_stack)(ctx)
+>>>>>>> h5
             meta = {**doc, "scenario": scenario.name}
             result = drive(
                 sim, stack, hooks, scenario.name, setup.max_duration, options, network, meta,

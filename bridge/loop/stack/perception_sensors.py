@@ -59,14 +59,22 @@ class SensorPerception:
         ego_id: str = "ego",
         buildings: bool = False,
         workers: int = 2,
+        preset: DisturbancePreset | None = None,
     ) -> SensorPerception:
         """The default rig, only the sensors named in ``sensors``, on the road of ``network``
         under the disturbance preset ``environment``; the simulation steps every ``step`` s;
+<<<<<<< HEAD
         ray casts split over ``workers`` threads (same results for any number)."""
         scene = RayScene(network_scene_mesh(network, buildings=buildings), workers=workers)
+=======
+        ray casts split over ``workers`` threads (same results for any number); ``preset``:
+        a disturbance made elsewhere (the scenario's environment) in place of the named one."""
+        scene = RayScene(build_scene_mesh(network.geometry, buildings=buildings), workers=workers)
+>>>>>>> h5
         rig = SensorRig.default()
         rig.sensors = [s for s in rig.sensors if s.name in sensors]
-        preset = disturbance_preset(environment)
+        if preset is None:
+            preset = disturbance_preset(environment)
         return SensorPerception(scene, rig, preset, ego_id, step, seed)
 
     def perceive(self, world: WorldState, ego_row: int, ego: Pose) -> list[ObjectList]:
