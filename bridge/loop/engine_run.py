@@ -15,13 +15,8 @@ from __future__ import annotations
 import contextlib
 import math
 import tempfile
-<<<<<<< HEAD
 from collections.abc import Callable, Iterator
-from dataclasses import asdict, dataclass
-=======
-from collections.abc import Callable
 from dataclasses import asdict, dataclass, replace
->>>>>>> h5
 from pathlib import Path
 
 import numpy as np
@@ -33,12 +28,8 @@ from hiyari.bridge.loop.closed_loop import (
     run_closed_loop,
 )
 from hiyari.bridge.loop.result import RunResult
-<<<<<<< HEAD
 from hiyari.bridge.loop.run import RunOptions, chain, run_folder, write_result
-=======
-from hiyari.bridge.loop.run import RunOptions, chain, write_result
 from hiyari.bridge.loop.scenario_environment import disturbance_from, grip
->>>>>>> h5
 from hiyari.bridge.loop.stack.aeb import ACCConfig, AEBConfig, AEBPlanner
 from hiyari.bridge.loop.stack.fusion import KalmanFusion
 from hiyari.bridge.loop.stack.interfaces import EgoStack
@@ -226,25 +217,8 @@ def run_scenario(
     doc = scenario_doc(scenario, setup)
     with run_folder(options.out_dir), tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
         work = options.out_dir / "roads" if options.out_dir else Path(tmp)
-<<<<<<< HEAD
         prepared = prepared_scenario(scenario, setup, work, net, stack_factory)
         with prepared as (sim, hooks, stack, network):
-=======
-        net = net or import_road(scenario, work)
-        roads = RoadLanes.from_files(scenario.road_network, net)
-        network = RoadNetwork(net)
-        cfg = SimConfig(net=net, step_length=setup.step_length, seed=setup.seed, generated=(net,))
-        with Simulation(cfg) as sim:
-            engine = ScenarioEngine(scenario, roads, setup.step_length)
-            hooks = EngineHooks(engine, sim)
-            set_speed = setup.set_speed
-            if set_speed is None:  # a backing ego's speed is negative: the stack holds |v|
-                set_speed = abs(engine.actors[scenario.ego].v)
-            ctx = StackContext(
-                network, setup, scenario.ego, set_speed, scenario, engine.environment
-            )
-            stack = (stack_factory or default_stack)(ctx)
->>>>>>> h5
             meta = {**doc, "scenario": scenario.name}
             result = drive(
                 sim, stack, hooks, scenario.name, setup.max_duration, options, network, meta,
@@ -279,7 +253,7 @@ def prepared_scenario(
         set_speed = setup.set_speed
         if set_speed is None:  # a backing ego's speed is negative: the stack holds |v|
             set_speed = abs(engine.actors[scenario.ego].v)
-        ctx = StackContext(network, setup, scenario.ego, set_speed, scenario)
+        ctx = StackContext(network, setup, scenario.ego, set_speed, scenario, engine.environment)
         yield sim, hooks, (stack_factory or default_stack)(ctx), network
 
 

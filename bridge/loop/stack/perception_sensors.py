@@ -63,14 +63,9 @@ class SensorPerception:
     ) -> SensorPerception:
         """The default rig, only the sensors named in ``sensors``, on the road of ``network``
         under the disturbance preset ``environment``; the simulation steps every ``step`` s;
-<<<<<<< HEAD
-        ray casts split over ``workers`` threads (same results for any number)."""
-        scene = RayScene(network_scene_mesh(network, buildings=buildings), workers=workers)
-=======
         ray casts split over ``workers`` threads (same results for any number); ``preset``:
         a disturbance made elsewhere (the scenario's environment) in place of the named one."""
-        scene = RayScene(build_scene_mesh(network.geometry, buildings=buildings), workers=workers)
->>>>>>> h5
+        scene = RayScene(network_scene_mesh(network, buildings=buildings), workers=workers)
         rig = SensorRig.default()
         rig.sensors = [s for s in rig.sensors if s.name in sensors]
         if preset is None:
