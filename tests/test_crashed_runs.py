@@ -1,7 +1,7 @@
 """A worker process that dies mid-run (the pool's test-only SIGSEGV hook) costs one run of
-``hiyari evaluate``, ``hiyari r157 judge`` and ``hiyari study sct``, never the campaign: the run is recorded as
-crashed, the report counts it, the command exits RUNS_CRASHED (4), and the same command again
-runs it. (Sweeps: tests/test_sweep.py; the pool: tests/test_pool_crash.py.)"""
+``hiyari evaluate``, ``hiyari r157 judge`` or ``hiyari study sct``, never the campaign: the
+run is recorded as crashed, the report counts it, the command exits RUNS_CRASHED (4), and the
+same command again runs it. (Sweeps: tests/test_sweep.py; the pool: tests/test_pool_crash.py.)"""
 
 from __future__ import annotations
 
