@@ -1,7 +1,7 @@
 """A worker process that dies mid-run (the pool's test-only SIGSEGV hook) costs one run of
-``hiyari evaluate`` and ``hiyari r157 judge``, never the campaign: the run is recorded as
-crashed, the report counts it, the command exits RUNS_CRASHED (4), and the same command again
-runs it. (Sweeps: tests/e2e/studies/test_sweep.py; the pool: tests/unit/studies/test_pool_crash.py.)"""
+``hiyari evaluate``, ``hiyari r157 judge`` or ``hiyari study sct``, never the campaign: the
+run is recorded as crashed, the report counts it, the command exits RUNS_CRASHED (4), and the
+same command again runs it. (Sweeps: tests/e2e/studies/test_sweep.py; the pool: tests/unit/studies/test_pool_crash.py.)"""
 
 from __future__ import annotations
 
@@ -63,3 +63,21 @@ def test_r157_judge_counts_the_crashed_point(tmp_path: Path, monkeypatch, capsys
     assert main(argv) in (status.OK, status.VERDICT_FAIL)
     rows = list(csv.DictReader((out / "judge.csv").open()))
     assert "crashed" not in [r["verdict"] for r in rows]
+
+
+def test_study_reports_the_crashed_arm_as_incomplete(tmp_path: Path, monkeypatch, capsys):
+    """10 simulated minutes of both arms; the baseline's worker dies (the SCT arm starts
+    first, so the baseline is task 1): the report and summary count it, exit 4."""
+    out = tmp_path / "study"
+    monkeypatch.setenv(TEST_CRASH_ENV, "1")
+    argv = ["study", "sct", "-o", str(out), "--days", str(600 / 86400), "--seed", "3",
+            "--runs", "1", "--variants", "unsignalised", "-j", "2", "-q"]  # fmt: skip
+    assert main(argv) == status.RUNS_CRASHED
+    err = capsys.readouterr().err
+    assert "1 run(s) crashed and are left out of the report" in err
+    assert "unsignalised baseline seed 3: " + SIGSEGV in err
+    text = (out / "report.md").read_text()
+    assert "**Incomplete**: unsignalised baseline: 1 run(s) crashed" in text
+    arms = {a["arm"]: a for a in json.loads((out / "summary.json").read_text())["arms"]}
+    assert (arms["baseline"]["crashed_runs"], arms["sct"]["crashed_runs"]) == (1, 0)
+    assert arms["baseline"]["vehicles"] == 0 and arms["sct"]["vehicles"] > 15

@@ -114,7 +114,8 @@ def test_killed_sweep_resumes_only_missing_rows(reference, tmp_path):
 
 
 def test_failing_run_is_recorded(tmp_path, monkeypatch):
-    mod = tmp_path / "exploding_stack.py"
+    # a module name of its own: test_cli_interrupt imports another exploding_stack in this process
+    mod = tmp_path / "exploding_sweep_stack.py"
     mod.write_text(
         "from hiyari.bridge.loop.run import build_stack\n"
         "from dataclasses import replace\n"
@@ -124,7 +125,7 @@ def test_failing_run_is_recorded(tmp_path, monkeypatch):
         "    return build_stack(replace(cs, stack=''), net)\n"
     )
     monkeypatch.syspath_prepend(str(tmp_path))
-    scen = _scenario(tmp_path, stack='stack = "exploding_stack:Exploding"')
+    scen = _scenario(tmp_path, stack='stack = "exploding_sweep_stack:Exploding"')
     s = run_sweep(load_scenario(scen), SweepOptions(tmp_path / "fail", workers=2, progress=False))
     rows = read_table(s.table)
     assert s.failed == 1 and len(rows) == 13
