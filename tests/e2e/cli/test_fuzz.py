@@ -150,7 +150,7 @@ gap_m = 60
 
 def build_corpus(root: Path) -> Corpus:
     """Seed files under ``root`` (nets and a recording made with hiyari itself)."""
-    from test_recording_data import record_run
+    from recording_data import record_run
 
     from hiyari.net.sumo.build import IntersectionParams, build_intersection
     from hiyari.traffic.demand import DemandConfig, write_demand

@@ -9,9 +9,11 @@ import subprocess
 import sys
 from pathlib import Path
 
+from paths import REPO_ROOT
+
 from hiyari.bridge.record.reader import Recording
 
-LIMIT = Path(__file__).parent / "disk_limit.py"
+LIMIT = REPO_ROOT / "tests" / "support" / "disk_limit.py"
 
 # 4 s of a dart-out at 0.05 s, perfect perception: the recording passes 60 kB in its third
 # second, every other file of the run stays below

@@ -23,7 +23,7 @@ from osi_utilities.tracefile._config import (
     OSI_CHANNEL_REQUIRED_METADATA_KEYS,
     OSI_TRACE_REQUIRED_METADATA_KEYS,
 )
-from test_recording_data import CREATED, RecordedRun, record_run
+from recording_data import CREATED, RecordedRun, record_run
 
 from hiyari.bridge.cli.main import main
 from hiyari.bridge.record.osi_convert import world_state_from_ground_truth

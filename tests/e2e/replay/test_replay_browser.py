@@ -23,7 +23,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from test_recording_data import record_run
+from recording_data import record_run
 
 from hiyari.bridge.cli.main import main
 from hiyari.bridge.record.style import CLASS_COLORS, EGO_COLOR

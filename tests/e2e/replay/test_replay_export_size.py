@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_recording_data import record_run
+from recording_data import record_run
 
 from hiyari.bridge.record.reader import Recording
 from hiyari.bridge.replay.export import export_html, hud_label
