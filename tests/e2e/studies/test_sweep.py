@@ -10,6 +10,7 @@ import time
 from pathlib import Path
 
 import pytest
+from paths import REPO_ROOT
 
 from hiyari.bridge.openscenario.presets.toml_file import load_scenario
 from hiyari.bridge.studies.report.sweep import plot_sweep
@@ -236,7 +237,7 @@ def test_full_disk_stops_the_sweep_keeping_the_rows_done(reference, tmp_path):
     limit = len(b"".join(lines[:3])) + 10  # the header, two rows and 10 bytes of the third
     argv = ["sweep", str(scen), "-o", str(out), "-j", "1", "-q"]
     proc = subprocess.run(
-        [sys.executable, str(Path(__file__).parent / "disk_limit.py"), str(limit), *argv],
+        [sys.executable, str(REPO_ROOT / "tests" / "support" / "disk_limit.py"), str(limit), *argv],
         capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     table = out / "results.csv"
