@@ -36,6 +36,7 @@ from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from embreex import rtcore_scene
@@ -63,6 +64,7 @@ PARAMS = {
 }
 STEP = 0.025
 EGO = "ego"
+Arr = np.ndarray
 
 
 @dataclass
@@ -153,15 +155,17 @@ class Embreex:
         scene.run(np.zeros((1, 3), np.float32), np.array([[0, 0, 1]], np.float32), dists=1e-3)
         return scene
 
-    def _one(self, scene, o, d, tfar):
+    def _one(self, scene: Any, o: Arr, d: Arr, tfar: Arr) -> tuple[Arr, Arr]:
         r = scene.run(o, d, dists=tfar, output=1)
         return r["primID"], r["tfar"]
 
-    def cast(self, scene, o, d, tfar):
+    def cast(self, scene: Any, o: Arr, d: Arr, tfar: Arr) -> tuple[Arr, Arr]:
         return chunked(self.pool, self._one, scene, o, d, tfar)
 
 
-def chunked(pool, one: Callable, scene, o, d, tfar):
+def chunked(
+    pool: ThreadPoolExecutor | None, one: Callable, scene: Any, o: Arr, d: Arr, tfar: Arr
+) -> tuple[Arr, Arr]:
     """``one`` over the rays in CAST_CHUNK chunks on ``pool`` (or in one go without it)."""
     n = len(d)
     if pool is None or n < 2 * CAST_CHUNK:
@@ -186,7 +190,7 @@ class EmbreeNative(Embreex):
         self.device = embree_native.Device()
         self.last: tuple[bytes, object] | None = None
 
-    def build(self, v, f, actors, key: bytes = b""):
+    def build(self, v: Arr, f: Arr, actors: bool, key: bytes = b"") -> Any:
         if self.refit and actors and self.last is not None and self.last[0] == key:
             self.last[1].move(v)
             return self.last[1]
@@ -195,7 +199,7 @@ class EmbreeNative(Embreex):
             self.last = (key, scene)
         return scene
 
-    def _one(self, scene, o, d, tfar):
+    def _one(self, scene: Any, o: Arr, d: Arr, tfar: Arr) -> tuple[Arr, Arr]:
         prim, t, _ = scene.intersect(o, d, tfar, self.packets)
         return prim, t
 
@@ -212,13 +216,13 @@ class Open3D:
     def threads(self, n: int) -> None:
         self.n = n
 
-    def build(self, v, f, actors, key=b""):
+    def build(self, v: Arr, f: Arr, actors: bool, key: bytes = b"") -> Any:
         o3d = self.o3d
         scene = o3d.t.geometry.RaycastingScene(nthreads=self.n)
         scene.add_triangles(o3d.core.Tensor(v), o3d.core.Tensor(f.astype(np.uint32)))
         return scene
 
-    def cast(self, scene, o, d, tfar):
+    def cast(self, scene: Any, o: Arr, d: Arr, tfar: Arr) -> tuple[Arr, Arr]:
         rays = self.o3d.core.Tensor(np.hstack([o, d]))
         ans = scene.cast_rays(rays, nthreads=self.n)
         t = ans["t_hit"].numpy()
@@ -241,7 +245,7 @@ class Mitsuba:
     def threads(self, n: int) -> None:
         self.dr.set_thread_count(n)
 
-    def build(self, v, f, actors, key=b""):
+    def build(self, v: Arr, f: Arr, actors: bool, key: bytes = b"") -> Any:
         mi = self.mi
         mesh = mi.Mesh("m", len(v), len(f))
         p = mi.traverse(mesh)
@@ -250,7 +254,7 @@ class Mitsuba:
         p.update()
         return mi.load_dict({"type": "scene", "m": mesh})
 
-    def cast(self, scene, o, d, tfar):
+    def cast(self, scene: Any, o: Arr, d: Arr, tfar: Arr) -> tuple[Arr, Arr]:
         mi = self.mi
         ray = mi.Ray3f(
             mi.Point3f(*(mi.Float(np.ascontiguousarray(o[:, k])) for k in range(3))),
@@ -280,7 +284,9 @@ class Timing:
         return self.build + self.static + self.actor
 
 
-def run_engine(engine, static_scene, frames: list[Frame]) -> tuple[Timing, list[np.ndarray]]:
+def run_engine(
+    engine: Any, static_scene: Any, frames: list[Frame]
+) -> tuple[Timing, list[np.ndarray]]:
     """One pass over the frames: the timing and per query (hit class, distance) per ray:
     class 0 none, 1 static, 2 actor."""
     tm = Timing()
@@ -307,7 +313,10 @@ def run_engine(engine, static_scene, frames: list[Frame]) -> tuple[Timing, list[
                     idx = actor_candidates(dist, q.rays.index.bin, q.rays.index.elevation, q.bins)
                 if len(idx):
                     lim = np.minimum(dist[idx], q.max_range).astype(np.float32)
-                    o, d = np.ascontiguousarray(q.origins[idx]), np.ascontiguousarray(q.directions[idx])
+                    o, d = (
+                        np.ascontiguousarray(q.origins[idx]),
+                        np.ascontiguousarray(q.directions[idx]),
+                    )
                     t0 = clock()
                     pa, ta = engine.cast(actors, o, d, lim)
                     tm.actor += clock() - t0

@@ -36,6 +36,7 @@ RTC_BUILD_QUALITY_LOW = 0
 RTC_BUILD_QUALITY_MEDIUM = 1
 RTC_BUILD_QUALITY_REFIT = 3
 RTC_SCENE_FLAG_DYNAMIC = 1
+RTC_SCENE_FLAG_ROBUST = 4
 INVALID = 0xFFFFFFFF
 
 #: RTCRayHit as float32 words: ray org 0-2, tnear 3, dir 4-6, time 7, tfar 8, mask 9, id 10,
@@ -106,8 +107,10 @@ class Device:
 class TriangleScene:
     """One triangle mesh in an Embree scene over the caller's arrays (kept, not copied).
 
-    ``refit=True`` builds for refitting: :meth:`move` then updates the vertex positions (same
-    triangles) and refits the BVH instead of rebuilding it.
+    Scenes are robust (watertight triangle tests): the hits are embreex's, bit for bit, and do
+    not depend on the BVH, so a refitted scene answers as a rebuilt one. ``refit=True`` builds
+    for refitting: :meth:`move` then updates the vertex positions (same triangles) and refits
+    the BVH instead of rebuilding it.
     """
 
     def __init__(
@@ -115,22 +118,24 @@ class TriangleScene:
     ) -> None:
         lib = _lib()
         self.device = device
-        self.vertices = np.ascontiguousarray(vertices, np.float32)
+        vertices = np.asarray(vertices, np.float32)
         # Embree may read 16 bytes at the last vertex: one float of padding
-        self._vbuf = np.zeros(self.vertices.size + 1, np.float32)
-        self._vbuf[:-1] = self.vertices.ravel()
+        self._vbuf = np.zeros(vertices.size + 1, np.float32)
+        self._vbuf[:-1] = vertices.ravel()
         self.faces = np.ascontiguousarray(faces, np.uint32)
         self.handle = lib.rtcNewScene(device.handle)
         weakref.finalize(self, lib.rtcReleaseScene, self.handle)
+        flags = RTC_SCENE_FLAG_ROBUST
         if refit:
-            lib.rtcSetSceneFlags(self.handle, RTC_SCENE_FLAG_DYNAMIC)
+            flags |= RTC_SCENE_FLAG_DYNAMIC
             lib.rtcSetSceneBuildQuality(self.handle, RTC_BUILD_QUALITY_LOW)
+        lib.rtcSetSceneFlags(self.handle, flags)
         geom = lib.rtcNewGeometry(device.handle, RTC_GEOMETRY_TYPE_TRIANGLE)
         if refit:
             lib.rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_REFIT)
         lib.rtcSetSharedGeometryBuffer(
             geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, self._vbuf.ctypes.data, 0, 12,
-            len(self.vertices),
+            len(vertices),
         )  # fmt: skip
         lib.rtcSetSharedGeometryBuffer(
             geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, self.faces.ctypes.data, 0, 12,
@@ -146,20 +151,30 @@ class TriangleScene:
             raise RuntimeError(f"Embree: error {err} building a scene")
 
     def move(self, vertices: np.ndarray) -> None:
-        """New positions of the same vertices; the BVH is refitted (built with refit=True)."""
+        """New positions (V, 3) of the same vertices; the BVH is refitted (built with
+        refit=True) or rebuilt."""
         lib = _lib()
+        if np.size(vertices) != len(self._vbuf) - 1:
+            raise ValueError("move: not the scene's vertex count")
         self._vbuf[:-1] = np.asarray(vertices, np.float32).ravel()
         lib.rtcUpdateGeometryBuffer(self._geom, RTC_BUFFER_TYPE_VERTEX, 0)
         lib.rtcCommitGeometry(self._geom)
         lib.rtcCommitScene(self.handle)
 
     def intersect(
-        self, origins: np.ndarray, directions: np.ndarray, tfar: np.ndarray, packets: bool = True
+        self,
+        origins: np.ndarray,
+        directions: np.ndarray,
+        tfar: np.ndarray | float,
+        packets: bool = True,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Nearest hit of each ray (origins, directions (N, 3) float32) closer than ``tfar``
-        ((N,) float32): (primitive (N,) int32, -1 on a miss; t (N,) float32, ``tfar`` on a miss;
-        geometric normal (N, 3) float32, unnormalised)."""
+        (m, (N,) or one for all): (primitive (N,) int32, -1 on a miss; t (N,) float32, ``tfar``
+        on a miss; geometric normal (N, 3) float32, unnormalised). ``packets``: 8 rays per
+        Embree query (else one)."""
         n = len(directions)
+        if np.ndim(tfar) == 0:
+            tfar = np.full(n, tfar, np.float32)
         prim = np.empty(n, np.int32)
         t = np.empty(n, np.float32)
         ng = np.empty((n, 3), np.float32)
