@@ -22,7 +22,12 @@ from hiyari.errors import HiyariError
 from hiyari.kinematics import rotate_xy, unrotate_xy
 from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.sensors.outputs import HIT_NONE
-from hiyari.sensors.scene.actor_shapes import ActorAppearance, ActorMesh, build_actor_mesh
+from hiyari.sensors.scene.actor_shapes import (
+    ActorAppearance,
+    ActorMesh,
+    ActorMeshBuilder,
+    build_actor_mesh,
+)
 from hiyari.sensors.scene.cast_kernel import actor_candidates, static_hits
 from hiyari.sensors.scene.embree_native import Device, TriangleScene
 from hiyari.traffic.world_state import WorldState
@@ -125,6 +130,7 @@ class RayScene:
         self.world: WorldState = WorldState.empty()
         self.ego_id: str | None = None
         self.actors: ActorMesh = build_actor_mesh(self.world, self.appearance)
+        self._builder = ActorMeshBuilder()
         self._dynamic: TriangleScene | None = None
         self._refits = 0
         self._centres = np.zeros((0, 3))
@@ -136,13 +142,13 @@ class RayScene:
     ) -> TriangleScene:
         return TriangleScene(self._device, vertices, faces, refit)
 
-    def _actor_scene(self, actors: ActorMesh) -> TriangleScene | None:
-        """The actor scene of ``actors``: the last one refitted when its triangles are the
-        same (up to REFITS times in a row), else a new one."""
+    def _actor_scene(self, actors: ActorMesh, same: bool) -> TriangleScene | None:
+        """The actor scene of ``actors``: the last one refitted when the triangles are the
+        ``same`` (up to REFITS times in a row), else a new one."""
         if not len(actors):
             return None
         last = self._dynamic
-        if last is not None and self._refits < REFITS and np.array_equal(last.faces, actors.faces):
+        if last is not None and same and self._refits < REFITS:
             last.move(actors.vertices)
             self._refits += 1
             return last
@@ -170,8 +176,8 @@ class RayScene:
             )
             exclude = is_ego | far
         self.world, self.ego_id = world, ego_id
-        self.actors = build_actor_mesh(world, self.appearance, exclude)
-        self._dynamic = self._actor_scene(self.actors)
+        self.actors, same = self._builder.build(world, self.appearance, exclude)
+        self._dynamic = self._actor_scene(self.actors, same)
         keep = np.ones(len(world), bool) if exclude is None else ~exclude
         rows = np.flatnonzero(keep)
         centre = world.xyz[rows].copy()
