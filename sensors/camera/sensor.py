@@ -56,6 +56,8 @@ def _visible_table() -> np.ndarray:
 
 
 _VISIBLE = _visible_table()
+_PAINTED = np.isin(np.arange(256), list(_BODY))
+"""(256,) whether an ActorClass id is painted (a vehicle body), else dressed."""
 
 
 def _logistic(x: np.ndarray) -> np.ndarray:
@@ -110,7 +112,7 @@ class Camera:
         cls = world.cls[rows]
         out = np.full(len(rows), DEFAULT_OPTICS[Material.VEHICLE_PAINT].visible)
         # people and riders: their own clothing (vehicle classes are painted)
-        dressed = np.flatnonzero(~np.isin(cls, list(_BODY)))
+        dressed = np.flatnonzero(~_PAINTED[cls])
         if not app.clothing_by_id:
             out[dressed] = DEFAULT_OPTICS[app.clothing].visible
             return out
