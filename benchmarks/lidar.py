@@ -3,8 +3,9 @@
 Builds a city grid with buildings (hiyari.net), runs SUMO until at least 100 actors are on it,
 then times, in this run (raw and full interleaved, so both see the same load):
   raw     - one Embree query of the 64 x 2048 scan into a single prebuilt scene holding the
-            static mesh and all actor shapes (nothing else), on one thread, and the same rays
-            in two threads (chunks of the query, as the pipeline splits them);
+            static mesh and all actor shapes (nothing else; the sensors' engine, Embree
+            packets from compiled code: sensors/scene/embree_native.py), on one thread, and
+            the same rays in two threads (chunks of the query, as the pipeline splits them);
   full    - the LiDAR pipeline of a closed-loop step: actor scene update, cast into the static
             and actor scenes, intensity, threshold, extinction, noise, scan-time skew, with the
             static cast on 1 worker thread and on 2 (the closed loop's setting);
@@ -27,8 +28,6 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
-from embreex import rtcore_scene
-from embreex.mesh_construction import TriangleMesh
 from tqdm import tqdm
 
 from hiyari.net.mesh.road_mesh import build_scene_mesh
@@ -45,6 +44,7 @@ from hiyari.sensors.lidar.sensor import Lidar
 from hiyari.sensors.radar.config import RadarConfig
 from hiyari.sensors.radar.sensor import Radar
 from hiyari.sensors.scene.actor_shapes import ActorAppearance, build_actor_mesh
+from hiyari.sensors.scene.embree_native import Device, TriangleScene
 from hiyari.sensors.scene.ray_scene import CAST_CHUNK, RayScene
 from hiyari.traffic.demand import DemandConfig, write_demand
 from hiyari.traffic.simulation import SimConfig, Simulation
@@ -140,8 +140,7 @@ def main() -> None:
     both = SceneMesh.concatenate(
         [mesh, SceneMesh(actors.vertices.astype(np.float64), actors.faces, actors.material)]
     )
-    raw_scene = rtcore_scene.EmbreeScene()
-    TriangleMesh(raw_scene, both.vertices.astype(np.float32), both.faces.astype(np.int32))
+    raw_scene = TriangleScene(Device(), both.vertices, both.faces)
     s2w = lidar.sensor_to_world(ego)
     dirs = (lidar.directions.astype(np.float64) @ s2w[:3, :3].T).astype(np.float32)
     origins = np.empty_like(dirs)
@@ -151,11 +150,11 @@ def main() -> None:
     pool = ThreadPoolExecutor(2)
 
     def raw() -> None:
-        raw_scene.run(origins, dirs, dists=max_range, output=1)
+        raw_scene.intersect(origins, dirs, max_range)
 
     def raw2() -> None:
         fs = [
-            pool.submit(raw_scene.run, origins[a:b], dirs[a:b], dists=max_range, output=1)
+            pool.submit(raw_scene.intersect, origins[a:b], dirs[a:b], max_range)
             for a, b in ((a, min(a + CAST_CHUNK, n_rays)) for a in range(0, n_rays, CAST_CHUNK))
         ]
         for f in fs:

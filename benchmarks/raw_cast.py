@@ -3,7 +3,9 @@ benchmarks/judge.py (imported as a sibling module: a script's own folder is on s
 
 One Embree query per sensor firing of the rig's rays into one prebuilt scene holding the static
 mesh and the actors of one WorldState (the ego left out, as the sensors see the world), nothing
-else: no actor-scene rebuilds and no work on the hits. LiDAR: every ray of a scan, one query
+else: no actor-scene rebuilds and no work on the hits. The engine is the sensors' own, the
+fastest measured by benchmarks/ray_engines.py: Embree packets of 8 rays called from compiled
+code (sensors/scene/embree_native.py). LiDAR: every ray of a scan, one query
 per scan at its rate (10 Hz by default); radar: every ray of a cycle, one query per cycle
 (20 Hz). Camera (only when asked for): the camera recognises analytically and casts just a few
 rays per frame (30 Hz), here as its two queries: 3 x 3 visibility rays per actor in its view
@@ -21,8 +23,6 @@ from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
 
 import numpy as np
-from embreex import rtcore_scene
-from embreex.mesh_construction import TriangleMesh
 
 from hiyari.net.mesh.road_mesh import build_scene_mesh
 from hiyari.net.mesh.scene_mesh import SceneMesh
@@ -35,6 +35,7 @@ from hiyari.sensors.camera.sensor import (
 )
 from hiyari.sensors.rig import SensorRig
 from hiyari.sensors.scene.actor_shapes import ActorAppearance, build_actor_mesh
+from hiyari.sensors.scene.embree_native import Device, TriangleScene
 from hiyari.sensors.scene.ray_scene import CAST_CHUNK
 from hiyari.traffic.world_state import WorldState
 
@@ -123,17 +124,16 @@ def raw_cast_seconds(
     both = SceneMesh.concatenate(
         [static, SceneMesh(actors.vertices.astype(np.float64), actors.faces, actors.material)]
     )
-    scene = rtcore_scene.EmbreeScene()
-    TriangleMesh(scene, both.vertices.astype(np.float32), both.faces.astype(np.int32))
+    scene = TriangleScene(Device(), both.vertices, both.faces)
     queries = rig_queries(rig, world, ego_id, sensors)
     pool = ThreadPoolExecutor(2)
 
     def one(o: np.ndarray, d: np.ndarray, r: np.float32) -> None:
-        scene.run(o, d, dists=r, output=1)
+        scene.intersect(o, d, r)
 
     def two(o: np.ndarray, d: np.ndarray, r: np.float32) -> None:
         fs = [
-            pool.submit(scene.run, o[a : a + CAST_CHUNK], d[a : a + CAST_CHUNK], dists=r, output=1)
+            pool.submit(scene.intersect, o[a : a + CAST_CHUNK], d[a : a + CAST_CHUNK], r)
             for a in range(0, len(d), CAST_CHUNK)
         ]
         for f in fs:

@@ -47,6 +47,19 @@ BACKGROUND_RANGE_M = 1000.0
 """Farthest static surface taken as an actor's background; beyond it the sky is."""
 
 
+def _visible_table() -> np.ndarray:
+    """(256,) visible reflectance per material id (0 for ids without optics)."""
+    table = np.zeros(256)
+    for material, optics in DEFAULT_OPTICS.items():
+        table[material] = optics.visible
+    return table
+
+
+_VISIBLE = _visible_table()
+_PAINTED = np.isin(np.arange(256), list(_BODY))
+"""(256,) whether an ActorClass id is painted (a vehicle body), else dressed."""
+
+
 def _logistic(x: np.ndarray) -> np.ndarray:
     return 1.0 / (1.0 + np.exp(-x))
 
@@ -99,7 +112,11 @@ class Camera:
         cls = world.cls[rows]
         out = np.full(len(rows), DEFAULT_OPTICS[Material.VEHICLE_PAINT].visible)
         # people and riders: their own clothing (vehicle classes are painted)
-        for i in np.flatnonzero(~np.isin(cls, list(_BODY))):
+        dressed = np.flatnonzero(~_PAINTED[cls])
+        if not app.clothing_by_id:
+            out[dressed] = DEFAULT_OPTICS[app.clothing].visible
+            return out
+        for i in dressed:
             mat = app.clothing_by_id.get(world.ids[rows[i]], app.clothing)
             out[i] = DEFAULT_OPTICS[mat].visible
         return out
@@ -231,12 +248,7 @@ class Camera:
         bg = scene.cast(origins, dirs, BACKGROUND_RANGE_M, normals=True, actors=False)
         hit_bg = bg.hit != -2
         p_bg = cam + dirs * np.where(hit_bg, bg.distance, 0)[:, None]
-        albedo_bg = np.array(
-            [
-                DEFAULT_OPTICS[Material(m)].visible if h else 0.0
-                for m, h in zip(bg.material, hit_bg, strict=True)
-            ]
-        )
+        albedo_bg = np.where(hit_bg, _VISIBLE[bg.material], 0.0)
         e_b = light.illuminance(
             env, p_bg, bg.normal, lamp if env.headlights else None, ego.heading, fog
         )

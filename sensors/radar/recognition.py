@@ -12,9 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
+from hiyari.jit import njit
 from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC, ObjectList, RadarDetections
 
 
@@ -43,11 +42,12 @@ def recognise_radar(
     if n == 0:
         return ObjectList.empty(det.time, "radar", det.sensor_to_world)
     xyz = det.xyz()
-    d = np.linalg.norm(xyz[:, None] - xyz[None], axis=2)
-    dv = np.abs(det.range_rate[:, None] - det.range_rate[None])
-    i, j = np.nonzero((d < cfg.gate_m) & (dv < cfg.gate_m_s))
-    graph = coo_matrix((np.ones(len(i)), (i, j)), shape=(n, n))
-    count, lab = connected_components(graph, directed=False)
+    count, lab = linked_groups(
+        np.ascontiguousarray(xyz, np.float64),
+        np.ascontiguousarray(det.range_rate, np.float64),
+        cfg.gate_m,
+        cfg.gate_m_s,
+    )
     w = 10 ** (det.snr_db / 10)
     wsum = np.bincount(lab, w, count)
     pos = np.stack([np.bincount(lab, w * xyz[:, k], count) / wsum for k in range(3)], 1)
@@ -82,3 +82,40 @@ def recognise_radar(
         confidence=conf[keep],
         truth=truth[keep],
     )
+
+
+@njit(cache=True, nogil=True)
+def linked_groups(
+    xyz: np.ndarray, range_rate: np.ndarray, gate_m: float, gate_m_s: float
+) -> tuple[int, np.ndarray]:
+    """Connected groups of detections (``xyz`` (n, 3) m, ``range_rate`` (n,) m/s) linked when
+    closer than ``gate_m`` and with range rates differing by less than ``gate_m_s``: (number of
+    groups, group of each detection), groups numbered in the order of their first detection
+    (as scipy's connected_components numbers them). The distance is numpy's
+    ``norm(a - b)`` of three components, summed in the same order."""
+    n = len(range_rate)
+    parent = np.arange(n)
+    for i in range(n):
+        for j in range(i + 1, n):
+            dx, dy, dz = xyz[i, 0] - xyz[j, 0], xyz[i, 1] - xyz[j, 1], xyz[i, 2] - xyz[j, 2]
+            d = np.sqrt(dx * dx + dy * dy + dz * dz)
+            if d < gate_m and abs(range_rate[i] - range_rate[j]) < gate_m_s:
+                a, b = i, j
+                while parent[a] != a:
+                    a = parent[a]
+                while parent[b] != b:
+                    b = parent[b]
+                if a != b:
+                    parent[max(a, b)] = min(a, b)
+    label = np.full(n, -1, np.int64)
+    group = np.empty(n, np.int32)
+    count = 0
+    for v in range(n):
+        r = v
+        while parent[r] != r:
+            r = parent[r]
+        if label[r] < 0:
+            label[r] = count
+            count += 1
+        group[v] = label[r]
+    return count, group

@@ -203,23 +203,32 @@ class ActorMesh:
         return len(self.faces)
 
 
-def build_actor_mesh(
-    world: WorldState, appearance: ActorAppearance, exclude: np.ndarray | None = None
-) -> ActorMesh:
-    """Place every actor's template at its pose; ``exclude`` (bool per row) drops actors."""
-    keep = np.ones(len(world), bool) if exclude is None else ~exclude
-    size = np.stack([world.length, world.width, world.height], 1)
+@dataclass(frozen=True, eq=False)
+class _Layout:
+    """Which template vertex and face belongs to which actor: all of a mesh but the poses."""
+
+    vertex_row: np.ndarray  # (V,) WorldState row of each vertex's actor
+    local: np.ndarray  # (V, 3) template vertex, unit coordinates
+    faces: np.ndarray  # (F, 3) int32
+    material: np.ndarray  # (F,) uint8
+    actor_row: np.ndarray  # (F,) int32
+    rounded: np.ndarray  # (F,) bool
+    centre: np.ndarray  # (F, 3) centre of the face's part box, unit coordinates
+    half: np.ndarray  # (F, 3) half-size of the face's part box, unit coordinates
+
+
+def _layout(world: WorldState, appearance: ActorAppearance, keep: np.ndarray) -> _Layout:
+    """The layout of the kept actors: class by class in TEMPLATES order, rows ascending."""
     base = appearance.part_materials()
-    verts, faces, mats, rows_out, rnd, centres, halves = [], [], [], [], [], [], []
+    vrows, local, faces, mats, rows_out, rnd, centres, halves = [], [], [], [], [], [], [], []
     offset = 0
     for cls, tpl in TEMPLATES.items():
         rows = np.flatnonzero(keep & (world.cls == cls))
         if rows.size == 0:
             continue
-        origin, heading = world.xyz[rows, None, :], world.heading[rows, None]
-        v = vehicle_to_world(tpl.vertices[None] * size[rows, None, :], origin, heading)
         nv, nf = len(tpl.vertices), len(tpl.faces)
-        verts.append(v.reshape(-1, 3))
+        vrows.append(np.repeat(rows, nv))
+        local.append(np.tile(tpl.vertices, (rows.size, 1)))
         faces.append(
             (tpl.faces[None] + (offset + np.arange(rows.size) * nv)[:, None, None]).reshape(-1, 3)
         )
@@ -233,30 +242,73 @@ def build_actor_mesh(
         mats.append(m.ravel())
         rows_out.append(np.repeat(rows, nf))
         rnd.append(np.tile(tpl.rounded, rows.size))
-        lc = tpl.centre[None] * size[rows, None, :]
-        centres.append(vehicle_to_world(lc, origin, heading).reshape(-1, 3))
-        halves.append((tpl.half[None] * size[rows, None, :]).reshape(-1, 3))
+        centres.append(np.tile(tpl.centre, (rows.size, 1)))
+        halves.append(np.tile(tpl.half, (rows.size, 1)))
         offset += rows.size * nv
-    if not verts:
-        z3 = np.zeros((0, 3), np.float32)
-        return ActorMesh(
-            z3,
-            np.zeros((0, 3), np.int32),
-            np.zeros(0, np.uint8),
-            np.zeros(0, np.int32),
-            np.zeros(0, bool),
-            z3,
-            z3,
-            np.zeros(0, np.float32),
-        )
-    rows_all = np.concatenate(rows_out).astype(np.int32)
-    return ActorMesh(
-        np.concatenate(verts).astype(np.float32),
+    if not vrows:
+        z3 = np.zeros((0, 3))
+        return _Layout(
+            np.zeros(0, np.int64), z3, np.zeros((0, 3), np.int32), np.zeros(0, np.uint8),
+            np.zeros(0, np.int32), np.zeros(0, bool), z3, z3,
+        )  # fmt: skip
+    return _Layout(
+        np.concatenate(vrows),
+        np.concatenate(local),
         np.concatenate(faces).astype(np.int32),
         np.concatenate(mats).astype(np.uint8),
-        rows_all,
+        np.concatenate(rows_out).astype(np.int32),
         np.concatenate(rnd),
-        np.concatenate(centres).astype(np.float32),
-        np.concatenate(halves).astype(np.float32),
-        world.heading[rows_all].astype(np.float32),
+        np.concatenate(centres),
+        np.concatenate(halves),
     )
+
+
+def _place(layout: _Layout, world: WorldState) -> ActorMesh:
+    """The layout's templates scaled to each actor's size and placed at its pose (the same
+    arithmetic per element as placing each class's actors in one array)."""
+    size = np.stack([world.length, world.width, world.height], 1)
+    v, r = layout.vertex_row, layout.actor_row
+    verts = vehicle_to_world(layout.local * size[v], world.xyz[v], world.heading[v])
+    centre = vehicle_to_world(layout.centre * size[r], world.xyz[r], world.heading[r])
+    return ActorMesh(
+        verts.astype(np.float32),
+        layout.faces,
+        layout.material,
+        r,
+        layout.rounded,
+        centre.astype(np.float32),
+        (layout.half * size[r]).astype(np.float32),
+        world.heading[r].astype(np.float32),
+    )
+
+
+def build_actor_mesh(
+    world: WorldState, appearance: ActorAppearance, exclude: np.ndarray | None = None
+) -> ActorMesh:
+    """Place every actor's template at its pose; ``exclude`` (bool per row) drops actors."""
+    keep = np.ones(len(world), bool) if exclude is None else ~exclude
+    return _place(_layout(world, appearance, keep), world)
+
+
+class ActorMeshBuilder:
+    """:func:`build_actor_mesh` step after step, keeping the last layout: when the kept actors'
+    classes (and, with per-actor clothing, their ids) are those of the last call, only the
+    poses are placed anew, and the triangles are the same as the last mesh's."""
+
+    def __init__(self) -> None:
+        self._key: tuple | None = None
+        self._appearance: ActorAppearance | None = None
+        self._layout: _Layout | None = None
+
+    def build(
+        self, world: WorldState, appearance: ActorAppearance, exclude: np.ndarray | None = None
+    ) -> tuple[ActorMesh, bool]:
+        """The mesh, and whether its triangles are the last call's (only vertices moved)."""
+        keep = np.ones(len(world), bool) if exclude is None else ~exclude
+        ids = tuple(world.ids[keep]) if appearance.clothing_by_id else ()
+        key = (keep.tobytes(), world.cls.tobytes(), ids)
+        same = self._layout is not None and key == self._key and appearance is self._appearance
+        if not same:
+            self._layout, self._key = _layout(world, appearance, keep), key
+            self._appearance = appearance
+        return _place(self._layout, world), same

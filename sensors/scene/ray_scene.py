@@ -1,7 +1,10 @@
 """The ray-cast scene: the static road mesh (built into Embree once) plus the actors of a step.
 
 Updating the actors never rebuilds the static part: the static triangles live in one Embree
-scene committed at construction, the actors in a small second scene rebuilt by ``update``.
+scene committed at construction, the actors in a small second scene that ``update`` refits
+when the actors' triangles are the same as before (the same classes in the same order: only
+their positions changed) and rebuilds otherwise. Queries are Embree packets of 8 rays from
+compiled code (sensors/scene/embree_native.py; benchmarks/ray_engines.py has the choice).
 ``cast`` shoots every ray into the static scene, then only the rays whose azimuth can reach an
 actor's bounding sphere into the actor scene, limited to the static hit distance, and keeps
 the nearer hit. Frames: network coordinates (metres); directions unit vectors.
@@ -14,16 +17,19 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
-from embreex import rtcore_scene
-from embreex.mesh_construction import TriangleMesh
-from embreex.rtcore import EmbreeDevice
 
 from hiyari.errors import HiyariError
 from hiyari.kinematics import rotate_xy, unrotate_xy
 from hiyari.net.mesh.scene_mesh import SceneMesh
 from hiyari.sensors.outputs import HIT_NONE
-from hiyari.sensors.scene.actor_shapes import ActorAppearance, ActorMesh, build_actor_mesh
+from hiyari.sensors.scene.actor_shapes import (
+    ActorAppearance,
+    ActorMesh,
+    ActorMeshBuilder,
+    build_actor_mesh,
+)
 from hiyari.sensors.scene.cast_kernel import actor_candidates, static_hits
+from hiyari.sensors.scene.embree_native import Device, TriangleScene
 from hiyari.traffic.world_state import WorldState
 
 NO_MATERIAL = 255
@@ -34,6 +40,10 @@ AZIMUTH_BINS = 1440
 
 CAST_CHUNK = 8192
 """Rays per chunk of a parallel static cast (16 chunks per 64 x 2048 scan)."""
+
+REFITS = 30
+"""Refits of the actor scene before it is rebuilt anyway (about 1 s of updates at 30 Hz): a
+refitted BVH keeps the grouping of its build, which loosens as actors move apart."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,7 +89,7 @@ class Hits:
 
 
 class RayScene:
-    """Static mesh plus per-step actor shapes, ray-cast with Embree.
+    """Static mesh plus per-step actor shapes, ray-cast with Embree (packets of 8 rays).
 
     Build once per network: ``scene = RayScene(mesh, workers=2)``; then per step
     ``scene.update(world, ego_id)`` (the ego is left out so that sensors do not see their own
@@ -101,7 +111,7 @@ class RayScene:
             self._pool = ThreadPoolExecutor(workers, thread_name_prefix="hiyari-cast")
             weakref.finalize(self, self._pool.shutdown, wait=False)
         self.actor_radius_m = actor_radius_m
-        self._device = EmbreeDevice()
+        self._device = Device()
         self.static_mesh = static
         self._static_material_ext = np.append(
             static.material.astype(np.uint8), np.uint8(NO_MATERIAL)
@@ -120,17 +130,30 @@ class RayScene:
         self.world: WorldState = WorldState.empty()
         self.ego_id: str | None = None
         self.actors: ActorMesh = build_actor_mesh(self.world, self.appearance)
-        self._dynamic = None
+        self._builder = ActorMeshBuilder()
+        self._dynamic: TriangleScene | None = None
+        self._refits = 0
         self._centres = np.zeros((0, 3))
         self._radius = np.zeros(0)
         self._velocity = np.zeros((0, 3))
 
-    def _commit(self, vertices: np.ndarray, faces: np.ndarray):
-        scene = rtcore_scene.EmbreeScene(self._device)
-        TriangleMesh(scene, vertices, faces)
-        # the first query commits the BVH; do it now so that casts pay only for traversal
-        scene.run(np.zeros((1, 3), np.float32), np.array([[0, 0, 1]], np.float32), dists=1e-3)
-        return scene
+    def _commit(
+        self, vertices: np.ndarray, faces: np.ndarray, refit: bool = False
+    ) -> TriangleScene:
+        return TriangleScene(self._device, vertices, faces, refit)
+
+    def _actor_scene(self, actors: ActorMesh, same: bool) -> TriangleScene | None:
+        """The actor scene of ``actors``: the last one refitted when the triangles are the
+        ``same`` (up to REFITS times in a row), else a new one."""
+        if not len(actors):
+            return None
+        last = self._dynamic
+        if last is not None and same and self._refits < REFITS:
+            last.move(actors.vertices)
+            self._refits += 1
+            return last
+        self._refits = 0
+        return self._commit(actors.vertices, actors.faces, refit=True)
 
     def set_appearance(self, appearance: ActorAppearance) -> None:
         """Change actor materials (takes effect at the next update)."""
@@ -153,10 +176,8 @@ class RayScene:
             )
             exclude = is_ego | far
         self.world, self.ego_id = world, ego_id
-        self.actors = build_actor_mesh(world, self.appearance, exclude)
-        self._dynamic = (
-            self._commit(self.actors.vertices, self.actors.faces) if len(self.actors) else None
-        )
+        self.actors, same = self._builder.build(world, self.appearance, exclude)
+        self._dynamic = self._actor_scene(self.actors, same)
         keep = np.ones(len(world), bool) if exclude is None else ~exclude
         rows = np.flatnonzero(keep)
         centre = world.xyz[rows].copy()
@@ -236,10 +257,10 @@ class RayScene:
 
         def chunk(a: int, b: int) -> None:
             d = directions[a:b]
-            rs = self._static.run(origins[a:b], d, dists=np.float32(max_range), output=1)
+            prim, tfar, _ = self._static.intersect(origins[a:b], d, np.float32(max_range))
             normal = out.normal[a:b] if out.normal is not None else no_normal
             parts = (out.distance[a:b], out.hit[a:b], out.material[a:b], out.cos_incidence[a:b])
-            static_hits(rs["primID"], rs["tfar"], d, tables, (*parts, normal))
+            static_hits(prim, tfar, d, tables, (*parts, normal))
 
         if self._pool is None or n < 2 * CAST_CHUNK:
             chunk(0, n)
@@ -299,19 +320,14 @@ class RayScene:
         if not len(idx):
             return
         limit = np.minimum(out.distance[idx], np.float32(max_range))
-        rd = self._dynamic.run(
-            np.ascontiguousarray(origins[idx]),
-            np.ascontiguousarray(directions[idx]),
-            dists=limit,
-            output=1,
-        )
-        dh = rd["primID"] >= 0
+        prim_all, tfar, ng_all = self._dynamic.intersect(origins[idx], directions[idx], limit)
+        dh = prim_all >= 0
         j = idx[dh]
-        prim = rd["primID"][dh]
-        out.distance[j] = rd["tfar"][dh]
+        prim = prim_all[dh]
+        out.distance[j] = tfar[dh]
         out.hit[j] = self.actors.actor_row[prim]
         out.material[j] = self.actors.material[prim]
-        ng = rd["Ng"][dh]
+        ng = ng_all[dh]
         rnd = self.actors.rounded[prim]
         if rnd.any():
             ng[rnd] = self._ellipsoid_normal(

@@ -67,7 +67,9 @@ def run_sensitivity(
     short = replace(config, days=hours / 24.0, runs=1, variants=("unsignalised",))
     short.validate()
     root = Path(folder) / "sensitivity"
-    points = [(p, float(v)) for p in PARAMETERS for v in sorted({*getattr(grid, p), _main(short, p)})]
+    points = [
+        (p, float(v)) for p in PARAMETERS for v in sorted({*getattr(grid, p), _main(short, p)})
+    ]
     # one demand per pedestrian volume; its baseline serves every point of that demand
     demands: dict[float, list[ArmTask]] = {}
     for p, v in points:

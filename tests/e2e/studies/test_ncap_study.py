@@ -22,7 +22,9 @@ from paths import REPO_ROOT
 from hiyari.bridge.cli import status
 from hiyari.bridge.cli.main import main
 
-sys.path.insert(0, str(REPO_ROOT / "tests" / "support"))  # --stack ncap_stacks:... (forked workers too)
+sys.path.insert(
+    0, str(REPO_ROOT / "tests" / "support")
+)  # --stack ncap_stacks:... (forked workers too)
 
 GRID = ["ncap", "--tests", "CCRs,CPNA-25", "--speeds", "50", "-q"]
 pytestmark = pytest.mark.slow

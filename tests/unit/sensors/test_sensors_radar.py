@@ -7,6 +7,8 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 from hiyari.errors import HiyariError
 from hiyari.net.mesh.materials import Material
@@ -16,7 +18,7 @@ from hiyari.sensors.environment.conditions import Environment
 from hiyari.sensors.frames import Mount
 from hiyari.sensors.outputs import HIT_NONE
 from hiyari.sensors.radar.config import RadarConfig
-from hiyari.sensors.radar.recognition import recognise_radar
+from hiyari.sensors.radar.recognition import linked_groups, recognise_radar
 from hiyari.sensors.radar.sensor import Radar
 from hiyari.sensors.scene.ray_scene import RayScene
 from hiyari.sensors.scene.synthetic import StraightRoad, actor_world, box
@@ -145,3 +147,19 @@ def test_seed_ray_grids():
     assert len(wide.directions) == 121 * 51  # 60 deg / 0.5 deg x 25 deg / 0.5 deg
     with pytest.raises(HiyariError, match="narrow"):
         RadarConfig.preset("medium")
+
+
+def test_linked_groups_number_groups_as_scipy_does():
+    rng = np.random.default_rng(11)
+    for n in (0, 1, 7, 60):
+        xyz = rng.uniform(-6.0, 6.0, (n, 3))
+        xyz[:, 2] *= 0.1
+        rate = rng.choice([-3.0, 0.0, 0.5, 4.0], n) + rng.normal(0.0, 0.3, n)
+        count, group = linked_groups(xyz, rate, 2.5, 1.5)
+        d = np.linalg.norm(xyz[:, None] - xyz[None], axis=2)
+        i, j = np.nonzero((d < 2.5) & (np.abs(rate[:, None] - rate[None]) < 1.5))
+        want = connected_components(coo_matrix((np.ones(len(i)), (i, j)), shape=(n, n)), False)
+        assert count == want[0]
+        np.testing.assert_array_equal(group, want[1])
+        if n == 60:
+            assert 3 < count < 50  # some groups of several detections, some alone
