@@ -40,13 +40,21 @@ PRESETS = REPO / "bridge" / "openscenario" / "presets" / "library"
 WALL = {"wall_seconds", "wall_s", "creation_time"}
 
 
+#: Exit status and last error line of each command that failed (a result to compare too).
+FAILURES: dict[str, str] = {}
+
+
 def hiyari(*args: str) -> float:
-    """Run ``hiyari args`` (exit status 0 or 3: a collision is a result); wall seconds."""
+    """Run ``hiyari args``; wall seconds. Exit status 0 or 3 (a collision) is a result; any
+    other is kept in FAILURES with the error's last line (compared like the outputs)."""
     t0 = time.perf_counter()
     cmd = [sys.executable, "-m", "hiyari", *args]
     done = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if done.returncode not in (0, 3):
-        raise SystemExit(f"{' '.join(args)}: exit {done.returncode}\n{done.stderr[-2000:]}")
+        last = (done.stderr.strip().splitlines() or [""])[-1]
+        FAILURES[" ".join(a.replace(str(REPO), ".") for a in args[:2])] = (
+            f"exit {done.returncode}: {last}"
+        )
     return time.perf_counter() - t0
 
 
@@ -158,6 +166,7 @@ def main(argv: list[str] | None = None) -> int:
         for name, wall in walls.items():
             print(f"{wall:8.1f} s  {name}")
     found = hashes(args.work)
+    found.update({f"failed: {cmd}": why.replace("  ", " ") for cmd, why in FAILURES.items()})
     args.save.write_text("".join(f"{h}  {p}\n" for p, h in found.items()))
     print(f"{len(found)} files hashed -> {args.save}")
     if args.compare is None:
