@@ -21,8 +21,9 @@ from pathlib import Path
 
 from hiyari.atomic import write_text_atomic
 from hiyari.bridge.loop.drivers.cc_driver import cc_reference_stack
+from hiyari.bridge.loop.execute import RunOptions, execute
 from hiyari.bridge.studies.catalogue.evaluation.expectation import Expectation, annex_g, judge
-from hiyari.bridge.studies.catalogue.evaluation.runner import RunConfig, prepare_road, run_case
+from hiyari.bridge.studies.catalogue.evaluation.runner import RunConfig, case_spec, prepare_road
 from hiyari.bridge.studies.catalogue.space.concrete import ConcreteCase, concrete_cases
 from hiyari.bridge.studies.catalogue.space.obstruction import Cell, expand
 from hiyari.bridge.studies.catalogue.space.parameters import Ranges
@@ -129,10 +130,10 @@ def run_row(task: tuple[ConcreteCase, RunConfig]) -> dict:
     or the reference driver's run) and judge it: one results row."""
     case, config = task
     t0 = time.perf_counter()
-    res = run_case(case, config)
+    res = execute(case_spec(case, config))
     expected = annex_g(case)
     if expected is None:
-        ref = run_case(case, config, cc_reference_stack)
+        ref = execute(case_spec(case, config, cc_reference_stack))
         expected = Expectation(ref.collision, ref.relative_impact_speed if ref.collision else 0.0,
                                "reference")  # fmt: skip
     impact = res.relative_impact_speed if res.collision else 0.0
@@ -259,8 +260,8 @@ def _sort_table(path: Path, order: list[str]) -> None:
 
 
 def _record(task: tuple[ConcreteCase, RunConfig, Path]) -> str:
-    case, config, path = task
-    run_case(case, config, record=path)
+    case, config, path = task  # no camera images: the failure is in the stack's outputs
+    execute(case_spec(case, config), RunOptions(recording=path, camera_image_every=0))
     return str(path)
 
 

@@ -62,8 +62,8 @@ def run_catalogue(
     """Every realisable combination (or those named in ``only``): occlusion, then closed loop."""
     from tqdm import tqdm
 
-    from hiyari.bridge.loop.engine_run import EgoSetup, import_road, run_scenario
-    from hiyari.bridge.loop.run import RunOptions
+    from hiyari.bridge.loop.execute import execute
+    from hiyari.bridge.loop.spec import EgoSetup, import_road, model_spec
 
     cases = [c for c in combinations() if c.realisable and (not only or c.name in only)]
     probe = OcclusionProbe()
@@ -80,12 +80,8 @@ def run_catalogue(
                 sc0 = build_scenario(combo, xodr, shift)
                 nets[combo.geometry] = (xodr, import_road(sc0, workdir / "roads"))
             xodr, net = nets[combo.geometry]
-            res = run_scenario(
-                build_scenario(combo, xodr, shift),
-                RunOptions(),
-                EgoSetup(perception="sensors"),
-                net=net,
-            )
+            sc = build_scenario(combo, xodr, shift)
+            res = execute(model_spec(sc, EgoSetup(perception="sensors"), net))
             collision, ttc, stage = res.collision, res.min_ttc, res.aeb_max_stage
         out.append(CaseResult(combo, shift, fraction, collision, ttc, stage))
     return out
