@@ -34,6 +34,7 @@ from hiyari.bridge.record.format import PART_SUFFIX
 from hiyari.errors import HiyariError
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.road.opendrive_lanes import RoadLanes
+from hiyari.net.road.sumo_roads import sumo_road_lanes
 from hiyari.traffic.simulation import Simulation
 
 if TYPE_CHECKING:
@@ -87,9 +88,12 @@ def start(spec: RunSpec, work: Path) -> Iterator[Started]:
     sc, road, ego = spec.scenario, spec.road, spec.ego
     if sc.ego is None:
         raise HiyariError(f"{sc.source or sc.name}: the scenario has no ego")
-    net = road.net or import_road(sc, work)
-    lanes = road.lanes or RoadLanes.from_files(road.xodr, net)
-    network = road.network or RoadNetwork(net)
+    net = road.net if road.net is not None else import_road(sc, work)
+    network = road.network if road.network is not None else RoadNetwork(net)
+    lanes = road.lanes
+    if lanes is None:  # a generated net without OpenDRIVE: its edges are the roads
+        xodr = road.xodr
+        lanes = RoadLanes.from_files(xodr, net) if xodr is not None else sumo_road_lanes(network)
     with Simulation(road.sim_config(net, ego, spec.sumo_args)) as sim:
         if spec.warmup > 0:
             sim.fast_forward(sim.time + spec.warmup)

@@ -117,7 +117,7 @@ def test_killed_sweep_resumes_only_missing_rows(reference, tmp_path):
 
 
 def test_failing_run_is_recorded(tmp_path, monkeypatch):
-    mod = tmp_path / "exploding_stack.py"
+    mod = tmp_path / "exploding_sweep_stack.py"
     mod.write_text(
         "from hiyari.bridge.loop.spec import default_stack\n"
         "def Exploding(ctx):\n"
@@ -126,7 +126,7 @@ def test_failing_run_is_recorded(tmp_path, monkeypatch):
         "    return default_stack(ctx)\n"
     )
     monkeypatch.syspath_prepend(str(tmp_path))
-    scen = _scenario(tmp_path, stack='stack = "exploding_stack:Exploding"')
+    scen = _scenario(tmp_path, stack='stack = "exploding_sweep_stack:Exploding"')
     s = run_sweep(_plan(scen), SweepOptions(tmp_path / "fail", workers=2, progress=False))
     rows = read_table(s.table)
     assert s.failed == 1 and len(rows) == 13
