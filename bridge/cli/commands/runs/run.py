@@ -52,7 +52,11 @@ def load_plan(args: argparse.Namespace) -> Plan:
         logical = parse_scenario({"scenario": {"type": "city"}}, "--sumocfg/--map")
     else:
         logical = load_scenario(args.scenario)
-    xosc_params(args)  # none: refused for a TOML file
+    if xosc_params(args):
+        raise HiyariError(
+            f"{args.scenario}: --param sets OpenSCENARIO parameters; a TOML file's are set in "
+            "its [parameters]"
+        )
     return TomlPlan(logical, world, args.perception, environment(args))
 
 
@@ -93,7 +97,7 @@ def environment(args: argparse.Namespace) -> str | None:
 
 
 def xosc_params(args: argparse.Namespace) -> dict[str, str]:
-    """The ``--param NAME=VALUE`` options by name; only OpenSCENARIO files have them."""
+    """The ``--param NAME=VALUE`` options by name (OpenSCENARIO files only: load_plan)."""
     params: dict[str, str] = {}
     for text in args.param:
         name, eq, value = text.partition("=")
@@ -103,11 +107,6 @@ def xosc_params(args: argparse.Namespace) -> dict[str, str]:
         if name in params:
             raise HiyariError(f"--param: {name} is given twice")
         params[name] = value.strip()
-    if params and Path(args.scenario).suffix.lower() != ".xosc":
-        raise HiyariError(
-            f"{args.scenario}: --param sets OpenSCENARIO parameters; a TOML file's are set in "
-            "its [parameters]"
-        )
     return params
 
 
