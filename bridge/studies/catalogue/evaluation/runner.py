@@ -1,5 +1,6 @@
-"""Run one concrete catalogue case in closed loop: SUMO + the scenario engine for the
-surrounding vehicles + an ego stack (the one under test, or the C&C reference driver).
+"""One concrete catalogue case as a run (:func:`case_spec`, run by
+hiyari.bridge.loop.execute): the scenario engine moves the surrounding vehicles, an ego stack
+(the one under test, or the C&C reference driver) drives the ego.
 
 The ego's own lane change is commanded to SUMO at its time (SUMO's continuous lane change,
 ``--lanechange.duration`` = lane width / lateral speed); the stack drives its speed.
