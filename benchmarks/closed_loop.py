@@ -30,8 +30,9 @@ from pathlib import Path
 
 from raw_cast import raw_cast_seconds, static_mesh
 
-from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.loop.execute import execute
 from hiyari.bridge.loop.stack.interfaces import EgoStep
+from hiyari.bridge.loop.toml_runs import preset_spec
 from hiyari.bridge.openscenario.engine import ScenarioEngine
 from hiyari.bridge.openscenario.presets.scenarios import build_scenario
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
@@ -104,7 +105,7 @@ def main() -> None:
             for ol in step.object_lists:
                 counts[ol.source] = counts.get(ol.source, 0) + 1
 
-        res = run_concrete(cs, RunOptions(), on_step=on_step)
+        res = execute(preset_spec(cs, Path(tmp) / "run"), on_step=on_step)
         network = build_scenario(cs, Path(tmp) / "limit").network
         raw = raw_cast_seconds(static_mesh(network), counts["world"], "ego", SensorRig.default())
         raw1, raw2, raw_cpu = raw.wall_1, raw.wall_2, raw.cpu_1

@@ -35,7 +35,8 @@ from pathlib import Path
 import numpy as np
 from mcap.reader import make_reader
 
-from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.loop.execute import RunOptions, execute
+from hiyari.bridge.loop.toml_runs import preset_spec
 from hiyari.bridge.loop.traffic_recording import record_traffic
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.bridge.record import format as fmt
@@ -184,7 +185,7 @@ def closed_loop_recording(d: Path, reps: int) -> str:
         for k, (name, config) in enumerate(configs.items()):
             out = d / f"cl{k}_{rep}"
             opts = RunOptions(out_dir=out, record=config is not None, recorder=config)
-            res = run_concrete(cs, opts)
+            res = execute(preset_spec(cs, out / "roads"), opts)
             walls[name].append(res.wall_seconds)
             sim_s = res.sim_seconds
             if config is not None:

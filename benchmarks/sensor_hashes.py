@@ -25,8 +25,9 @@ from pathlib import Path
 import numpy as np
 from judge import mixed_points
 
-from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.loop.execute import execute
 from hiyari.bridge.loop.stack.interfaces import EgoStep
+from hiyari.bridge.loop.toml_runs import TomlRun
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.bridge.studies.r157_judge import JudgeOptions, judge
 from hiyari.sensors.outputs import ObjectList
@@ -98,7 +99,8 @@ def run_hash(name: str) -> tuple[str, int, float]:
             _update(h, c)
 
     t0 = time.perf_counter()
-    res = run_concrete(cs, RunOptions(), on_step=on_step)
+    with TomlRun(cs).spec() as spec:
+        res = execute(spec, on_step=on_step)
     wall = time.perf_counter() - t0
     _update(h, json.dumps(res.as_dict() | {"wall_seconds": None}, sort_keys=True, default=str))
     return h.hexdigest(), steps, wall

@@ -20,8 +20,8 @@ from matplotlib.figure import Figure
 from tqdm import tqdm  # noqa: E402
 
 from hiyari.atomic import atomic_path  # noqa: E402
-from hiyari.bridge.studies.report.sct import summarise  # noqa: E402
 from hiyari.bridge.studies.sct.study import StudyConfig, build_inputs, run_tasks  # noqa: E402
+from hiyari.bridge.studies.sct.summary import summarise  # noqa: E402
 
 
 def main() -> None:

@@ -8,12 +8,15 @@ Inside: SI (m, s, m/s). Files: speeds in km/h, times in s, distances in m, 3 dec
 
 from __future__ import annotations
 
+import json
 from collections import defaultdict
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields
+from pathlib import Path
 
 import numpy as np
 
+from hiyari.atomic import atomic_path
 from hiyari.risk.metrics.false_braking import FalseBraking, false_braking
 from hiyari.units import mps_to_kmh
 
@@ -190,3 +193,24 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
 RESULT_KEYS: tuple[str, ...] = tuple(f.key for f in RESULT_FIELDS if f.in_table)
 #: The result columns of the R157 judge's table (judge.csv).
 JUDGE_KEYS: tuple[str, ...] = tuple(f.key for f in RESULT_FIELDS if f.in_judge)
+
+
+#: Draws a finished run's figure into a PNG file and returns its path.
+PlotRun = Callable[[RunResult, Path], Path]
+
+
+def write_result(
+    result: RunResult, scenario: Mapping[str, object], out_dir: Path, plot: PlotRun | None = None
+) -> None:
+    """result.json (``scenario``: its scenario section, then the summary), timeseries.csv and,
+    with ``plot``, timeseries.png in ``out_dir``."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    doc = {"scenario": dict(scenario), "result": result.as_dict()}
+    with atomic_path(out_dir / "result.json") as tmp:
+        tmp.write_text(json.dumps(doc, indent=2))
+    columns = result.series.columns()
+    table = np.array(list(columns.values()), dtype=float).T
+    with atomic_path(out_dir / "timeseries.csv") as tmp:
+        np.savetxt(tmp, table, delimiter=",", header=",".join(columns), comments="", fmt="%.6g")
+    if plot is not None:
+        plot(result, out_dir / "timeseries.png")

@@ -1,6 +1,6 @@
 """OpenSCENARIO files as runs: a scenario file is one run, a ParameterValueDistribution file
-the runs of its parameter sets; each run reads its scenario with its parameter values and goes
-through :func:`~hiyari.bridge.loop.engine_run.run_scenario`.
+the runs of its parameter sets; each run reads its scenario with its parameter values and
+compiles to a RunSpec (:func:`~hiyari.bridge.loop.spec.model_spec`).
 
 The plan reads and checks the scenario with the first run's values before anything runs (a bad
 file, parameter, catalog or road is one line naming the file and element, and nothing is
@@ -9,13 +9,12 @@ written); run ``k`` is seeded ``seed + k`` as TOML runs are.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import contextlib
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from hiyari.bridge.loop.engine_run import EgoSetup, check_scenario, import_road, run_scenario
-from hiyari.bridge.loop.result import RunResult
-from hiyari.bridge.loop.run import RunOptions
+from hiyari.bridge.loop.spec import EgoSetup, RunSpec, import_road, model_spec
 from hiyari.bridge.openscenario.model.storyboard import Scenario
 from hiyari.bridge.openscenario.xosc import document
 from hiyari.bridge.openscenario.xosc.context import INT_TYPES
@@ -51,6 +50,13 @@ class XoscRun:
     def load(self) -> Scenario:
         """The scenario with this run's parameter values."""
         return read_scenario(self.scenario, self.params)
+
+    @contextlib.contextmanager
+    def spec(self) -> Iterator[RunSpec]:
+        """The run's spec: the scenario read with this run's values, on the road imported
+        for the plan (or imported when the run starts)."""
+        sc = self.load()
+        yield model_spec(sc, self.setup, _imported(self, sc))
 
 
 @dataclass(frozen=True)
@@ -101,7 +107,7 @@ class XoscPlan:
             for k, p in enumerate(self.param_sets)
         ]
 
-    def with_road_imported(self, folder: Path) -> XoscPlan:
+    def with_roads(self, folder: Path) -> XoscPlan:
         """This plan with its road imported once into ``folder`` for every run (sweeps)."""
         sc = read_scenario(self.scenario, self.param_sets[0])
         return replace(self, road_net=(self.road, import_road(sc, folder)))
@@ -167,20 +173,6 @@ def _check_integers(scenario: Path, params: Mapping[str, str]) -> None:
                     f"{scenario}:{d.sourceline}: --param {name}={params[name]}: "
                     f"the parameter is an {ptype}"
                 )
-
-
-def run_xosc(run: XoscRun, options: RunOptions | None = None) -> RunResult:
-    """Run one concrete OpenSCENARIO run in this process."""
-    sc = run.load()
-    return run_scenario(sc, options, run.setup, net=_imported(run, sc))
-
-
-def check_xosc(run: XoscRun) -> None:
-    """Every check ``run`` makes before its first step (the scenario read with its values,
-    the road, SUMO, the Init actions, the actions Init decides, the ego stack); nothing is
-    written and nothing runs (``--dry-run``)."""
-    sc = run.load()
-    check_scenario(sc, run.setup, net=_imported(run, sc))
 
 
 def _imported(run: XoscRun, sc: Scenario) -> Path | None:

@@ -48,16 +48,17 @@ class AlksTask:
 
 def run_task(task: AlksTask) -> dict:
     """Run, record and export the replay of one scenario; its results.csv row."""
-    from hiyari.bridge.loop.engine_run import EgoSetup
-    from hiyari.bridge.loop.run import RunOptions
-    from hiyari.bridge.loop.xosc_runs import load_plan, run_xosc
+    from hiyari.bridge.loop.execute import RunOptions, execute
+    from hiyari.bridge.loop.spec import EgoSetup
+    from hiyari.bridge.loop.xosc_runs import load_plan
     from hiyari.bridge.record.reader import Recording
     from hiyari.bridge.replay.export import export_html
     from hiyari.bridge.studies.report.timeseries import plot_timeseries
 
     t0 = time.perf_counter()
     (run,) = load_plan(task.path, EgoSetup(perception=task.perception)).expand()
-    res = run_xosc(run, RunOptions(out_dir=task.out, record=True, plot=plot_timeseries))
+    with run.spec() as spec:
+        res = execute(spec, RunOptions(out_dir=task.out, record=True, plot=plot_timeseries))
     rec = Recording.open(task.out / "run.mcap")
     export_html(
         rec,

@@ -18,13 +18,16 @@ relative speed, so nothing drawn mixes two ego speeds.
 
 from __future__ import annotations
 
+import tempfile
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
+from hiyari.bridge.loop.execute import RunOptions, execute
 from hiyari.bridge.loop.result import JUDGE_KEYS, RESULT_KEYS
-from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.loop.toml_runs import preset_spec
 from hiyari.bridge.loop.warm import ProcessCache
 from hiyari.bridge.openscenario.presets.toml_file import SENSOR_NAMES, ConcreteScenario
 from hiyari.bridge.studies.pool import Crashed, PoolOptions, run_all
@@ -171,7 +174,8 @@ def run_point(task: PointRun) -> dict:
     wall, cpu = time.perf_counter(), time.process_time()
     row: dict = {"index": cs.index, "sim_seconds": 0.0, "loop_seconds": 0.0}
     try:
-        res = run_concrete(cs, options, warm=warm)
+        with tempfile.TemporaryDirectory(prefix="hiyari-road-") as tmp:
+            res = execute(preset_spec(cs, Path(tmp), warm), options)
     except Exception as exc:  # one failing point must not stop the judge
         msg = " ".join(f"{type(exc).__name__}: {exc}".split())
         row.update(status="failed", error=msg, **dict.fromkeys(RESULT_KEYS, ""))

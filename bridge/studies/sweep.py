@@ -1,4 +1,5 @@
-"""Scenario sweeps: every concrete run of a logical scenario, each in its own worker process.
+"""Scenario sweeps: every concrete run of a scenario file (a TOML logical scenario, or an
+OpenSCENARIO parameter distribution), each in its own worker process.
 
 libsumo runs one simulation per process, so runs go to the campaign pool
 (:mod:`hiyari.bridge.studies.pool`): local worker processes (default) or a Ray cluster
@@ -30,13 +31,9 @@ from pathlib import Path
 
 from hiyari.atomic import append_bytes, atomic_path
 from hiyari.bridge.loop.result import RESULT_KEYS
-from hiyari.bridge.loop.xosc_runs import XoscPlan, XoscRun
-from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario, LogicalScenario
+from hiyari.bridge.loop.spec import Plan, PlannedRun
 from hiyari.bridge.studies.pool import Crashed, PoolOptions, run_all
 from hiyari.errors import HiyariError, WriteFailed
-
-#: What a sweep runs: a TOML logical scenario, or the runs of an OpenSCENARIO file.
-Plan = LogicalScenario | XoscPlan
 
 
 @dataclass(frozen=True)
@@ -72,15 +69,15 @@ class SweepSummary:
     crashed: int = 0
 
 
-def run_one(cs: ConcreteScenario | XoscRun) -> tuple[dict, float]:
-    """Run one concrete scenario; never raises: failures become a row with the error."""
-    from hiyari.bridge.loop.run import run_concrete
-    from hiyari.bridge.loop.xosc_runs import run_xosc
+def run_one(run: PlannedRun) -> tuple[dict, float]:
+    """Run one concrete run; never raises: failures become a row with the error."""
+    from hiyari.bridge.loop.execute import execute
 
     t0 = time.perf_counter()
-    row: dict = {"index": cs.index, "seed": cs.seed, **cs.params}
+    row: dict = {"index": run.index, "seed": run.seed, **run.params}
     try:
-        res = run_xosc(cs) if isinstance(cs, XoscRun) else run_concrete(cs)
+        with run.spec() as spec:
+            res = execute(spec)
         row.update(status="ok", error="", **res.row())
     except Exception as exc:  # one failing run must not stop the sweep
         msg = " ".join(f"{type(exc).__name__}: {exc}".split())
@@ -88,40 +85,20 @@ def run_one(cs: ConcreteScenario | XoscRun) -> tuple[dict, float]:
     return row, time.perf_counter() - t0
 
 
-def crashed_row(cs: ConcreteScenario | XoscRun, crash: Crashed) -> dict:
+def crashed_row(run: PlannedRun, crash: Crashed) -> dict:
     """The row of a run whose worker process died: its seed and parameters, and the signal."""
     return {
-        "index": cs.index,
-        "seed": cs.seed,
-        **cs.params,
+        "index": run.index,
+        "seed": run.seed,
+        **run.params,
         "status": "crashed",
         "error": str(crash),
         **dict.fromkeys(RESULT_KEYS, ""),
     }
 
 
-def count_runs(logical: Plan) -> int:
-    """How many concrete runs ``logical`` expands to, computed from the axis lengths (nothing
-    is expanded)."""
-    if isinstance(logical, XoscPlan):
-        return logical.count()
-    if logical.sampling.get("mode", "grid") == "random":
-        return int(logical.sampling.get("n", 0))
-    return math.prod(len(v) for v in logical.ranges.values())
-
-
-def _columns(logical: Plan) -> list[str]:
-    from hiyari.bridge.openscenario.presets.toml_file import PARAMETERS
-
-    names = logical.parameter_names if isinstance(logical, XoscPlan) else PARAMETERS[logical.type]
-    return ["index", "seed", *names, "status", "error", *RESULT_KEYS]
-
-
-def varied_parameters(logical: Plan) -> list[str]:
-    """The parameters that change between runs (the plot's axes)."""
-    if isinstance(logical, XoscPlan):
-        return logical.varied
-    return [*logical.ranges, *logical.random]
+def _columns(plan: Plan) -> list[str]:
+    return ["index", "seed", *plan.parameter_names, "status", "error", *RESULT_KEYS]
 
 
 def read_table(path: Path) -> dict[int, dict]:
@@ -144,34 +121,33 @@ def _fmt(v: object) -> str:
     return "" if v is None else str(v)
 
 
-def run_sweep(logical: Plan, options: SweepOptions) -> SweepSummary:
-    """Run every concrete scenario not yet in ``out_dir/results.csv``; return counts. An
-    OpenSCENARIO plan's road is imported once into ``out_dir/roads`` for all its runs."""
+def run_sweep(plan: Plan, options: SweepOptions) -> SweepSummary:
+    """Run every concrete run not yet in ``out_dir/results.csv``; return counts. A road the
+    runs share (an OpenSCENARIO file's) is made once into ``out_dir/roads``."""
     from tqdm import tqdm
 
     options.pool().validate()
-    n = count_runs(logical)
+    n = plan.count()
     if n > options.max_runs:
         raise HiyariError(
-            f"{logical.path}: the parameter ranges give {n:,} runs, more than --max-runs "
+            f"{plan.path}: the parameter ranges give {n:,} runs, more than --max-runs "
             f"{options.max_runs:,} (use coarser steps, or raise --max-runs)"
         )
-    if isinstance(logical, XoscPlan):
-        logical = logical.with_road_imported(options.out_dir / "roads")
-    runs = logical.expand()
+    plan = plan.with_roads(options.out_dir / "roads")
+    runs = plan.expand()
     if not runs:
-        raise HiyariError(f"{logical.path}: the parameters expand to no run")
+        raise HiyariError(f"{plan.path}: the parameters expand to no run")
     out = options.out_dir
     out.mkdir(parents=True, exist_ok=True)
     table = out / "results.csv"
-    cols = _columns(logical)
+    cols = _columns(plan)
     done = read_table(table)
     if done and list(next(iter(done.values()))) != cols:
         raise HiyariError(f"{table}: columns differ from this scenario's; use another folder")
     # crashed runs are always run again; failed ones (deterministic) only when asked
     retry = {"crashed", "failed"} if options.retry_failed else {"crashed"}
     keep = {i: r for i, r in done.items() if r["status"] not in retry}
-    todo = [cs for cs in runs if cs.index not in keep]
+    todo = [run for run in runs if run.index not in keep]
     t0 = time.perf_counter()
     failed = sum(r["status"] == "failed" for r in keep.values())
     crashed = 0

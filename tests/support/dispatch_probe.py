@@ -12,7 +12,8 @@ import sys
 
 from paths import SHARED
 
-from hiyari.bridge.loop.engine_run import EgoSetup, run_scenario
+from hiyari.bridge.loop.execute import execute
+from hiyari.bridge.loop.spec import EgoSetup, model_spec
 from hiyari.bridge.openscenario.xosc.reader import read_scenario
 
 ALKS = SHARED / "data/openscenario/alks"
@@ -31,11 +32,8 @@ def probe(name: str, perception: str, duration: float) -> dict:
     def on_step(state, _step, _collisions) -> None:
         positions.append(state.xyz[:, :2].ravel().tolist())
 
-    res = run_scenario(
-        read_scenario(ALKS / name),
-        setup=EgoSetup(perception=perception, max_duration=duration),
-        on_step=on_step,
-    )
+    setup = EgoSetup(perception=perception, max_duration=duration)
+    res = execute(model_spec(read_scenario(ALKS / name), setup), on_step=on_step)
     return {
         "verdict": res.verdict(),
         "min_ttc": res.min_ttc,

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from hiyari.bridge.loop.engine_run import StackContext
+from hiyari.bridge.loop.spec import StackContext
 from hiyari.bridge.loop.stack.aeb import AEBConfig
 from hiyari.bridge.loop.stack.interfaces import EgoStack
 from hiyari.bridge.studies.ncap.stack import ncap_stack

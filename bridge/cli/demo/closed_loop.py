@@ -3,9 +3,11 @@ with the full sensor stack (expressway cut-in, city dart-out), recorded and expo
 
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
 
-from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.loop.execute import RunOptions, execute
+from hiyari.bridge.loop.toml_runs import preset_spec
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.bridge.record.reader import Recording
 from hiyari.bridge.replay.export import export_html
@@ -50,9 +52,9 @@ def run_sensor_scenario(
         perception="sensors",
         environment=environment,
     )
-    res = run_concrete(
-        cs, RunOptions(out_dir=out_dir, progress=True, record=True, plot=plot_timeseries)
-    )
+    options = RunOptions(out_dir=out_dir, progress=True, record=True, plot=plot_timeseries)
+    with tempfile.TemporaryDirectory(prefix="hiyari-road-") as tmp:
+        res = execute(preset_spec(cs, Path(tmp)), options)
     return res.as_dict()
 
 

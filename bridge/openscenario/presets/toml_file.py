@@ -134,7 +134,7 @@ class ConcreteScenario:
     sensors: tuple[str, ...] = SENSOR_NAMES
     aeb_delay: float = 0.2
     environment: str = "clear"
-    stack: str = ""  # "module:Class" of a user ego stack, '' for the default
+    stack: str = ""  # "module:callable" stack factory (called with a StackContext), '' default
 
     def label(self) -> str:
         """Short human-readable id, e.g. 'cut-in#3 ve0_kmh=60 vo0_kmh=20'."""

@@ -10,15 +10,14 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
-from hiyari.bridge.loop.engine_run import run_scenario
+from hiyari.bridge.loop.execute import RunOptions, execute
 from hiyari.bridge.loop.result import RunResult
-from hiyari.bridge.loop.run import RunOptions
-from hiyari.bridge.loop.xosc_runs import XoscRun, _imported
+from hiyari.bridge.loop.xosc_runs import XoscRun
 from hiyari.bridge.studies.ncap import scoring
 from hiyari.bridge.studies.ncap.protocols import NcapTest
 from hiyari.bridge.studies.ncap.stack import stack_factory
@@ -62,11 +61,9 @@ class NcapPoint:
 
 def simulate(point: NcapPoint, record_dir: Path | None = None) -> RunResult:
     """Run ``point`` in this process (recorded into ``record_dir/run.mcap`` when given)."""
-    sc = point.run.load()
-    options = RunOptions(out_dir=record_dir, record=record_dir is not None)
-    return run_scenario(
-        sc, options, point.run.setup, stack_factory(point.stack), net=_imported(point.run, sc)
-    )
+    setup = replace(point.run.setup, stack=stack_factory(point.stack))
+    with replace(point.run, setup=setup).spec() as spec:
+        return execute(spec, RunOptions(out_dir=record_dir, record=record_dir is not None))
 
 
 def run_point(point: NcapPoint) -> dict:

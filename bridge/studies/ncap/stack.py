@@ -4,7 +4,7 @@ the user's stack factory (``--stack module:callable``, the contract of ``hiyari 
 
 from __future__ import annotations
 
-from hiyari.bridge.loop.engine_run import StackContext, StackFactory
+from hiyari.bridge.loop.spec import StackContext, StackFactory, load_stack
 from hiyari.bridge.loop.stack.aeb import ACCConfig, AEBConfig, AEBPlanner
 from hiyari.bridge.loop.stack.fusion import KalmanFusion
 from hiyari.bridge.loop.stack.interfaces import EgoStack
@@ -35,6 +35,4 @@ def stack_factory(spec: str) -> StackFactory:
     """The factory named "module:callable" (empty: :func:`ncap_stack`)."""
     if not spec:
         return ncap_stack
-    from hiyari.bridge.studies.catalogue.evaluation.runner import load_factory
-
-    return load_factory(spec)
+    return load_stack(spec, "--stack")

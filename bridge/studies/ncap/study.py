@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from hiyari.atomic import atomic_path, write_text_atomic
-from hiyari.bridge.loop.engine_run import EgoSetup
+from hiyari.bridge.loop.spec import EgoSetup
 from hiyari.bridge.loop.xosc_runs import load_plan
 from hiyari.bridge.studies.ncap import scoring
 from hiyari.bridge.studies.ncap.points import COLUMNS, NcapPoint, run_point, score_row, simulate
@@ -120,7 +120,7 @@ def _with_roads(points: list[NcapPoint], folder: Path) -> list[NcapPoint]:
     """The points with each scenario road imported once into ``folder``."""
     from dataclasses import replace
 
-    from hiyari.bridge.loop.engine_run import import_road
+    from hiyari.bridge.loop.spec import import_road
 
     nets: dict[Path, Path] = {}
     out = []

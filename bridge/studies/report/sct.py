@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np  # noqa: E402
@@ -18,89 +18,16 @@ from matplotlib.figure import Figure
 
 from hiyari.atomic import atomic_path, write_text_atomic  # noqa: E402
 from hiyari.bridge.studies.sct.study import ARMS, ArmResult, StudyConfig  # noqa: E402
+from hiyari.bridge.studies.sct.summary import (  # noqa: E402
+    SEED_BASELINE,
+    SEED_REDUCTION,
+    SEED_SCT,
+    ArmSummary,
+    pair,
+    reduction,
+    summarise,
+)
 from hiyari.risk.metrics.incidents import CSV_FIELDS  # noqa: E402
-
-#: DIVP FY2020 report, C2 (divp-H §6.4): incidents over 2 days at 200 veh/h
-SEED_BASELINE = 1990
-SEED_SCT = 641
-SEED_REDUCTION = (SEED_BASELINE - SEED_SCT) / SEED_BASELINE
-
-
-@dataclass
-class ArmSummary:
-    """One arm of one variant, summed over its runs. Times in seconds."""
-
-    variant: str
-    arm: str
-    sim_days: float
-    vehicles: int
-    encounters: int
-    incidents: int
-    ttc_incidents: int
-    pet_incidents: int
-    collisions: int
-    mean_travel_time: float
-    mean_time_loss: float
-    mean_pedestrian_time_loss: float
-    controller_interventions: int
-    wall_seconds: float
-    evaluated_share: float
-    crashed_runs: int = 0  # runs whose worker process died: not in any figure above
-
-
-def summarise(config: StudyConfig, results: list[ArmResult]) -> list[ArmSummary]:
-    """Per (variant, arm): counts and trip statistics over all runs."""
-    out = []
-    ic = config.incidents
-    for variant in config.variants:
-        for arm in ARMS:
-            rs = [r for r in results if r.variant == variant and r.arm == arm]
-            inc = [e for r in rs for e in r.incidents]
-            tt = np.concatenate([r.travel_time for r in rs]) if rs else np.zeros(0)
-            tl = np.concatenate([r.time_loss for r in rs]) if rs else np.zeros(0)
-            pl = np.concatenate([r.person_time_loss for r in rs]) if rs else np.zeros(0)
-            out.append(
-                ArmSummary(
-                    variant=variant,
-                    arm=arm,
-                    sim_days=sum(r.sim_seconds for r in rs) / 86400.0,
-                    vehicles=len(tt),
-                    encounters=sum(len(r.encounters) for r in rs),
-                    incidents=len(inc),
-                    ttc_incidents=sum(e.min_ttc < ic.ttc_threshold for e in inc),
-                    pet_incidents=sum(e.min_pet < ic.pet_threshold for e in inc),
-                    collisions=sum(e.collision for e in inc),
-                    mean_travel_time=_mean(tt),
-                    mean_time_loss=_mean(tl),
-                    mean_pedestrian_time_loss=_mean(pl),
-                    controller_interventions=sum(r.interventions for r in rs),
-                    wall_seconds=sum(r.wall_seconds for r in rs),
-                    evaluated_share=sum(r.evaluated_steps for r in rs)
-                    / max(sum(r.steps for r in rs), 1),
-                    crashed_runs=sum(bool(r.crashed) for r in rs),
-                )
-            )
-    return out
-
-
-def _mean(a: np.ndarray) -> float:
-    return float(a.mean()) if len(a) else math.nan
-
-
-def _pair(summaries: list[ArmSummary], variant: str) -> tuple[ArmSummary, ArmSummary]:
-    base = next(s for s in summaries if s.variant == variant and s.arm == "baseline")
-    sct = next(s for s in summaries if s.variant == variant and s.arm == "sct")
-    return base, sct
-
-
-def reduction(base: int, sct: int) -> float:
-    """Relative reduction of incidents, (base - sct) / base (nan without baseline incidents)."""
-    return (base - sct) / base if base else math.nan
-
-
-def change_text(red: float) -> str:
-    """The incident change for people ("-68%"), or why there is none."""
-    return "n/a (no baseline incidents)" if math.isnan(red) else f"{-red:+.0%}"
 
 
 def write_report(
@@ -125,7 +52,7 @@ def write_report(
         "wall_seconds": round(wall_seconds, 1),
         "arms": [asdict(s) for s in summaries],
         "reduction": {  # null: no baseline incidents (JSON has no nan)
-            v: _finite(reduction(*(s.incidents for s in _pair(summaries, v))))
+            v: _finite(reduction(*(s.incidents for s in pair(summaries, v))))
             for v in config.variants
         },
         "seed": {"baseline": SEED_BASELINE, "sct": SEED_SCT, "reduction": SEED_REDUCTION},
@@ -194,7 +121,7 @@ def incidents_figure(config: StudyConfig, summaries: list[ArmSummary]) -> Figure
     simulated times and tools differ, so their counts do not share a scale)."""
     ours = []
     for v in config.variants:
-        base, sct = _pair(summaries, v)
+        base, sct = pair(summaries, v)
         ours.append((v, base.incidents, sct.incidents))
     days = summaries[0].sim_days if summaries else config.days
     fig = Figure(figsize=(4.0 + 2.4 * len(ours), 4.4), layout="constrained")
@@ -375,7 +302,7 @@ def _markdown(
     ]
     short, undecided = [], []
     for v in c.variants:
-        base, sct = _pair(summaries, v)
+        base, sct = pair(summaries, v)
         red = reduction(base.incidents, sct.incidents)
         cost = sct.mean_travel_time - base.mean_travel_time
         rel = cost / base.mean_travel_time if base.mean_travel_time else math.nan

@@ -10,8 +10,8 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from hiyari.atomic import atomic_path
-from hiyari.bridge.studies.report.sct import SEED_REDUCTION
 from hiyari.bridge.studies.sct.sensitivity import PARAMETERS, SensitivityPoint
+from hiyari.bridge.studies.sct.summary import SEED_REDUCTION
 
 
 def write_sensitivity(folder: str | Path, points: list[SensitivityPoint], hours: float) -> Path:

@@ -12,8 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from hiyari.bridge.studies.report.sct import reduction, summarise
 from hiyari.bridge.studies.sct.study import ArmTask, StudyConfig, build_inputs, run_tasks
+from hiyari.bridge.studies.sct.summary import reduction, summarise
 from hiyari.errors import HiyariError
 
 

@@ -120,17 +120,15 @@ def test_interrupted_run_writes_nothing_under_a_final_name(tmp_path: Path, sig: 
 
 
 EXPLODING = """
-from dataclasses import replace
-
-from hiyari.bridge.loop.run import build_stack
+from hiyari.bridge.loop.spec import default_stack
 from hiyari.errors import HiyariError
 
 
 class Exploding:
     \"\"\"The default stack, failing 1 s into the run (after the recording has begun).\"\"\"
 
-    def __init__(self, cs, net):
-        inner = build_stack(replace(cs, stack=""), net)
+    def __init__(self, ctx):
+        inner = default_stack(ctx)
         self.perception, self.fusion, self.planner = inner.perception, inner.fusion, inner.planner
         self._inner = inner
 

@@ -62,7 +62,8 @@ COMMAND_IMPORTS = (
     "hiyari.net.mesh.road_mesh",
     "hiyari.net.sumo.opendrive",
     "hiyari.bridge.studies.sweep",
-    "hiyari.bridge.loop.run",
+    "hiyari.bridge.loop.execute",
+    "hiyari.bridge.loop.toml_runs",
     "hiyari.bridge.loop.xosc_runs",
     "hiyari.bridge.record.recover",
     "hiyari.bridge.replay.export",
@@ -420,11 +421,11 @@ def _toml_run_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -
     for _ in range(50):
         toml, what = _mutant(rng.choice(corpus.tomls), mutate_toml, rng, work)
         try:
+            from hiyari.bridge.loop.toml_runs import TomlPlan
             from hiyari.bridge.openscenario.presets.toml_file import load_scenario
-            from hiyari.bridge.studies.sweep import count_runs
 
             logical = load_scenario(toml)
-            if count_runs(logical) <= 2 and logical.duration <= 10.0:
+            if TomlPlan(logical).count() <= 2 and logical.duration <= 10.0:
                 break
         except Exception:  # noqa: BLE001 - rejected files are the other kind's job
             continue

@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 from openscenario_files import ALKS
 
-from hiyari.bridge.loop.engine_run import EgoSetup
-from hiyari.bridge.loop.run import RunOptions
-from hiyari.bridge.loop.xosc_runs import load_plan, run_xosc
+from hiyari.bridge.loop.execute import RunOptions, execute
+from hiyari.bridge.loop.spec import EgoSetup
+from hiyari.bridge.loop.xosc_runs import load_plan
 from hiyari.bridge.record.reader import Recording
 
 FILES = sorted(ALKS.glob("alks_scenario_*.xosc"))
@@ -28,7 +28,8 @@ def test_alks_scenario_closed_loop_verdict(path: Path) -> None:
     free = any(k in path.stem for k in FREE_DRIVES)
     setup = EgoSetup(perception="perfect", max_duration=20.0 if free else 600.0)
     (run,) = load_plan(path, setup).expand()
-    res = run_xosc(run)
+    with run.spec() as spec:
+        res = execute(spec)
     assert res.stop_trigger != free
     if free:
         assert res.sim_seconds == pytest.approx(20.0, abs=0.06)
@@ -46,7 +47,8 @@ def test_alks_cut_in_with_sensors_records_perceived_objects(tmp_path: Path) -> N
     README's table): the sensors see the cut-in car, the recording holds every step."""
     path = next(p for p in FILES if "4_4_1" in p.stem)
     (run,) = load_plan(path, EgoSetup(perception="sensors", max_duration=4.0)).expand()
-    res = run_xosc(run, RunOptions(out_dir=tmp_path, record=True))
+    with run.spec() as spec:
+        res = execute(spec, RunOptions(out_dir=tmp_path, record=True))
     assert not res.stop_trigger and not res.collision
     assert res.detection["fusion"].target_frames == 0  # no fixed target in a .xosc run
     assert res.detection["fusion"].true_positives > 0

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from openscenario_files import ALKS, scenario_xml, story, teleport_speed, time_condition, write
 
-from hiyari.bridge.loop.engine_run import EgoSetup, StackContext, default_stack, run_scenario
-from hiyari.bridge.loop.run import RunOptions
+from hiyari.bridge.loop.execute import RunOptions, execute
+from hiyari.bridge.loop.spec import EgoSetup, StackContext, default_stack, model_spec
 from hiyari.bridge.openscenario.xosc.reader import read_scenario
 from hiyari.bridge.record.reader import Recording
 
@@ -32,8 +32,8 @@ def test_stack_brakes_for_a_stopping_lead_and_the_gap_is_the_kernels(tmp_path: P
     )
     sc = read_scenario(write(tmp_path / "brake.xosc", xml))
     seen = []
-    res = run_scenario(
-        sc,
+    res = execute(
+        model_spec(sc),
         RunOptions(out_dir=tmp_path / "out"),
         on_step=lambda w, s, c: seen.append(
             np.hypot(*(w.xyz[w.index("Lead"), :2] - w.xyz[w.index("Ego"), :2])) - 5.0
@@ -64,7 +64,7 @@ def test_stack_less_ego_hits_the_stopping_lead(tmp_path: Path) -> None:
         stop=f"<ConditionGroup>{time_condition(10.0, 'end', 'none')}</ConditionGroup>",
     )
     sc = read_scenario(write(tmp_path / "blind.xosc", xml))
-    res = run_scenario(sc, setup=EgoSetup(perception="none"))
+    res = execute(model_spec(sc, EgoSetup(perception="none")))
     assert res.collision and res.collided_with == "Lead"
     assert not res.stop_trigger
     # ego front (5 + 1.4 + 2.5 = 8.9 m) to lead rear (65 + 1.4 - 2.5 = 63.9 m): 55 m at 20 m/s
@@ -87,7 +87,7 @@ def test_alks_cut_in_recorded_and_replayed_with_a_user_stack(tmp_path: Path) -> 
 
     sc = read_scenario(next(ALKS.glob("alks_scenario_4_4_1_*.xosc")))
     out = tmp_path / "run"
-    res = run_scenario(sc, RunOptions(out_dir=out, record=True), stack_factory=factory)
+    res = execute(model_spec(sc, EgoSetup(stack=factory)), RunOptions(out_dir=out, record=True))
     assert len(made) == 1 and made[0].ego_id == "Ego"
     assert made[0].set_speed == pytest.approx(60 / 3.6)  # Ego_InitSpeed_Ve0_kph = 60
     assert res.stop_trigger and not res.collision

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import numpy as np
+from runs import run_preset
 
-from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.loop.execute import RunOptions
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.bridge.record.reader import Recording
 
@@ -26,7 +27,7 @@ def test_sensor_run_records_and_reads_back(tmp_path):
         seen["steps"] += 1
         seen["ego_speed"].append(float(world.speed[world.index("ego")]))
 
-    res = run_concrete(cs, RunOptions(out_dir=tmp_path, record=True), on_step=on_step)
+    res = run_preset(cs, RunOptions(out_dir=tmp_path, record=True), on_step=on_step)
     path = tmp_path / "run.mcap"
     assert path.exists() and not (tmp_path / "run.mcap.part").exists()
     rec = Recording.open(path)

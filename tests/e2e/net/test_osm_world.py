@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 import shapely
 from osm_authoring import town
+from runs import run_preset
 
-from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.loop.execute import RunOptions
 from hiyari.bridge.openscenario.presets.scenarios import World
 from hiyari.bridge.openscenario.presets.toml_file import parse_scenario
 from hiyari.bridge.record.reader import Recording
@@ -122,9 +123,7 @@ def test_city_run_on_the_imported_map_records_its_buildings(town_world, tmp_path
     )  # fmt: skip
     (cs,) = logical.expand()
     out = tmp_path / "run"
-    result = run_concrete(
-        cs, RunOptions(out_dir=out, record=True), world=World.of_net(network.path)
-    )
+    result = run_preset(cs, RunOptions(out_dir=out, record=True), world=World.of_net(network.path))
     assert result.sim_seconds > 0 and not result.collision
     mesh = Recording.open(out / "run.mcap").mesh()
     assert (mesh.material == Material.BUILDING).sum() == 24  # the two mapped buildings, closed

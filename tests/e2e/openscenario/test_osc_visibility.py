@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 from openscenario_files import net_for, scenario_xml, teleport_speed, write
 
-from hiyari.bridge.loop.engine_run import EgoSetup, run_scenario
-from hiyari.bridge.loop.run import RunOptions
+from hiyari.bridge.loop.execute import execute
+from hiyari.bridge.loop.spec import EgoSetup, model_spec
 from hiyari.bridge.openscenario.xosc.reader import read_scenario
 from hiyari.errors import HiyariError
 
@@ -26,9 +26,7 @@ def _run(tmp_path: Path, sensors: str) -> object:
     init = teleport_speed("Ego", -4, 20, 15) + car
     path = write(tmp_path / f"v_{sensors}.xosc", scenario_xml({"Ego": "", "Car": ""}, init))
     sc = read_scenario(path)
-    return run_scenario(
-        sc, RunOptions(), EgoSetup(max_duration=12.0), net=net_for(sc.road_network, tmp_path)
-    )
+    return execute(model_spec(sc, EgoSetup(max_duration=12.0), net_for(sc.road_network, tmp_path)))
 
 
 def test_an_entity_hidden_from_the_sensors_is_not_braked_for(tmp_path: Path) -> None:

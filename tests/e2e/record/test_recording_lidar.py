@@ -15,8 +15,9 @@ import zstandard
 from google.protobuf.message import Message
 from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
+from runs import run_preset
 
-from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.loop.execute import RunOptions
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.bridge.record import lidar_scan
 from hiyari.bridge.record.foxglove_convert import unpack_point_cloud
@@ -155,8 +156,8 @@ def test_recording_a_closed_loop_run_does_not_change_it(tmp_path: Path) -> None:
         {"ve0_kmh": 40.0, "ped_speed_kmh": 5.0, "impact_fraction": 0.5},
         perception="sensors",
     )
-    plain = run_concrete(cs, RunOptions())
-    recorded = run_concrete(cs, RunOptions(out_dir=tmp_path, record=True))
+    plain = run_preset(cs, RunOptions())
+    recorded = run_preset(cs, RunOptions(out_dir=tmp_path, record=True))
     rec = Recording.open(tmp_path / "run.mcap")
     assert rec.lidar_sensors and len(rec.point_cloud("lidar", len(rec) - 1)) > 1000
     a, b = plain.series.columns(), recorded.series.columns()

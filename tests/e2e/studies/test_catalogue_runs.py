@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from hiyari.bridge.openscenario.engine import ScenarioEngine
+from hiyari.bridge.openscenario.model.scoring import Scoring
 from hiyari.bridge.studies.catalogue.evaluation.campaign import (
     CatalogueOptions,
     catalogue_cells,
@@ -54,7 +55,7 @@ def _drive(case, roads: Path, seconds: float) -> tuple[list, list]:
     with Simulation(SimConfig(net=net, step_length=STEP, extra_args=(
             "--lanechange.duration", "3.5"))) as sim:  # fmt: skip
         engine = ScenarioEngine(to_scenario(case), lanes, STEP)
-        hooks = CatalogueHooks(engine, sim, lanes, case.ego_lane_change())
+        hooks = CatalogueHooks(engine, sim, Scoring(), lanes, case.ego_lane_change())
         for _ in range(int(seconds / STEP)):
             hooks.before_step(sim, 0.0)
             w = sim.step()

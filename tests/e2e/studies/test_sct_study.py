@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from hiyari.bridge.cli.main import main
-from hiyari.bridge.studies.report.sct import summarise, write_report
+from hiyari.bridge.studies.report.sct import write_report
 from hiyari.bridge.studies.sct.study import StudyConfig, build_inputs, run_tasks
+from hiyari.bridge.studies.sct.summary import summarise
 from hiyari.risk.metrics.incidents import write_encounters_csv
 
 pytestmark = pytest.mark.timeout(300)

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 from paths import REPO_ROOT
 
+from hiyari.bridge.loop.toml_runs import TomlPlan
 from hiyari.bridge.openscenario.presets.toml_file import load_scenario
 from hiyari.bridge.studies.report.sweep import plot_sweep
 from hiyari.bridge.studies.sweep import SweepOptions, read_table, run_sweep
@@ -40,19 +41,21 @@ def _scenario(tmp_path: Path, stack: str = "") -> Path:
     return p
 
 
+def _plan(path: Path) -> TomlPlan:
+    return TomlPlan(load_scenario(path))
+
+
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("ref")
-    s = run_sweep(
-        load_scenario(_scenario(tmp)), SweepOptions(tmp / "w1", workers=1, progress=False)
-    )
+    s = run_sweep(_plan(_scenario(tmp)), SweepOptions(tmp / "w1", workers=1, progress=False))
     assert s.total == 13 and s.ran == 13 and s.failed == 0
     return s.table.read_bytes()
 
 
 def test_two_workers_same_table(reference, tmp_path):
     s = run_sweep(
-        load_scenario(_scenario(tmp_path)), SweepOptions(tmp_path / "w2", workers=2, progress=False)
+        _plan(_scenario(tmp_path)), SweepOptions(tmp_path / "w2", workers=2, progress=False)
     )
     assert s.table.read_bytes() == reference
     rows = read_table(s.table)
@@ -66,7 +69,7 @@ def test_two_workers_same_table(reference, tmp_path):
 def test_ray_local_cluster_same_table(reference, tmp_path):
     pytest.importorskip("ray")
     s = run_sweep(
-        load_scenario(_scenario(tmp_path)),
+        _plan(_scenario(tmp_path)),
         SweepOptions(tmp_path / "ray", backend="ray", workers=2, progress=False),
     )
     assert s.table.read_bytes() == reference
@@ -109,7 +112,7 @@ def test_killed_sweep_resumes_only_missing_rows(reference, tmp_path):
     proc.wait()
     before = len(read_table(table))
     assert 4 <= before < 13
-    s = run_sweep(load_scenario(scen), SweepOptions(out, workers=1, progress=False))
+    s = run_sweep(_plan(scen), SweepOptions(out, workers=1, progress=False))
     assert s.skipped == before and s.ran == 13 - before
     assert table.read_bytes() == reference
 
@@ -118,16 +121,15 @@ def test_failing_run_is_recorded(tmp_path, monkeypatch):
     # a module name of its own: test_cli_interrupt imports another exploding_stack in this process
     mod = tmp_path / "exploding_sweep_stack.py"
     mod.write_text(
-        "from hiyari.bridge.loop.run import build_stack\n"
-        "from dataclasses import replace\n"
-        "def Exploding(cs, net):\n"
-        "    if cs.params['ve0_kmh'] == 24:\n"
+        "from hiyari.bridge.loop.spec import default_stack\n"
+        "def Exploding(ctx):\n"
+        "    if round(ctx.set_speed * 3.6, 6) == 24:\n"
         "        raise RuntimeError('planner diverged at 24 km/h')\n"
-        "    return build_stack(replace(cs, stack=''), net)\n"
+        "    return default_stack(ctx)\n"
     )
     monkeypatch.syspath_prepend(str(tmp_path))
     scen = _scenario(tmp_path, stack='stack = "exploding_sweep_stack:Exploding"')
-    s = run_sweep(load_scenario(scen), SweepOptions(tmp_path / "fail", workers=2, progress=False))
+    s = run_sweep(_plan(scen), SweepOptions(tmp_path / "fail", workers=2, progress=False))
     rows = read_table(s.table)
     assert s.failed == 1 and len(rows) == 13
     bad = [r for r in rows.values() if r["status"] == "failed"]
@@ -183,7 +185,7 @@ def test_run_count_guard_counts_without_expanding(tmp_path, capsys):
     assert time.perf_counter() - t0 < 2.0  # counted, not listed
     assert not (tmp_path / "out").exists()
     # the same grid within a raised limit is accepted (counted exactly: 13 runs here)
-    logical = load_scenario(_scenario(tmp_path))
+    logical = _plan(_scenario(tmp_path))
     with pytest.raises(HiyariError, match="give 13 runs, more than --max-runs 12"):
         run_sweep(logical, SweepOptions(tmp_path / "o2", max_runs=12, progress=False))
 

@@ -8,10 +8,11 @@ import subprocess
 
 import pytest
 from lxml import etree
+from runs import run_preset
 from sumo_scenario_authoring import BEGIN, END, write_scenario
 
 from hiyari.bridge.cli.main import main
-from hiyari.bridge.loop.run import RunOptions, run_concrete
+from hiyari.bridge.loop.execute import RunOptions
 from hiyari.bridge.openscenario.presets.scenarios import World
 from hiyari.bridge.openscenario.presets.toml_file import parse_scenario
 from hiyari.errors import HiyariError
@@ -87,7 +88,7 @@ def test_ego_inside_the_scenario_keeps_its_demand(scenario, tmp_path):
         seen.update(world_state.ids[~world_state.is_pedestrian].tolist())
         last[0] = world_state.time
 
-    run_concrete(cs, RunOptions(), on_step=collect, world=world)
+    run_preset(cs, RunOptions(), on_step=collect, world=world)
     assert "ego" in seen and last[0] > BEGIN + 10.0
     vehicles = seen - {"ego"}
     # every vehicle of the scenario present after the warm-up, and no other, as SUMO alone

@@ -7,8 +7,14 @@ import csv
 import json
 import math
 
-from hiyari.bridge.loop.result import JUDGE_KEYS, RESULT_FIELDS, RESULT_KEYS, RunResult
-from hiyari.bridge.loop.run import write_result
+from hiyari.bridge.loop.result import (
+    JUDGE_KEYS,
+    RESULT_FIELDS,
+    RESULT_KEYS,
+    RunResult,
+    write_result,
+)
+from hiyari.bridge.loop.toml_runs import preset_doc
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.bridge.studies.sweep import RESULT_KEYS as SWEEP_KEYS
 
@@ -43,8 +49,9 @@ def test_one_list_of_result_fields():
 def test_result_files_round_trip(tmp_path):
     r = _result()
     cs = ConcreteScenario("cut-in", "x", 0, 1, 10.0, 0.05, {"ve0_kmh": 45.0})
-    write_result(r, cs, tmp_path)
+    write_result(r, preset_doc(cs), tmp_path)
     doc = json.loads((tmp_path / "result.json").read_text())
+    assert doc["scenario"]["params"] == {"ve0_kmh": 45.0} and doc["scenario"]["index"] == 0
     assert doc["result"]["collided_with"] == "other"
     with (tmp_path / "timeseries.csv").open() as f:
         rows = list(csv.DictReader(f))

@@ -6,8 +6,8 @@ from __future__ import annotations
 import pytest
 import sumolib
 
-from hiyari.bridge.loop.run import build_stack
-from hiyari.bridge.openscenario.presets.scenarios import build_scenario
+from hiyari.bridge.loop.spec import StackContext, default_stack
+from hiyari.bridge.loop.toml_runs import preset_spec
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 from hiyari.errors import HiyariError
 from hiyari.net.road import geometry as geometry_module
@@ -30,13 +30,15 @@ def test_cut_in_reads_its_net_once(tmp_path, monkeypatch):
     monkeypatch.setattr(geometry_module.RoadGeometry, "from_net", staticmethod(counted_geometry))
     params = {"ve0_kmh": 60.0, "vo0_kmh": 30.0, "dx0_m": 40.0, "vy_ms": 1.0}
     cs = ConcreteScenario("cut-in", "x", 0, 1, 5.0, 0.05, params, perception="sensors")
-    sc = build_scenario(cs, tmp_path)
-    stack = build_stack(cs, sc.network)
+    spec = preset_spec(cs, tmp_path)
+    network = spec.road.network
+    ctx = StackContext(network, spec.ego, "ego", spec.ego.set_speed, spec.scenario)
+    stack = default_stack(ctx)
     assert stack.perception.scene.static_mesh is not None
-    assert sc.network.geometry is sc.network.geometry  # kept, not rebuilt
+    assert network.geometry is network.geometry  # kept, not rebuilt
     assert calls == {"sumolib": 1, "geometry": 1}
     # the engine's road / lane / s frame is that same net's
-    assert sc.roads.net == sc.network.path
+    assert spec.road.lanes.net == network.path
 
 
 def test_missing_net_is_one_line_error(tmp_path):

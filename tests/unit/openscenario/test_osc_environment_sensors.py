@@ -8,8 +8,8 @@ import math
 
 import pytest
 
-from hiyari.bridge.loop.engine_run import EgoSetup, StackContext, default_stack
 from hiyari.bridge.loop.scenario_environment import disturbance_from, grip
+from hiyari.bridge.loop.spec import EgoSetup, StackContext, default_stack
 from hiyari.bridge.openscenario.model.global_actions import (
     Environment,
     Fog,
@@ -45,7 +45,7 @@ def test_friction_scales_the_planner() -> None:
     icy = Environment("Icy", road=RoadCondition(0.5, "icy"))
     assert grip(icy) == 0.5 and grip(None) == 1.0
     ctx = StackContext(
-        None, EgoSetup(), "Ego", 15.0, None, icy
+        None, EgoSetup(), "Ego", 15.0, None, environment=icy
     )  # perfect perception: no road needed
     planner = default_stack(ctx).planner
     assert planner.aeb.full_decel_g == pytest.approx(

@@ -13,14 +13,13 @@ import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 from hiyari.bridge.studies.report.sct import (
-    change_text,
     encounters_figure,
     incidents_figure,
-    summarise,
     timeline_figure,
     write_report,
 )
 from hiyari.bridge.studies.sct.study import ARMS, ArmResult, StudyConfig
+from hiyari.bridge.studies.sct.summary import change_text, summarise
 from hiyari.risk.metrics.incidents import Encounter
 
 SHORT = StudyConfig(days=0.002, runs=2)

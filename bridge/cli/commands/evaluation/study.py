@@ -46,14 +46,9 @@ def study_config(args: argparse.Namespace) -> StudyConfig:
 
 
 def run_sct(args: argparse.Namespace) -> int:
-    from hiyari.bridge.studies.report.sct import (
-        SEED_REDUCTION,
-        change_text,
-        reduction,
-        summarise,
-        write_report,
-    )
+    from hiyari.bridge.studies.report.sct import write_report
     from hiyari.bridge.studies.sct.study import run_study
+    from hiyari.bridge.studies.sct.summary import SEED_REDUCTION, change_text, reduction, summarise
 
     config = study_config(args)
     if args.jobs is not None and args.jobs < 1:

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import argparse
 import csv
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.cli import numbers, status
@@ -15,28 +15,49 @@ from hiyari.bridge.cli.outputs import output_folder
 from hiyari.errors import HiyariError, about
 
 if TYPE_CHECKING:
-    from hiyari.bridge.loop.engine_run import EgoSetup
     from hiyari.bridge.loop.result import RunResult
-    from hiyari.bridge.loop.run import RunOptions
+    from hiyari.bridge.loop.spec import EgoSetup, Plan, PlannedRun
     from hiyari.bridge.openscenario.presets.scenarios import World
 
 
 def run(args: argparse.Namespace) -> int:
     output_folder(args.out)
-    # the work is imported in _run so that `hiyari --help` and the other commands start fast
+    # the work is imported below so that `hiyari --help` and the other commands start fast
+    if args.scenario is None and args.sumocfg is None and args.map is None:
+        args.run_parser.error(
+            "the following arguments are required: scenario (or a world: --sumocfg, --map)"
+        )
     if args.scenario is None:
-        if args.sumocfg is None and args.map is None:
-            args.run_parser.error(
-                "the following arguments are required: scenario (or a world: --sumocfg, --map)"
-            )
-        return _run(args)
+        return _run(args, load_plan(args))
     with about(args.scenario, Path(args.scenario).resolve()):
-        if Path(args.scenario).suffix.lower() == ".xosc":
-            if args.sumocfg or args.map:
-                raise HiyariError(f"{args.scenario}: an OpenSCENARIO file runs on its own road "
-                                  "(--sumocfg and --map apply to city scenarios)")  # fmt: skip
-            return _run_xosc(args)
-        return _run(args)
+        return _run(args, load_plan(args))
+
+
+def load_plan(args: argparse.Namespace) -> Plan:
+    """The runs of the scenario file the command line names (the one place the file's type
+    is decided, by its extension), with the command line's options over the file's."""
+    from hiyari.bridge.loop.toml_runs import TomlPlan
+    from hiyari.bridge.loop.xosc_runs import is_openscenario
+    from hiyari.bridge.loop.xosc_runs import load_plan as load_xosc
+    from hiyari.bridge.openscenario.presets.toml_file import load_scenario, parse_scenario
+
+    world_given = getattr(args, "sumocfg", None) or getattr(args, "map", None)
+    if args.scenario is not None and is_openscenario(args.scenario):
+        if world_given:
+            raise HiyariError(f"{args.scenario}: an OpenSCENARIO file runs on its own road "
+                              "(--sumocfg and --map apply to city scenarios)")  # fmt: skip
+        return load_xosc(args.scenario, ego_setup(args), xosc_params(args))
+    world = _world(args) if world_given else None  # named before the scenario expands
+    if args.scenario is None:  # free city driving with the city defaults in that world
+        logical = parse_scenario({"scenario": {"type": "city"}}, "--sumocfg/--map")
+    else:
+        logical = load_scenario(args.scenario)
+    if xosc_params(args):
+        raise HiyariError(
+            f"{args.scenario}: --param sets OpenSCENARIO parameters; a TOML file's are set in "
+            "its [parameters]"
+        )
+    return TomlPlan(logical, world, args.perception, environment(args))
 
 
 def _world(args: argparse.Namespace) -> World | None:
@@ -52,7 +73,7 @@ def _world(args: argparse.Namespace) -> World | None:
 
 def ego_setup(args: argparse.Namespace) -> EgoSetup:
     """The EgoSetup the command line asks for (OpenSCENARIO runs)."""
-    from hiyari.bridge.loop.engine_run import EgoSetup
+    from hiyari.bridge.loop.spec import EgoSetup
 
     return EgoSetup(
         perception=args.perception or "perfect",
@@ -76,7 +97,7 @@ def environment(args: argparse.Namespace) -> str | None:
 
 
 def xosc_params(args: argparse.Namespace) -> dict[str, str]:
-    """The ``--param NAME=VALUE`` options by name; only OpenSCENARIO files have them."""
+    """The ``--param NAME=VALUE`` options by name (OpenSCENARIO files only: load_plan)."""
     params: dict[str, str] = {}
     for text in args.param:
         name, eq, value = text.partition("=")
@@ -86,38 +107,37 @@ def xosc_params(args: argparse.Namespace) -> dict[str, str]:
         if name in params:
             raise HiyariError(f"--param: {name} is given twice")
         params[name] = value.strip()
-    if params and Path(args.scenario).suffix.lower() != ".xosc":
-        raise HiyariError(
-            f"{args.scenario}: --param sets OpenSCENARIO parameters; a TOML file's are set in "
-            "its [parameters]"
-        )
     return params
 
 
-def _run_xosc(args: argparse.Namespace) -> int:
+def _run(args: argparse.Namespace, plan: Plan) -> int:
+    """Run (or with ``--dry-run`` check) every run of ``plan`` (see ``register``)."""
     import tempfile
 
-    from hiyari.bridge.loop.xosc_runs import check_xosc, load_plan, run_xosc
-
-    plan = load_plan(args.scenario, ego_setup(args), xosc_params(args))
-    if plan.count() > args.max_runs and not args.dry_run:  # a dry run counts them all
+    n = plan.count()
+    if n > args.max_runs and not args.dry_run:  # a dry run counts them all
         raise HiyariError(
-            f"{args.scenario}: {plan.count()} runs exceed --max-runs {args.max_runs} "
-            "(use 'hiyari sweep' for large distributions)"
+            f"{plan.path}: {n} runs exceed --max-runs {args.max_runs} "
+            "(use 'hiyari sweep' for large grids and distributions)"
         )
     with tempfile.TemporaryDirectory(prefix="hiyari-road-") as tmp:
-        # the road is imported before anything is written: a bad road leaves no output
-        runs = plan.with_road_imported(Path(tmp)).expand()
+        # a shared road is made before anything is written: a bad road leaves no output
+        runs = plan.with_roads(Path(tmp)).expand()
+        if not runs:
+            raise HiyariError(f"{plan.path}: the parameters expand to no run")
         if args.dry_run:
-            return _dry_run(runs, check_xosc, args.max_runs)
-        return _run_each(runs, run_xosc, args)
+            return _dry_run(runs, args.max_runs)
+        return _run_each(runs, args)
 
 
-def _dry_run(runs: Sequence[Any], check: Callable[[Any], None], limit: int) -> int:
-    """Make every check each of the first ``limit`` runs makes before its first step
-    (``check``) and print their labels; count the rest. Nothing is run or written."""
+def _dry_run(runs: Sequence[PlannedRun], limit: int) -> int:
+    """Make every check each of the first ``limit`` runs makes before its first step and
+    print their labels; count the rest. Nothing is run or written."""
+    from hiyari.bridge.loop.execute import check
+
     for run in runs[:limit]:
-        check(run)
+        with run.spec() as spec:
+            check(spec)
         print(f"{run.label()}: ready")
     checked = min(len(runs), limit)
     rest = (
@@ -129,13 +149,10 @@ def _dry_run(runs: Sequence[Any], check: Callable[[Any], None], limit: int) -> i
     return status.OK
 
 
-def _run_each(
-    runs: Sequence[Any], run_one: Callable[[Any, RunOptions], RunResult], args: argparse.Namespace
-) -> int:
-    """Run every concrete run (a ConcreteScenario or an .xosc run: ``index``, ``seed``,
-    ``params``, ``label()``) into its folder, print each verdict and write results.csv; the
+def _run_each(runs: Sequence[PlannedRun], args: argparse.Namespace) -> int:
+    """Run every concrete run into its folder, print each verdict and write results.csv; the
     exit status (VERDICT_FAIL when the ego collided in a run)."""
-    from hiyari.bridge.loop.run import RunOptions
+    from hiyari.bridge.loop.execute import RunOptions, execute
     from hiyari.bridge.studies.report.timeseries import plot_timeseries
 
     out = Path(args.out)
@@ -147,7 +164,8 @@ def _run_each(
             out_dir=folder, progress=not args.quiet, record=record, plot=plot_timeseries
         )
         try:
-            res = run_one(run, options)
+            with run.spec() as spec:
+                res = execute(spec, options)
         except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: say what is (not) kept
             exc.args = (_unfinished(run.label(), folder),)
             raise
@@ -186,43 +204,6 @@ def _write_table(out: Path, rows: list[dict]) -> None:
         w.writerows(rows)
     n_coll = sum(r["collision"] for r in rows)
     print(f"{len(rows)} run(s), {n_coll} collision(s); table: {out / 'results.csv'}")
-
-
-def _run(args: argparse.Namespace) -> int:
-    from dataclasses import replace
-    from functools import partial
-
-    from hiyari.bridge.loop.run import check_concrete, run_concrete
-    from hiyari.bridge.openscenario.presets.toml_file import load_scenario, parse_scenario
-    from hiyari.bridge.studies.sweep import count_runs
-
-    world = _world(args)  # a broken world is named before the scenario expands
-    if args.scenario is None:  # free city driving with the city defaults in that world
-        logical = parse_scenario({"scenario": {"type": "city"}}, "--sumocfg/--map")
-    else:
-        logical = load_scenario(args.scenario)
-    if world is not None and logical.type != "city":
-        raise HiyariError(
-            f"{args.scenario}: a {logical.type} scenario runs on its own road (--sumocfg and "
-            "--map apply to city scenarios)"
-        )
-    n = count_runs(logical)
-    if n > args.max_runs and not args.dry_run:  # a dry run only counts
-        raise HiyariError(
-            f"{args.scenario}: {n} concrete runs exceed --max-runs {args.max_runs} "
-            "(use 'hiyari sweep' for large grids)"
-        )
-    xosc_params(args)  # none: refused for a TOML file
-    runs = logical.expand()
-    if not runs:
-        raise HiyariError(f"{args.scenario}: the parameters expand to no run")
-    if args.perception:
-        runs = [replace(cs, perception=args.perception) for cs in runs]
-    if environment(args) is not None:
-        runs = [replace(cs, environment=args.environment) for cs in runs]
-    if args.dry_run:
-        return _dry_run(runs, partial(check_concrete, world=world), args.max_runs)
-    return _run_each(runs, partial(run_concrete, world=world), args)
 
 
 def register(sub: argparse._SubParsersAction) -> None:

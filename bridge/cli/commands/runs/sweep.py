@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from dataclasses import replace
 from pathlib import Path
 
 from hiyari.bridge.cli import numbers, status
@@ -15,43 +14,27 @@ from hiyari.errors import HiyariError, about
 
 
 def run(args: argparse.Namespace) -> int:
-    from hiyari.bridge.cli.commands.runs.run import ego_setup, environment, xosc_params
-    from hiyari.bridge.loop.xosc_runs import is_openscenario, load_plan
-    from hiyari.bridge.openscenario.presets.toml_file import load_scenario
+    from hiyari.bridge.cli.commands.runs.run import load_plan
     from hiyari.bridge.studies.report.sweep import plot_sweep
-    from hiyari.bridge.studies.sweep import (
-        SweepOptions,
-        count_runs,
-        read_table,
-        run_sweep,
-        varied_parameters,
-    )
+    from hiyari.bridge.studies.sweep import SweepOptions, read_table, run_sweep
 
     output_folder(args.out)
     with about(args.scenario, Path(args.scenario).resolve()):
-        if is_openscenario(args.scenario):
-            logical = load_plan(args.scenario, ego_setup(args), xosc_params(args))
-        else:
-            xosc_params(args)  # none: refused for a TOML file
-            logical = load_scenario(args.scenario)
-            if args.perception:
-                logical = replace(logical, ego={**logical.ego, "perception": args.perception})
-            if environment(args) is not None:
-                logical = replace(logical, environment=args.environment)
+        plan = load_plan(args)
     if args.dry_run:
-        n = count_runs(logical)
+        n = plan.count()
         if n > args.max_runs:
             raise HiyariError(
                 f"{args.scenario}: the parameter ranges give {n:,} runs, more than --max-runs "
                 f"{args.max_runs:,} (use coarser steps, or raise --max-runs)"
             )
-        runs = logical.expand()
-        for cs in runs[:5]:
-            print(cs.label())
+        runs = plan.expand()
+        for run in runs[:5]:
+            print(run.label())
         print(f"{len(runs)} run(s){' (first 5 shown)' * (len(runs) > 5)}; nothing run (--dry-run)")
         return 0
     s = run_sweep(
-        logical,
+        plan,
         SweepOptions(
             out_dir=Path(args.out),
             backend=args.backend,
@@ -65,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     )
     rows = read_table(s.table)
     plot = plot_sweep(
-        logical.name, varied_parameters(logical), [rows[i] for i in sorted(rows)],
+        plan.name, plan.varied, [rows[i] for i in sorted(rows)],
         s.table.parent / "summary.png",
     )  # fmt: skip
     print(

@@ -27,8 +27,9 @@ from pathlib import Path
 
 from hiyari.atomic import append_bytes, write_text_atomic
 from hiyari.bridge.loop.drivers.cc_driver import cc_reference_stack
+from hiyari.bridge.loop.execute import RunOptions, execute
 from hiyari.bridge.studies.catalogue.evaluation.expectation import Expectation, annex_g, judge
-from hiyari.bridge.studies.catalogue.evaluation.runner import RunConfig, prepare_road, run_case
+from hiyari.bridge.studies.catalogue.evaluation.runner import RunConfig, case_spec, prepare_road
 from hiyari.bridge.studies.catalogue.space.concrete import ConcreteCase, concrete_cases
 from hiyari.bridge.studies.catalogue.space.obstruction import Cell, expand
 from hiyari.bridge.studies.catalogue.space.parameters import Ranges
@@ -137,10 +138,10 @@ def run_row(task: tuple[ConcreteCase, RunConfig]) -> dict:
     or the reference driver's run) and judge it: one results row."""
     case, config = task
     t0 = time.perf_counter()
-    res = run_case(case, config)
+    res = execute(case_spec(case, config))
     expected = annex_g(case)
     if expected is None:
-        ref = run_case(case, config, cc_reference_stack)
+        ref = execute(case_spec(case, config, cc_reference_stack))
         expected = Expectation(ref.collision, ref.relative_impact_speed if ref.collision else 0.0,
                                "reference")  # fmt: skip
     impact = res.relative_impact_speed if res.collision else 0.0
@@ -296,9 +297,9 @@ def _record(task: tuple[ConcreteCase, RunConfig, Path]) -> str:
     from hiyari.bridge.record.reader import Recording
     from hiyari.bridge.replay.export import export_html
 
-    case, config, path = task
+    case, config, path = task  # no camera images: the failure is in the stack's outputs
     if not path.is_file():
-        run_case(case, config, record=path)
+        execute(case_spec(case, config), RunOptions(recording=path, camera_image_every=0))
     page = path.with_suffix(".html")
     if not page.is_file():
         export_html(Recording.open(path), page, progress=False)

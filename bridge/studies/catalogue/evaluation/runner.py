@@ -1,5 +1,6 @@
-"""Run one concrete catalogue case in closed loop: SUMO + the scenario engine for the
-surrounding vehicles + an ego stack (the one under test, or the C&C reference driver).
+"""One concrete catalogue case as a run (:func:`case_spec`, run by
+hiyari.bridge.loop.execute): the scenario engine moves the surrounding vehicles, an ego stack
+(the one under test, or the C&C reference driver) drives the ego.
 
 The ego's own lane change is commanded to SUMO at its time (SUMO's continuous lane change,
 ``--lanechange.duration`` = lane width / lateral speed); the stack drives its speed.
@@ -7,28 +8,20 @@ The ego's own lane change is commanded to SUMO at its time (SUMO's continuous la
 
 from __future__ import annotations
 
-import importlib
-from dataclasses import dataclass
-from functools import lru_cache
+from dataclasses import dataclass, replace
+from functools import lru_cache, partial
 from pathlib import Path
 
-from hiyari.bridge.loop.closed_loop import run_closed_loop
-from hiyari.bridge.loop.engine_run import (
-    EgoSetup,
-    EngineHooks,
-    StackContext,
-    StackFactory,
-    default_stack,
-)
-from hiyari.bridge.loop.result import RunResult
+from hiyari.bridge.loop.hooks import EngineHooks
+from hiyari.bridge.loop.spec import EgoSetup, Road, RunSpec, StackFactory, load_stack, model_spec
 from hiyari.bridge.openscenario.engine import ScenarioEngine
+from hiyari.bridge.openscenario.model.scoring import Scoring
 from hiyari.bridge.studies.catalogue.space.concrete import ConcreteCase, EgoLaneChange, to_scenario
 from hiyari.bridge.studies.catalogue.space.layout import LANE_WIDTH
-from hiyari.errors import HiyariError
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.net.sumo.build import CatalogueRoadParams, build_catalogue_road, xodr_beside
-from hiyari.traffic.simulation import SimConfig, Simulation
+from hiyari.traffic.simulation import Simulation
 from hiyari.traffic.world_state import WorldState
 
 GEOMETRY_ID = {"main line": "main", "merge": "merge", "branch": "branch"}
@@ -69,21 +62,12 @@ def _road(xodr: Path, net: Path) -> tuple[RoadLanes, RoadNetwork]:
     return RoadLanes.from_files(xodr, net), RoadNetwork(net)
 
 
-def load_factory(spec: str) -> StackFactory:
-    """The user's stack factory named "module:callable"."""
-    module, _, name = spec.partition(":")
-    try:
-        return getattr(importlib.import_module(module), name)
-    except (ImportError, AttributeError, ValueError) as exc:
-        raise HiyariError(f"--stack: cannot load {spec!r}: {exc}") from None
-
-
 class CatalogueHooks(EngineHooks):
     """EngineHooks plus the ego's commanded lane change."""
 
-    def __init__(self, engine: ScenarioEngine, sim: Simulation, roads: RoadLanes,
-                 lane_change: EgoLaneChange | None) -> None:  # fmt: skip
-        super().__init__(engine, sim)
+    def __init__(self, engine: ScenarioEngine, sim: Simulation, scoring: Scoring,
+                 roads: RoadLanes, lane_change: EgoLaneChange | None) -> None:  # fmt: skip
+        super().__init__(engine, sim, scoring)
         self.roads = roads
         self.lane_change = lane_change
         self._world: WorldState | None = None
@@ -105,10 +89,9 @@ class CatalogueHooks(EngineHooks):
             self.lane_change = None
 
 
-def run_case(case: ConcreteCase, config: RunConfig, factory: StackFactory | None = None,
-             record: Path | None = None) -> RunResult:  # fmt: skip
-    """Run ``case`` once with the stack ``factory`` builds (None: the configured stack).
-    ``record``: write the MCAP recording to this file."""
+def case_spec(case: ConcreteCase, config: RunConfig, stack: StackFactory | None = None) -> RunSpec:
+    """The run of ``case`` on its generated road (made once in ``config.roads``) with the
+    stack ``stack`` builds (None: the configured stack)."""
     c = case.cell.combination
     xodr, net = prepare_road(config.roads, c.geometry.value, case.cell.lanes)
     roads, network = _road(xodr, net)
@@ -116,45 +99,21 @@ def run_case(case: ConcreteCase, config: RunConfig, factory: StackFactory | None
     extra: tuple[str, ...] = ()
     if lc is not None:
         extra = ("--lanechange.duration", repr(LANE_WIDTH / lc.lateral_speed))
+    if stack is None and config.stack:
+        stack = load_stack(config.stack, "--stack")
     setup = EgoSetup(
         perception=config.perception,
         step_length=config.step_length,
         seed=case.seed,
         aeb_delay=config.aeb_delay,
         max_duration=case.ranges.duration + 1.0,
+        stack=stack,
     )
-    scenario = to_scenario(case)
-    if factory is None:
-        factory = load_factory(config.stack) if config.stack else default_stack
-    cfg = SimConfig(net=net, step_length=config.step_length, seed=case.seed, generated=(net,),
-                    extra_args=extra)  # fmt: skip
-    with Simulation(cfg) as sim:
-        engine = ScenarioEngine(scenario, roads, config.step_length)
-        hooks = CatalogueHooks(engine, sim, roads, lc)
-        ctx = StackContext(network, setup, "ego", case.params["ego_speed"], scenario)
-        stack = factory(ctx)
-        on_step, recorder = None, None
-        if record is not None:
-            on_step, recorder = _recorder(record, scenario, setup, stack, network, hooks)
-        try:
-            result = run_closed_loop(sim, stack, hooks, setup.max_duration, label=case.run_id,
-                                     on_step=on_step)  # fmt: skip
-        except BaseException:
-            # an interrupted or failed run keeps the .part name: never taken for the run
-            if recorder is not None:
-                recorder.close(complete=False)
-            raise
-        if recorder is not None:
-            recorder.close()
-    return result
-
-
-def _recorder(path: Path, scenario: object, setup: EgoSetup, stack: object,
-              network: RoadNetwork, hooks: CatalogueHooks) -> tuple:  # fmt: skip
-    from hiyari.bridge.loop.engine_run import scenario_doc
-    from hiyari.bridge.loop.recording import StepRecorder, open_recorder
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    meta = {**scenario_doc(scenario, setup), "scenario": scenario.name}
-    recorder = open_recorder(path, meta, stack, network, [])
-    return StepRecorder(recorder, stack, hooks.ego_id, None), recorder
+    spec = model_spec(to_scenario(case), setup)
+    return replace(
+        spec,
+        road=Road(xodr, net, network, roads),
+        label=case.run_id,
+        hooks=partial(CatalogueHooks, roads=roads, lane_change=lc),
+        sumo_args=extra,
+    )

@@ -59,11 +59,11 @@ def check_occlusion(combo: Combination, probe: OcclusionProbe) -> tuple[float, f
 
 def _closed_loop(task: tuple[object, Path]) -> tuple[bool, float, int]:
     """(collision, min TTC s, highest AEB stage) of one scenario run on its SUMO net."""
-    from hiyari.bridge.loop.engine_run import EgoSetup, run_scenario
-    from hiyari.bridge.loop.run import RunOptions
+    from hiyari.bridge.loop.execute import execute
+    from hiyari.bridge.loop.spec import EgoSetup, model_spec
 
     scenario, net = task
-    res = run_scenario(scenario, RunOptions(), EgoSetup(perception="sensors"), net=net)
+    res = execute(model_spec(scenario, EgoSetup(perception="sensors"), net))
     return res.collision, res.min_ttc, res.aeb_max_stage
 
 
@@ -78,7 +78,7 @@ def run_catalogue(
     (in ``pool``'s worker processes; default: one per core)."""
     from tqdm import tqdm
 
-    from hiyari.bridge.loop.engine_run import import_road
+    from hiyari.bridge.loop.spec import import_road
 
     cases = [c for c in combinations() if c.realisable and (not only or c.name in only)]
     probe = OcclusionProbe()

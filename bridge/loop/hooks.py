@@ -1,0 +1,78 @@
+"""The closed loop's view of a ScenarioEngine (every run is one): the storyboard steps on every
+new state, the stop trigger ends the run, the scored gap and the settle rule come from the
+run's Scoring."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from hiyari.bridge.loop.closed_loop import ScenarioHooks
+from hiyari.bridge.openscenario.engine import ScenarioEngine, StepReport
+from hiyari.bridge.openscenario.model.scoring import Scoring
+from hiyari.kinematics import Pose, bumper_gap, unrotate
+from hiyari.traffic.simulation import Simulation
+from hiyari.traffic.world_state import WorldState
+
+
+class EngineHooks(ScenarioHooks):
+    """The closed loop's view of a ScenarioEngine: it steps the storyboard on every new state,
+    ends the run at the stop trigger, and says whether the stack drives the ego. ``scoring``:
+    the scored gap is to its target, else to the nearest actor ahead in the ego's corridor
+    (bumper to bumper); its conflict point and settle rule apply. Made after SUMO started:
+    applies the Init actions (``engine.start``)."""
+
+    def __init__(self, engine: ScenarioEngine, sim: Simulation, scoring: Scoring | None = None):
+        self.engine = engine
+        self.scoring = scoring or Scoring()
+        self.ego_id = engine.ego or ""
+        self.target_id = self.scoring.target
+        self.conflict_point = self.scoring.conflict_point
+        self.report: StepReport = engine.start(sim)
+        self.ego_requests: list[tuple[float, str]] = []
+        self._stopped_at = math.nan
+
+    def after_step(self, sim: Simulation, world: WorldState) -> bool:
+        self.report = self.engine.step(sim, world)
+        self.ego_requests.extend((self.report.time, n) for n in self.report.ego_requests)
+        return self.report.finished
+
+    def stack_drives_ego(self) -> bool:
+        return not self.report.ego_storyboard_driven
+
+    def drive_ego(self, sim: Simulation, ego_id: str, speed: float) -> None:
+        self.engine.drive_ego(sim, speed)
+
+    def sensed(self, world: WorldState) -> WorldState:
+        hidden = self.engine.hidden_from_sensors()
+        if not hidden:
+            return world
+        return world.select(~np.isin(world.ids, hidden))
+
+    def done(self, world: WorldState, ego: Pose, script_time: float) -> bool:
+        """True ``scoring.settle_after_stop`` s after the ego first stood still."""
+        now, sc = self.report.time, self.scoring
+        if ego.speed < 0.05 and now > sc.settle_from and not np.isfinite(self._stopped_at):
+            self._stopped_at = now
+        return now - self._stopped_at >= sc.settle_after_stop
+
+    def gap_target(self, world: WorldState, row: int) -> int:
+        if self.target_id:
+            return super().gap_target(world, row)
+        xy = world.xyz[:, :2]
+        rel = unrotate(xy - xy[row], float(world.heading[row]))
+        along, across = bumper_gap(
+            rel, world.length[row], world.width[row], world.length, world.width
+        )
+        ahead = (across < 0) & (along > -world.length)
+        ahead[row] = False
+        if not ahead.any():
+            return -1
+        return int(np.flatnonzero(ahead)[np.argmin(along[ahead])])
+
+
+#: Builds a run's hooks from its engine, SUMO (started) and scoring: EngineHooks, or a
+#: subclass that adds to the scenario (the catalogue's commanded ego lane change).
+HooksFactory = Callable[[ScenarioEngine, Simulation, Scoring], EngineHooks]
