@@ -5,9 +5,6 @@ SUMO runtime and WorldState), ``hiyari.sensors`` (LiDAR, radar, camera), ``hiyar
 (metrics, C&C driver boundaries, SCT), ``hiyari.bridge`` (closed loop, recording, replay, CLI).
 """
 
-from importlib.metadata import PackageNotFoundError, version
+from hiyari.version import __version__
 
-try:
-    __version__ = version("hiyari")
-except PackageNotFoundError:  # running from a source tree that was never installed
-    __version__ = "0.0.0"
+__all__ = ["__version__"]

@@ -9,10 +9,10 @@ import signal
 import sys
 import threading
 
-from hiyari import __version__
 from hiyari.bridge.cli import status
 from hiyari.bridge.cli.parser import Parser
 from hiyari.errors import HiyariError
+from hiyari.version import __version__
 
 # Each module has register(subparsers) adding a parser whose defaults set func(args) -> int.
 COMMAND_MODULES = [

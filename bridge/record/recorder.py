@@ -33,7 +33,6 @@ from osi3.osi_groundtruth_pb2 import GroundTruth
 from osi3.osi_sensordata_pb2 import SensorData
 from osi3.osi_sensorview_pb2 import SensorView
 
-from hiyari import __version__
 from hiyari.bridge.record import format as fmt
 from hiyari.bridge.record import foxglove_convert as fox
 from hiyari.bridge.record import lidar_scan, osi_vehicle
@@ -46,6 +45,7 @@ from hiyari.sensors.outputs import CameraFrame, ObjectList, PointCloud, RadarDet
 from hiyari.traffic.collision import Collision
 from hiyari.traffic.commands import SignalLink
 from hiyari.traffic.world_state import WorldState
+from hiyari.version import __version__
 
 _COMPRESSION = {
     "zstd": CompressionType.ZSTD,

@@ -9,10 +9,10 @@ from pathlib import Path
 from mcap.records import Attachment, Channel, Message, Metadata, Schema
 from mcap.writer import Writer
 
-from hiyari import __version__
 from hiyari.atomic import atomic_path
 from hiyari.bridge.record.reader import Recording
 from hiyari.errors import HiyariError
+from hiyari.version import __version__
 
 
 def recover(source: str | Path, out: str | Path) -> Recording:

@@ -79,7 +79,7 @@ def versions() -> dict[str, str]:
 
     import numpy
 
-    from hiyari import __version__
+    from hiyari.version import __version__
 
     out = {"hiyari": __version__, "python": platform.python_version(), "numpy": numpy.__version__}
     for dist in ("eclipse-sumo", "libsumo"):
@@ -93,9 +93,9 @@ def versions() -> dict[str, str]:
 def git_commit(folder: Path | None = None) -> str:
     """The commit of the hiyari source checkout ("<sha> (uncommitted changes)" when dirty),
     or why there is none."""
-    import hiyari
+    import hiyari.version
 
-    where = folder or Path(hiyari.__file__).resolve().parent
+    where = folder or Path(hiyari.version.__file__).resolve().parent
     try:
         sha = subprocess.run(["git", "-C", str(where), "rev-parse", "HEAD"], capture_output=True,
                              text=True, timeout=10, check=True).stdout.strip()  # fmt: skip
