@@ -5,6 +5,10 @@ A step is quiet when the storyboard changed nothing at the previous update and n
 end before the motion pass tells so (the executor checks this and keeps the arguments from
 step to step: its arrays are updated in place). Python runs between the passes only when a
 trigger fired or a transition ended: one call instead of two, with no Python in between.
+
+numba's on-disk cache of this kernel holds the motion and command kernels compiled into it,
+and is renewed only when this file changes: a change to those kernels must touch this file
+(as the path-speed model of the motion kernel did), or a cached build keeps the old motion.
 """
 
 from __future__ import annotations
