@@ -273,6 +273,31 @@ class PlannedRun(Protocol):
         ...
 
 
+@dataclass(frozen=True)
+class SkippedRun:
+    """A run of a scenario file that is not executed: its parameter set breaks the scenario's
+    ConstraintGroups (``reason``: the parameters, their values and the bounds broken). It
+    keeps its index and seed in the file's expansion, as if it had run."""
+
+    index: int
+    seed: int
+    params: Mapping[str, object]
+    reason: str
+    name: str = ""
+
+    def label(self) -> str:
+        """'cut_in#3: skipped (constraint: Offset = -1.75 breaks greaterThan -1.75)'."""
+        return f"{self.name}#{self.index}: skipped (constraint: {self.reason})"
+
+
+def count_text(plan: Plan) -> str:
+    """'N runs' or 'N runs, M skipped: constraint' (N counts the skipped ones: every run the
+    file defines)."""
+    m = len(plan.skipped)
+    n = plan.count() + m
+    return f"{n} run(s)" + (f", {m} skipped: constraint" if m else "")
+
+
 class Plan(Protocol):
     """The runs of a scenario file (TOML logical scenario, or an OpenSCENARIO scenario or
     parameter distribution), counted before anything is expanded."""
@@ -294,7 +319,12 @@ class Plan(Protocol):
         ...
 
     def count(self) -> int:
-        """How many runs (nothing expanded)."""
+        """How many runs are executed (nothing expanded; the skipped ones not counted)."""
+        ...
+
+    @property
+    def skipped(self) -> Sequence[SkippedRun]:
+        """The runs not executed because their parameters break the scenario's constraints."""
         ...
 
     def expand(self) -> Sequence[PlannedRun]:

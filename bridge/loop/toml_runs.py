@@ -166,6 +166,11 @@ class TomlPlan:
             return int(lg.sampling.get("n", 0))
         return math.prod(len(v) for v in lg.ranges.values())
 
+    @property
+    def skipped(self) -> tuple[()]:
+        """None: a TOML file's ranges have no constraints."""
+        return ()
+
     def expand(self) -> list[TomlRun]:
         """The concrete runs, run ``k`` seeded ``seed + k``."""
         runs = self.logical.expand()

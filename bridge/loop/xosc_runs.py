@@ -2,9 +2,14 @@
 the runs of its parameter sets; each run reads its scenario with its parameter values and
 compiles to a RunSpec (:func:`~hiyari.bridge.loop.spec.model_spec`).
 
-The plan reads and checks the scenario with the first run's values before anything runs (a bad
-file, parameter, catalog or road is one line naming the file and element, and nothing is
-written); run ``k`` is seeded ``seed + k`` as TOML runs are.
+A run whose parameter set breaks the scenario's ConstraintGroups is skipped, not executed
+(OpenSCENARIO 1.3: the constraints define the valid parameter values; a set outside them is not
+a valid concrete scenario). Every run's set is checked against the top-level
+ParameterDeclarations only, so that a distribution of thousands of runs is not read thousands
+of times; a skipped run keeps its index and seed, and is listed with the values and evaluated
+bounds it breaks. The plan then reads and checks the scenario with the first executed run's
+values before anything runs (a bad file, parameter, catalog or road is one line naming the
+file and element, and nothing is written); run ``k`` is seeded ``seed + k`` as TOML runs are.
 """
 
 from __future__ import annotations
@@ -14,10 +19,10 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from hiyari.bridge.loop.spec import EgoSetup, RunSpec, import_road, model_spec
+from hiyari.bridge.loop.spec import EgoSetup, RunSpec, SkippedRun, import_road, model_spec
 from hiyari.bridge.openscenario.model.storyboard import Scenario
 from hiyari.bridge.openscenario.xosc import document
-from hiyari.bridge.openscenario.xosc.context import INT_TYPES
+from hiyari.bridge.openscenario.xosc.context import INT_TYPES, ConstraintViolation, Ctx, Scope
 from hiyari.bridge.openscenario.xosc.distributions import read_distribution
 from hiyari.bridge.openscenario.xosc.reader import read_scenario
 from hiyari.errors import HiyariError
@@ -61,7 +66,9 @@ class XoscRun:
 
 @dataclass(frozen=True)
 class XoscPlan:
-    """The runs of an OpenSCENARIO scenario or distribution file (``path``, as given)."""
+    """The runs of an OpenSCENARIO scenario or distribution file (``path``, as given):
+    ``param_sets`` the executed runs' values, ``indices`` their indices in the distribution
+    (the skipped runs' indices are missing from it)."""
 
     path: str
     name: str
@@ -70,12 +77,14 @@ class XoscPlan:
     setup: EgoSetup
     road: Path
     road_net: tuple[Path, Path] | None = None
+    indices: tuple[int, ...] | None = None  # None: 0, 1, ... (nothing skipped)
+    skipped: tuple[SkippedRun, ...] = ()
 
     @property
     def parameter_names(self) -> list[str]:
         """Every parameter any run sets, in first-seen order."""
         names: dict[str, None] = {}
-        for p in self.param_sets:
+        for p in (*self.param_sets, *(r.params for r in self.skipped)):
             names.update(dict.fromkeys(p))
         return list(names)
 
@@ -90,11 +99,12 @@ class XoscPlan:
         return out
 
     def count(self) -> int:
-        """Number of runs."""
+        """Number of runs executed (the skipped ones are in ``skipped``)."""
         return len(self.param_sets)
 
     def expand(self) -> list[XoscRun]:
-        """The concrete runs, run ``k`` seeded ``setup.seed + k``."""
+        """The concrete runs, run ``k`` of the distribution seeded ``setup.seed + k``."""
+        indices = self.indices or range(len(self.param_sets))
         return [
             XoscRun(
                 self.scenario,
@@ -104,7 +114,7 @@ class XoscPlan:
                 replace(self.setup, seed=self.setup.seed + k),
                 self.road_net,
             )
-            for k, p in enumerate(self.param_sets)
+            for k, p in zip(indices, self.param_sets, strict=True)
         ]
 
     def with_roads(self, folder: Path) -> XoscPlan:
@@ -151,10 +161,49 @@ def load_plan(
         raise HiyariError(f"{path}: the distribution gives no run")
     _check_integers(scenario, params)
     sets = tuple({**s, **params} for s in sets)
-    first = read_scenario(scenario, sets[0])
+    kept, skipped = _constrained(scenario, sets, setup.seed)
+    if not kept and len(sets) == 1:
+        raise skipped[0][1]  # a single scenario: its values are simply wrong
+    if not kept:
+        first = skipped[0][0]
+        raise HiyariError(
+            f"{path}: every run breaks the scenario's ConstraintGroups, nothing to run "
+            f"({len(sets)} runs, {len(sets)} skipped: constraint; run #{first.index}: "
+            f"{first.reason})"
+        )
+    first = read_scenario(scenario, sets[kept[0]])
     if first.road_network is None:
         raise HiyariError(f"{scenario}: <RoadNetwork> names no <LogicFile> (OpenDRIVE road)")
-    return XoscPlan(str(path), scenario.stem, scenario, tuple(sets), setup, first.road_network)
+    return XoscPlan(
+        str(path),
+        scenario.stem,
+        scenario,
+        tuple(sets[k] for k in kept),
+        setup,
+        first.road_network,
+        indices=tuple(kept),
+        skipped=tuple(s for s, _ in skipped),
+    )
+
+
+def _constrained(
+    scenario: Path, sets: tuple[dict[str, str], ...], seed: int
+) -> tuple[list[int], list[tuple[SkippedRun, ConstraintViolation]]]:
+    """The indices of the runs whose values fit the scenario's ConstraintGroups, and the
+    others as skipped runs. Only the top-level ParameterDeclarations are evaluated (entering
+    the root reads nothing else), what read_scenario does first: a run costs its
+    declarations, not a read of the scenario."""
+    root = document.load(scenario)
+    kept, skipped = [], []
+    for k, values in enumerate(sets):
+        try:
+            Ctx(scenario, Scope()).enter(root, values)
+        except ConstraintViolation as exc:
+            run = SkippedRun(k, seed + k, dict(values), exc.detail(), scenario.stem)
+            skipped.append((run, exc))
+            continue
+        kept.append(k)
+    return kept, skipped
 
 
 def _check_integers(scenario: Path, params: Mapping[str, str]) -> None:

@@ -31,7 +31,7 @@ from pathlib import Path
 
 from hiyari.atomic import append_bytes, atomic_path
 from hiyari.bridge.loop.result import RESULT_KEYS
-from hiyari.bridge.loop.spec import Plan, PlannedRun
+from hiyari.bridge.loop.spec import Plan, PlannedRun, SkippedRun
 from hiyari.bridge.studies.pool import Crashed, PoolOptions, run_all
 from hiyari.errors import HiyariError, WriteFailed
 
@@ -67,6 +67,7 @@ class SweepSummary:
     wall_seconds: float
     table: Path
     crashed: int = 0
+    constraint: int = 0  # runs not executed: their parameters break the constraints
 
 
 def run_one(run: PlannedRun) -> tuple[dict, float]:
@@ -93,6 +94,18 @@ def crashed_row(run: PlannedRun, crash: Crashed) -> dict:
         **run.params,
         "status": "crashed",
         "error": str(crash),
+        **dict.fromkeys(RESULT_KEYS, ""),
+    }
+
+
+def skipped_row(run: SkippedRun) -> dict:
+    """The row of a run not executed (its parameters break the scenario's constraints)."""
+    return {
+        "index": run.index,
+        "seed": run.seed,
+        **run.params,
+        "status": "skipped",
+        "error": f"constraint: {run.reason}",
         **dict.fromkeys(RESULT_KEYS, ""),
     }
 
@@ -146,13 +159,17 @@ def run_sweep(plan: Plan, options: SweepOptions) -> SweepSummary:
         raise HiyariError(f"{table}: columns differ from this scenario's; use another folder")
     # crashed runs are always run again; failed ones (deterministic) only when asked
     retry = {"crashed", "failed"} if options.retry_failed else {"crashed"}
-    keep = {i: r for i, r in done.items() if r["status"] not in retry}
+    # the skipped runs' rows are written anew each time (their reason is the plan's)
+    skips = {r.index: {k: _fmt(v) for k, v in skipped_row(r).items()} for r in plan.skipped}
+    keep = {i: r for i, r in done.items() if r["status"] not in retry and i not in skips}
     todo = [run for run in runs if run.index not in keep]
     t0 = time.perf_counter()
     failed = sum(r["status"] == "failed" for r in keep.values())
     crashed = 0
     # rewrite the kept rows (drops torn lines), then append as runs finish
-    _write_rows(table, cols, sorted(keep.values(), key=lambda r: int(r["index"])))
+    _write_rows(
+        table, cols, sorted([*keep.values(), *skips.values()], key=lambda r: int(r["index"]))
+    )
     timings = out / "timings.csv"
     with (
         tqdm(
@@ -189,8 +206,9 @@ def run_sweep(plan: Plan, options: SweepOptions) -> SweepSummary:
     final = read_table(table)
     _write_rows(table, cols, [final[i] for i in sorted(final)])
     summary = SweepSummary(
-        len(runs), len(todo), len(keep), failed, time.perf_counter() - t0, table, crashed
-    )
+        len(runs), len(todo), len(keep), failed, time.perf_counter() - t0, table, crashed,
+        len(skips),
+    )  # fmt: skip
     return summary
 
 

@@ -122,3 +122,65 @@ def run_scenario(
             if on_step is not None:
                 on_step(sim, world, report, engine)
     return engine, report
+
+
+#: Top-level declarations with ConstraintGroups as the ALKS templates write them, whose bounds
+#: are a literal, a parameter reference ($MaxSpeed = 20) and an expression (1.5 + 0.25 = 1.75),
+#: and a string parameter with one group per allowed value (the groups are ORed).
+CONSTRAINED_PARAMS = """
+<ParameterDeclaration name="MaxSpeed" parameterType="double" value="20"/>
+<ParameterDeclaration name="Speed" parameterType="double" value="10">
+  <ConstraintGroup><ValueConstraint rule="greaterThan" value="0"/>
+  <ValueConstraint rule="lessOrEqual" value="$MaxSpeed"/></ConstraintGroup>
+</ParameterDeclaration>
+<ParameterDeclaration name="Offset" parameterType="double" value="0">
+  <ConstraintGroup><ValueConstraint rule="greaterThan" value="-1.75"/>
+  <ValueConstraint rule="lessOrEqual" value="${1.5 + 0.25}"/></ConstraintGroup>
+</ParameterDeclaration>
+<ParameterDeclaration name="LaneId" parameterType="string" value="-1">
+  <ConstraintGroup><ValueConstraint rule="equalTo" value="-1"/></ConstraintGroup>
+  <ConstraintGroup><ValueConstraint rule="equalTo" value="-2"/></ConstraintGroup>
+</ParameterDeclaration>"""
+
+
+def constrained_template(folder: Path, stop_s: float = 0.5) -> Path:
+    """A template scenario (as the ALKS *_template.xosc): one car placed and set to speed
+    by its CONSTRAINED_PARAMS, ending at ``stop_s``."""
+    init = """<Private entityRef="Ego">
+<PrivateAction><TeleportAction><Position><LanePosition roadId="0" laneId="$LaneId" offset="$Offset" s="50"/></Position></TeleportAction></PrivateAction>
+<PrivateAction><LongitudinalAction><SpeedAction><SpeedActionDynamics dynamicsShape="step" dynamicsDimension="time" value="0"/>
+<SpeedActionTarget><AbsoluteTargetSpeed value="$Speed"/></SpeedActionTarget></SpeedAction></LongitudinalAction></PrivateAction>
+</Private>"""
+    stop = f"<ConditionGroup>{time_condition(stop_s, 'end')}</ConditionGroup>"
+    text = scenario_xml({"Ego": ""}, init, stop=stop, params=CONSTRAINED_PARAMS)
+    return write(folder / "constrained_template.xosc", text)
+
+
+def distribution_xml(scenario: Path, body: str) -> str:
+    """A ParameterValueDistribution file (as the ALKS *_variation.xosc) over ``scenario``;
+    ``body`` is its <Deterministic> or <Stochastic> element."""
+    return f"""<?xml version="1.0" encoding="utf-8"?>
+<OpenSCENARIO>
+<FileHeader revMajor="1" revMinor="3" date="2026-01-01T00:00:00" description="variation" author="hiyari"/>
+<ParameterValueDistribution><ScenarioFile filepath="{scenario}"/>{body}</ParameterValueDistribution>
+</OpenSCENARIO>
+"""
+
+
+#: Speed in {10, 30} x Offset in -1.75, 0, 1.75 (the first axis varies slowest): runs 0 and 3
+#: break Offset > -1.75, runs 3, 4, 5 break Speed <= $MaxSpeed (20); runs 1 and 2 run.
+DETERMINISTIC_VIOLATING = """<Deterministic>
+<DeterministicSingleParameterDistribution parameterName="Speed"><DistributionSet>
+<Element value="10"/><Element value="30"/></DistributionSet></DeterministicSingleParameterDistribution>
+<DeterministicSingleParameterDistribution parameterName="Offset"><DistributionRange stepWidth="1.75">
+<Range lowerLimit="-1.75" upperLimit="1.75"/></DistributionRange></DeterministicSingleParameterDistribution>
+</Deterministic>"""
+
+
+def stochastic_violating(n: int, seed: int) -> str:
+    """``n`` draws of Offset uniform in [-3, 3] and LaneId from {-1, -3}: a run breaks the
+    constraints when |Offset| passes 1.75 (-1.75 itself included) or LaneId is -3."""
+    return f"""<Stochastic numberOfTestRuns="{n}" randomSeed="{seed}">
+<StochasticDistribution parameterName="Offset"><UniformDistribution><Range lowerLimit="-3" upperLimit="3"/></UniformDistribution></StochasticDistribution>
+<StochasticDistribution parameterName="LaneId"><ProbabilityDistributionSet><Element value="-1" weight="1"/><Element value="-3" weight="1"/></ProbabilityDistributionSet></StochasticDistribution>
+</Stochastic>"""

@@ -587,17 +587,24 @@ class ActionStarter:
         if path.stop_at_end:
             a.accel, a.v = 0.0, 0.0
             return
-        # on: along the road it ends on, else straight ahead at its speed
+        # on at its speed, from where the step would have taken it past the end: along the
+        # road it ends on, else straight ahead
+        odr = self.e.roads.odr
         p = self.e.resolver.at_xy(a.x, a.y, a.h)
-        if p.road and abs(p.t - self.e.roads.odr.road(p.road).lane_t(p.lane, p.s)) < 2.0:
+        if p.road and abs(p.t - odr.road(p.road).lane_t(p.lane, p.s)) < 2.0:
             self._teleport(a, p)
+            if path.beyond > 0.0:
+                lane_dir = forward(odr, a.road, a.lane) * (-1.0 if a.against else 1.0)
+                a.s += lane_dir * math.copysign(path.beyond, a.v)
+                place_actor(odr, a)
             return
         c, s_ = (
             math.cos(path.path.direction(path.path.length)),
             math.sin(path.path.direction(path.path.length)),
         )
         ahead = SampledPath.through(np.array([[a.x, a.y], [a.x + 1e4 * c, a.y + 1e4 * s_]]))
-        a.path = PathMotion(ahead, None, False, 0.0, path.reverse)
+        a.path = PathMotion(ahead, None, False, path.beyond, path.reverse)
+        a.x, a.y, a.h = a.path.pose()
 
 
 def _instant(body: object) -> bool:

@@ -84,13 +84,15 @@ class PathMotion:
     """Motion along a sampled path: by scenario times (``times``, s, one per path point: the
     actor is where the path says when) or by the distance the actor's speed covers (None).
     ``travelled``: m along the path now; ``reverse``: the actor backs along it (it faces
-    against the direction of travel); ``stop_at_end``: it stands at the end afterwards."""
+    against the direction of travel); ``stop_at_end``: it stands at the end afterwards (else
+    it goes on at its speed, ``beyond`` m past the end in the step the path ended)."""
 
     path: SampledPath
     times: np.ndarray | None
     stop_at_end: bool = False
     travelled: float = 0.0
     reverse: bool = False
+    beyond: float = 0.0
 
     def pose(self) -> tuple[float, float, float]:
         """(x, y, heading) where the actor is now on the path: the path's heading there, or,
@@ -108,16 +110,23 @@ class PathMotion:
 
     def advance(self, now: float, ds: float) -> tuple[float, float, float, float | None, bool]:
         """(x, y, heading, speed or None, done) at ``now``, after moving ``ds`` m when untimed
-        (the speed is then the actor's own: None)."""
+        (the speed is then the actor's own: None). A timed path's speed is its segment's;
+        past the end, the last segment's: the actor keeps the speed the trajectory gave it
+        (OpenSCENARIO ends the action there, it does not stop the entity). ``beyond``: the
+        distance the step would have gone past the end."""
         speed = None
         if self.times is not None:
             tt, s = self.times, self.path.s
             self.travelled = float(np.interp(now, tt, s))
             k = int(np.clip(np.searchsorted(tt, now, side="right") - 1, 0, len(tt) - 2))
+            while k > 0 and tt[k + 1] - tt[k] <= 0:  # a repeated last time: the one before
+                k -= 1
             dur = tt[k + 1] - tt[k]
-            speed = (s[k + 1] - s[k]) / dur if dur > 0 and now < tt[-1] else 0.0
+            speed = (s[k + 1] - s[k]) / dur if dur > 0 else 0.0
             done = now >= tt[-1] - 1e-9
+            self.beyond = max(0.0, now - tt[-1]) * speed
         else:
+            self.beyond = max(0.0, self.travelled + abs(ds) - self.path.length)
             self.travelled = min(self.path.length, self.travelled + abs(ds))
             done = self.travelled >= self.path.length - 1e-9
         x, y, h = self.pose()
@@ -487,7 +496,7 @@ def _advance_lateral(
     for k, offset in tb.lat_offsets.items():
         tb.lat_par[k, MK.T_OFFSET] = offset()
     missing, ended = MK.advance_lat(
-        rows, now, dt, tb.state, tb.has_lat, tb.lat_par, tb.lat_done,
+        rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_lat, tb.lat_par, tb.lat_done,
         *tb.lane_profile(odr).arrays(),
     )  # fmt: skip
     _end_lateral(odr, actors, rows, missing, ended)

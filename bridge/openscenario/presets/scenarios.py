@@ -408,8 +408,24 @@ def _cut_in(p: CutIn, b: _Build) -> PresetRun:
     change = LaneChangeAction(
         TransitionDynamics(Shape.LINEAR, Dimension.RATE, p.vy), AbsoluteLane(r.right)
     )
-    acts = [_act("cut-in", "other", b.at(0.0), Action("cut-in", change))]
+    acts = _sideways("cut-in", "other", change, p.vo0, p.vy, b)
     return _r157_run(b, r, p.ve0, [b.entity("other", "other")], list(init), acts)
+
+
+def _sideways(
+    name: str, actor: str, change: LaneChangeAction, vx: float, vy: float, b: _Build
+) -> list[Act]:
+    """The acts of an R157 lane change at lateral speed ``vy`` by a car keeping its
+    longitudinal speed ``vx`` (Annex 4's tracks give the two components). An OpenSCENARIO
+    speed is along the path, so the car drives at hypot(vx, vy) while it moves sideways
+    (one lane width) and at ``vx`` again from then on (to within the step the lateral motion
+    ends in: its speed is then too high for part of a step, a few millimetres)."""
+    faster = SpeedAction(_STEP, AbsoluteSpeed(math.hypot(vx, vy)))
+    after = SpeedAction(_STEP, AbsoluteSpeed(vx))
+    return [
+        _act(name, actor, b.at(0.0), Action(name, change), Action(f"{name} speed", faster)),
+        _act(f"{name} end", actor, b.at(b.k.lane_width / vy), Action(f"{name} end", after)),
+    ]
 
 
 def _cut_out(p: CutOut, b: _Build) -> PresetRun:
@@ -426,7 +442,7 @@ def _cut_out(p: CutOut, b: _Build) -> PresetRun:
     offset = b.k.lane_width - r.roads.odr.road(r.id).lane_t(r.left, 0.0)
     dyn = TransitionDynamics(Shape.LINEAR, Dimension.RATE, p.vy)
     change = LaneChangeAction(dyn, AbsoluteLane(r.left), offset)
-    acts = [_act("cut-out", "lead", b.at(0.0), Action("cut-out", change))]
+    acts = _sideways("cut-out", "lead", change, ve0, p.vy, b)
     others = [b.entity("lead", "other"), b.entity("other", "other")]
     return _r157_run(b, r, ve0, others, init, acts)
 

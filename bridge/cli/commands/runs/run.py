@@ -126,30 +126,37 @@ def _run(args: argparse.Namespace, plan: Plan) -> int:
         if not runs:
             raise HiyariError(f"{plan.path}: the parameters expand to no run")
         if args.dry_run:
-            return _dry_run(runs, args.max_runs)
-        return _run_each(runs, args)
+            return _dry_run(plan, runs, args.max_runs)
+        return _run_each(plan, runs, args)
 
 
-def _dry_run(runs: Sequence[PlannedRun], limit: int) -> int:
+def _dry_run(plan: Plan, runs: Sequence[PlannedRun], limit: int) -> int:
     """Make every check each of the first ``limit`` runs makes before its first step and
-    print their labels; count the rest. Nothing is run or written."""
+    print their labels; count the rest, and list the runs skipped for their constraints.
+    Nothing is run or written."""
     from hiyari.bridge.loop.execute import check
+    from hiyari.bridge.loop.spec import count_text
 
     for run in runs[:limit]:
         with run.spec() as spec:
             check(spec)
         print(f"{run.label()}: ready")
+    for skipped in plan.skipped:
+        print(skipped.label())
     checked = min(len(runs), limit)
     rest = (
         f"; {len(runs) - checked} more counted, not checked (--max-runs)"
         if len(runs) > limit
         else ""
     )
-    print(f"{checked} run(s) checked up to their first step{rest}; nothing run (--dry-run)")
+    print(
+        f"{count_text(plan)}; {checked} checked up to their first step{rest}; "
+        "nothing run (--dry-run)"
+    )
     return status.OK
 
 
-def _run_each(runs: Sequence[PlannedRun], args: argparse.Namespace) -> int:
+def _run_each(plan: Plan, runs: Sequence[PlannedRun], args: argparse.Namespace) -> int:
     """Run every concrete run into its folder, print each verdict and write results.csv; the
     exit status (VERDICT_FAIL when the ego collided in a run)."""
     from hiyari.bridge.loop.execute import RunOptions, execute
@@ -158,6 +165,8 @@ def _run_each(runs: Sequence[PlannedRun], args: argparse.Namespace) -> int:
     out = Path(args.out)
     record = len(runs) == 1 if args.record is None else args.record
     rows = []
+    for skipped in plan.skipped:  # said first: a reader sees at once which runs will not come
+        print(skipped.label())
     for run in runs:
         folder = out / f"run{run.index:04d}" if len(runs) > 1 else out
         options = RunOptions(
@@ -171,7 +180,7 @@ def _run_each(runs: Sequence[PlannedRun], args: argparse.Namespace) -> int:
             raise
         rows.append({"index": run.index, "seed": run.seed, **run.params, **res.row()})
         _print_run(run.label(), res, folder, record)
-    _write_table(out, rows)
+    _write_table(out, rows, len(plan.skipped))
     return status.verdict(not any(r["collision"] for r in rows))
 
 
@@ -196,14 +205,17 @@ def _print_run(label: str, res: RunResult, folder: Path, record: bool) -> None:
     )
 
 
-def _write_table(out: Path, rows: list[dict]) -> None:
+def _write_table(out: Path, rows: list[dict], skipped: int = 0) -> None:
     columns = list(dict.fromkeys(k for r in rows for k in r))
     with atomic_path(out / "results.csv") as tmp, tmp.open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=columns)
         w.writeheader()
         w.writerows(rows)
     n_coll = sum(r["collision"] for r in rows)
-    print(f"{len(rows)} run(s), {n_coll} collision(s); table: {out / 'results.csv'}")
+    skip = f", {skipped} skipped: constraint" if skipped else ""
+    print(
+        f"{len(rows) + skipped} run(s){skip}, {n_coll} collision(s); table: {out / 'results.csv'}"
+    )
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -7,10 +7,14 @@ import argparse
 import os
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from hiyari.bridge.cli import numbers, status
 from hiyari.bridge.cli.outputs import output_folder
-from hiyari.errors import HiyariError, about
+from hiyari.errors import about
+
+if TYPE_CHECKING:
+    from hiyari.bridge.loop.spec import Plan
 
 
 def run(args: argparse.Namespace) -> int:
@@ -21,18 +25,8 @@ def run(args: argparse.Namespace) -> int:
     output_folder(args.out)
     with about(args.scenario, Path(args.scenario).resolve()):
         plan = load_plan(args)
-    if args.dry_run:
-        n = plan.count()
-        if n > args.max_runs:
-            raise HiyariError(
-                f"{args.scenario}: the parameter ranges give {n:,} runs, more than --max-runs "
-                f"{args.max_runs:,} (use coarser steps, or raise --max-runs)"
-            )
-        runs = plan.expand()
-        for run in runs[:5]:
-            print(run.label())
-        print(f"{len(runs)} run(s){' (first 5 shown)' * (len(runs) > 5)}; nothing run (--dry-run)")
-        return 0
+    if args.dry_run:  # counts every run, whatever --max-runs (a real sweep refuses them)
+        return _dry_run(plan, args.max_runs)
     s = run_sweep(
         plan,
         SweepOptions(
@@ -51,9 +45,12 @@ def run(args: argparse.Namespace) -> int:
         plan.name, plan.varied, [rows[i] for i in sorted(rows)],
         s.table.parent / "summary.png",
     )  # fmt: skip
+    skip = f"{s.total + s.constraint} runs, {s.constraint} skipped: constraint;" * bool(
+        s.constraint
+    )
     print(
-        f"{s.total} runs: {s.ran} ran now, {s.skipped} already done, {s.failed} failed, "
-        f"{s.crashed} crashed; {s.wall_seconds:.1f} s wall"
+        f"{skip or f'{s.total} runs:'} {s.ran} ran now, {s.skipped} already done, "
+        f"{s.failed} failed, {s.crashed} crashed; {s.wall_seconds:.1f} s wall"
     )
     print(f"table: {s.table}" + (f"\nplot:  {plot}" if plot else ""))
     if s.crashed:
@@ -64,6 +61,36 @@ def run(args: argparse.Namespace) -> int:
         )
         return status.RUNS_CRASHED
     return status.OK
+
+
+def _dry_run(plan: Plan, max_runs: int) -> int:
+    """Count the runs and list the first ones and the skipped ones; run nothing. A count
+    above ``max_runs`` is said, not refused: a dry run is how one learns the count."""
+    from hiyari.bridge.loop.spec import count_text
+
+    n = plan.count()
+    if n <= max_runs:  # a larger TOML grid is not expanded just to show five labels
+        runs = plan.expand()
+        for run in runs[:5]:
+            print(run.label())
+    for skipped in plan.skipped[:SHOWN_SKIPS]:
+        print(skipped.label())
+    more = len(plan.skipped) - SHOWN_SKIPS
+    if more > 0:
+        print(f"... and {more} more skipped (a sweep lists each in results.csv)")
+    over = (
+        f"; more than --max-runs {max_runs:,}: a sweep would refuse them (use coarser "
+        "steps, or raise --max-runs)"
+        if n > max_runs
+        else ""
+    )
+    print(f"{count_text(plan)}{' (first 5 shown)' * (5 < n <= max_runs)}{over}; "
+          "nothing run (--dry-run)")  # fmt: skip
+    return status.OK
+
+
+#: Skipped runs listed by a dry run (a sweep's results.csv lists them all).
+SHOWN_SKIPS = 20
 
 
 def register(sub: argparse._SubParsersAction) -> None:

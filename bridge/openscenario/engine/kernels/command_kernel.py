@@ -55,8 +55,9 @@ def command_rows(
         sumo[0, i] = centres[i, 0] + half * c
         sumo[1, i] = centres[i, 1] + half * s
         sumo[2, i] = _remainder(90.0 - h * (180.0 / math.pi), 360.0)
-        # hypot(v, +-0) is |v| exactly (C99 F.9.4.3): saves the call when not sliding
-        speed = abs(v) if v_lat == 0.0 else math.hypot(v, v_lat)
+        # the speed is along the path (motion_kernel): a lateral motion adds to it only when
+        # it alone is faster (the actor then moves sideways)
+        speed = abs(v) if v_lat == 0.0 else max(abs(v), abs(v_lat))
         send[i] = np.nan if speed == sent_speed[k] else speed
         sent_speed[k] = speed
 

@@ -4,10 +4,20 @@ s, t and v.
 
 Longitudinal: the speed goes from ``v0`` to the goal with the transition's shape over its
 span (seconds, or metres travelled); within the step the actor ramps linearly from the old to
-the new speed (up to the transition's end when it ended inside the step), and s advances by
-the distance travelled divided by (1 - curvature * t). Lateral: t goes from ``t0`` to the
-target lane's centre line (from the LaneProfile, at the new s) plus an offset. Units: s, t in
-metres, v in m/s, times in seconds of scenario time.
+the new speed (up to the transition's end when it ended inside the step): the distance ``d``
+it travels in the step. Lateral: t goes from ``t0`` to the target lane's centre line (from the
+LaneProfile, at the new s) plus an offset, ``dt_lat`` in the step.
+
+The speed is the speed along the actor's path (OpenSCENARIO's speed of an entity; a lane
+change or lane offset does not make it faster): in the road's frame at the actor's offset t,
+the step's displacement is (``d_lane``, ``dt_lat``) with ``d_lane² + dt_lat² = d²``, so the
+distance along the lane is ``d_lane = sqrt(d² - dt_lat²)`` (0 when the lateral motion alone
+is longer than ``d``: the actor then moves sideways, faster than its speed), and s advances by
+``d_lane / (1 - curvature * t)``. The lane centre is evaluated at s advanced by ``d`` (the
+lateral transition is solved before the correction: a lane's width changes by far less than
+a millimetre over the difference). The heading slips by ``atan2(dt_lat, d_lane)``, the
+direction of that displacement. Units: s, t in metres, v in m/s, times in seconds of scenario
+time.
 """
 
 from __future__ import annotations
@@ -26,9 +36,11 @@ from hiyari.net.road.plan_view import road_pose_at
 #: the lane (rad), world x, y, z (m) and heading (rad), metres travelled since the running
 #: longitudinal / lateral transition started. One matrix: a kernel takes one argument for
 #: all (numba's dispatch costs about as much per argument as the kernel's work per actor).
+#: ``step_travelled``: the distance along the path in the latest step (the lateral pass takes
+#: its lateral share out of the distance along the lane).
 STATE = ("s", "t", "v", "accel", "v_lat", "h_rel", "x", "y", "z", "h",
-         "long_travelled", "lat_travelled")  # fmt: skip
-S, T, V, ACCEL, V_LAT, H_REL, X, Y, Z, H, LONG_TRAV, LAT_TRAV = range(len(STATE))
+         "long_travelled", "lat_travelled", "step_travelled")  # fmt: skip
+S, T, V, ACCEL, V_LAT, H_REL, X, Y, Z, H, LONG_TRAV, LAT_TRAV, STEP_TRAV = range(len(STATE))
 #: Columns of the longitudinal parameter rows: start speed (m/s), goal speed (m/s; refreshed
 #: each step for targets that follow another entity), shape code, span (s or m), by distance
 #: (0 / 1), continuous (0 / 1), start time (s), goal reached (0 / 1).
@@ -105,6 +117,7 @@ def advance_long(
         st[ACCEL, k] = (v_new - v_old) / dt
         st[LONG_TRAV, k] += ds_path
         st[LAT_TRAV, k] += ds_path
+        st[STEP_TRAV, k] = ds_path
         st[V_LAT, k] = 0.0
     return n_done
 
@@ -114,6 +127,8 @@ def advance_lat(
     rows: np.ndarray,
     now: float,
     dt: float,
+    kappa: np.ndarray,
+    direction: np.ndarray,
     st: np.ndarray,
     has_lat: np.ndarray,
     lat_par: np.ndarray,
@@ -132,9 +147,10 @@ def advance_lat(
     """Lateral positions (and speeds) of table ``rows`` with a running lateral transition at
     scenario time ``now``, towards their target lane's centre at their (new) s plus the
     offset (the last arguments: the LaneProfile's arrays, passed one by one as numba
-    dispatches a tuple of mixed arrays slowly). Marks ``lat_done`` for the transitions that
-    ended. Returns (the first row whose
-    target lane is missing at its s or -1, the number ended)."""
+    dispatches a tuple of mixed arrays slowly); s takes the lateral share of the step's
+    distance back (see the module: the speed is along the path; ``kappa`` and ``direction`` as
+    :func:`advance_long`'s). Marks ``lat_done`` for the transitions that ended. Returns (the
+    first row whose target lane is missing at its s or -1, the number ended)."""
     missing, n_done = -1, 0
     for i in range(len(rows)):
         k = rows[i]
@@ -151,7 +167,12 @@ def advance_lat(
                 missing = k
             continue
         t_new, done = _lateral(p, centre + p[T_OFFSET], now, st[LAT_TRAV, k])
-        st[V_LAT, k] = (t_new - st[T, k]) / dt
+        d_lat, d = t_new - st[T, k], st[STEP_TRAV, k]
+        if d_lat != 0.0 and d != 0.0:
+            d_lane = math.sqrt(max(0.0, d * d - d_lat * d_lat))
+            back = math.copysign(abs(d) - d_lane, d)  # advance_long moved s by all of d
+            st[S, k] -= direction[k] * back / max(1e-3, 1.0 - kappa[k] * st[T, k])
+        st[V_LAT, k] = d_lat / dt
         st[T, k] = t_new
         lat_done[k] = done
         n_done += done
@@ -198,7 +219,7 @@ def advance_and_place(
     missing, n_lat = -1, 0
     if lateral:
         missing, n_lat = advance_lat(
-            rows, now, dt, st, has_lat, lat_par, lat_done, rec_s0, rec_c, off_first,
+            rows, now, dt, kappa, direction, st, has_lat, lat_par, lat_done, rec_s0, rec_c, off_first,
             off_count, sec_first, sec_count, sec_s0, w_first, w_count, max_lane,
         )  # fmt: skip
     if missing >= 0 or n_lat > 0:
@@ -236,8 +257,12 @@ def _set_pose(
     slip = 0.0
     if abs(v) > 1e-6:
         lat = direction[k] * st[V_LAT, k]
-        # atan2(+-0, v > 0) is +-0 exactly (C99 F.9.4.4): saves the call when not sliding
-        slip = math.copysign(0.0, lat) if lat == 0.0 and v > 0 else math.atan2(lat, v)
+        if lat == 0.0 and v > 0:
+            # atan2(+-0, v > 0) is +-0 exactly (C99 F.9.4.4): saves the call when not sliding
+            slip = math.copysign(0.0, lat)
+        else:  # the speed is along the path: the lane's share is what the lateral leaves
+            along = math.copysign(math.sqrt(max(0.0, v * v - lat * lat)), v)
+            slip = math.atan2(lat, along)
     hh = h_ref + (0.0 if direction[k] > 0 else math.pi) + slip + st[H_REL, k]
     st[X, k], st[Y, k], st[Z, k] = px, py, pz
     st[H, k] = _remainder(hh + math.pi, 2 * math.pi) - math.pi
