@@ -48,8 +48,14 @@ class LidarRecognitionConfig:
     max_height_m: float = 4.5
     """Points higher than this above the local ground (bridges, trees) are ignored, m."""
     cluster_cell_m: float = 0.5
-    """Bird's-eye grid cell for clustering, m; occupied cells up to two cells apart (after one
-    cell of dilation) form one object, so gaps up to 0.5-1.0 m are bridged."""
+    """Bird's-eye grid cell for clustering, m."""
+    cluster_reach_cells: int = 2
+    """Occupied cells whose row and column differ by at most this many cells form one object,
+    so a gap narrower than (reach - 1) x cell (0.5 m) is always bridged and one of
+    (reach + 1) x cell (1.5 m) or more never is. Two: vehicles in adjacent 3.5 m lanes are
+    1.35 m apart side by side (car 1.8 m and truck 2.5 m wide), and with three cells (gaps up
+    to 2 m bridged) a truck beside the ego merged with the car ahead in the ego's lane into one
+    box reaching into the ego's path (full AEB with no conflict in the blind-spot set)."""
     min_cell_points: int = 2
     """Bird's-eye cells with fewer points are noise and dropped (the seed's rule-based
     recogniser removes points that are not from objects: insects, dust, drops)."""
@@ -111,7 +117,7 @@ def find_clusters(cloud: PointCloud, cfg: LidarRecognitionConfig) -> Clusters:
     Points within ``roi_half_size_m`` of the sensor (network axes) are compared with the local
     ground; those between ``ground_tolerance_m`` and ``max_height_m`` above it are binned on
     the ``cluster_cell_m`` grid, cells with fewer than ``min_cell_points`` are dropped, and
-    cells up to three apart (one cell of dilation, then 8-connectivity) form one object.
+    cells up to ``cluster_reach_cells`` apart form one object.
     """
     rot = np.ascontiguousarray(cloud.sensor_to_world[:3, :3], dtype=np.float64)
     h = cfg.roi_half_size_m
@@ -129,7 +135,7 @@ def find_clusters(cloud: PointCloud, cfg: LidarRecognitionConfig) -> Clusters:
         nc * nc,
     )  # fmt: skip
     # isolated returns (rain drops, dust) leave single points in a cell: such cells are dropped
-    lab, count = label_cells(bev[sel], counts, cfg.min_cell_points, nc, 3)
+    lab, count = label_cells(bev[sel], counts, cfg.min_cell_points, nc, cfg.cluster_reach_cells)
     point = idx[sel]
     n_pts, lo, hi, top, start, members, offset = cluster_sums(
         cloud.xyz, point, above, lab, count, rot

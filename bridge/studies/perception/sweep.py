@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from hiyari.bridge.loop.stack.fusion import KalmanFusion
+from hiyari.bridge.loop.stack.fusion import FusionConfig, KalmanFusion
 from hiyari.errors import HiyariError
 from hiyari.net.mesh.materials import Material
 from hiyari.sensors.coverage.disturbances import Disturbance
@@ -35,8 +35,9 @@ class SweepConfig:
     """Intensities per disturbance, evenly spaced over its range (first = clear end)."""
     targets: tuple[str, ...] = ("pedestrian", "car", "motorcycle", "obstacle")
     distances_m: tuple[float, ...] = tuple(np.arange(10.0, 150.01, 10.0))
-    frames: int = 2
-    """Frames per distance (the fusion needs two to confirm a track)."""
+    frames: int = FusionConfig().confirm_m
+    """Frames per distance: as many as the fusion needs to confirm a track (M of N,
+    FusionConfig.confirm_m); 'fused' is judged on the last one."""
     seed: int = 7
 
 

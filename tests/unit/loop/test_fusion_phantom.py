@@ -159,7 +159,10 @@ def test_the_planner_waits_until_a_young_track_s_velocity_is_known():
             reported.append(t)
             assert np.all(np.abs(out.velocity[known, :2]) < 1.5)
     assert reported and 0.2 <= reported[0] <= 1.0  # not from the first two or three positions
+    # the first LiDAR objects alone: two positions are no track yet (two of five cycles), the
+    # third confirms it, its velocity still unknown to the planner
     fresh = KalmanFusion()
-    fresh.update([_camera(v * 0.05 + 6.54, 3.79)], Pose(v * 0.05, 0, 0, 0, v), 0.05)
-    out = fresh.update([_lidar(v * 0.1 + 6.81, 3.5)], Pose(v * 0.1, 0, 0, 0, v), 0.1)
-    assert len(out) == 1 and out.velocity_sigma[0] > 5.0  # reported, velocity still unknown
+    for k, (t, x) in enumerate(((0.1, 6.81), (0.2, 6.85), (0.3, 6.89))):
+        out = fresh.update([_lidar(v * t + x, 3.5)], Pose(v * t, 0, 0, 0, v), t)
+        assert len(out) == (1 if k == 2 else 0)
+    assert out.velocity_sigma[0] > planner.aeb.max_velocity_sigma

@@ -18,7 +18,7 @@ from hiyari.sensors.detection_range import RangeStudy
 
 def test_dense_fog_shortens_lidar_range_but_not_radar_or_fused(tmp_path):
     reg = load_disturbances()
-    cfg = SweepConfig(levels=2, targets=("car",), distances_m=(20.0, 60.0), frames=2)
+    cfg = SweepConfig(levels=2, targets=("car",), distances_m=(20.0, 60.0), frames=3)
     clear, fog = sweep_disturbance(reg.get("fog"), cfg)
     assert (clear.level, fog.level) == (1000.0, 30.0)
     # 30 m visibility: 905 nm two-way transmission to 60 m is exp(-2 * 3.9 / 30 * 60) ~ 2e-7

@@ -54,9 +54,18 @@ def reference(cloud: PointCloud, cfg: LidarRecognitionConfig) -> dict[str, np.nd
     occ = np.bincount(ci * nc + cj, minlength=nc * nc).reshape(nc, nc) >= cfg.min_cell_points
     solid = occ[ci, cj]
     idx, ci, cj, above = idx[solid], ci[solid], cj[solid], above[solid]
-    grown = ndimage.binary_dilation(occ, structure=np.ones((3, 3), bool))
+    # cells up to `reach` apart connect: dilated by a reach x reach square, then 8-connected
+    reach = cfg.cluster_reach_cells
+    grown = ndimage.binary_dilation(occ, structure=np.ones((reach, reach), bool))
     labels, count = ndimage.label(grown, structure=np.ones((3, 3), bool))
     lab = labels[ci, cj] - 1
+    # numbered in raster order of each object's first cell one row and column up-left (the
+    # order ndimage gives a 3 x 3 dilation)
+    first = np.full(count, np.iinfo(np.int64).max)
+    np.minimum.at(first, lab, np.maximum(ci - 1, 0) * nc + np.maximum(cj - 1, 0))
+    rank = np.empty(count, np.int64)
+    rank[np.argsort(first, kind="stable")] = np.arange(count)
+    lab = rank[lab]
     n_pts = np.bincount(lab, minlength=count)
     lo = np.full((count, 3), np.inf, np.float32)
     hi = np.full((count, 3), -np.inf, np.float32)
