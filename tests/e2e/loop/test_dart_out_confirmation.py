@@ -8,8 +8,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from hiyari.bridge.loop.run import run_concrete
+from hiyari.bridge.loop.execute import execute
 from hiyari.bridge.loop.stack import fusion
+from hiyari.bridge.loop.toml_runs import TomlRun
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
 
 DART = {"ve0_kmh": 40.0, "ped_speed_kmh": 5.0, "impact_fraction": 0.5}
@@ -19,7 +20,8 @@ def _run():
     cs = ConcreteScenario(
         "dart-out", "dart-out", 0, 1, 15.0, 0.05, DART, perception="sensors", environment="clear"
     )
-    return run_concrete(cs)
+    with TomlRun(cs).spec() as spec:
+        return execute(spec)
 
 
 def test_confirmation_does_not_cost_the_cpnc50_dart_out(monkeypatch):

@@ -7,8 +7,8 @@ ones among them, the AEB braking episodes risk.metrics.false_braking calls false
 the largest lateral-speed error of the truck's fused tracks (tracks whose truth is the truck,
 ego frame, against the truck's true velocity).
 
-Run: .venv/bin/python -m hiyari.bridge.studies.perception.blindspot.false_activations OUT.json
-[case,case,...]
+Run: .venv/bin/python benchmarks/blindspot_false_activations.py OUT.json [case,case,...]
+(a measurement of the sensor stack, not a performance figure: kept beside the benchmarks)
 """
 
 from __future__ import annotations
@@ -32,8 +32,8 @@ from hiyari.traffic.world_state import WorldState
 def measure(workdir: Path, only: list[str] | None = None) -> list[dict]:
     """One row per case: collision, least ground-truth TTC (s), highest AEB stage, false AEB
     braking episodes, largest |lateral-speed error| of the truck's tracks (m/s)."""
-    from hiyari.bridge.loop.engine_run import EgoSetup, import_road, run_scenario
-    from hiyari.bridge.loop.run import RunOptions
+    from hiyari.bridge.loop.execute import execute
+    from hiyari.bridge.loop.spec import EgoSetup, import_road, model_spec
     from hiyari.bridge.loop.stack.interfaces import EgoStep
 
     cases = [c for c in combinations() if c.realisable and (not only or c.name in only)]
@@ -59,13 +59,8 @@ def measure(workdir: Path, only: list[str] | None = None) -> list[dict]:
                 true_vy = ego.world_to_vehicle_vec(truck.velocity)[1]
                 lateral.append(abs(float(tracks.velocity[k, 1] - true_vy)))
 
-        res = run_scenario(
-            build_scenario(combo, xodr, shift),
-            RunOptions(),
-            EgoSetup(perception="sensors"),
-            net=net,
-            on_step=on_step,
-        )
+        spec = model_spec(build_scenario(combo, xodr, shift), EgoSetup(perception="sensors"), net)
+        res = execute(spec, on_step=on_step)
         rows.append(
             dict(
                 case=combo.name,
