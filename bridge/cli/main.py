@@ -10,6 +10,7 @@ import sys
 import threading
 
 from hiyari.bridge.cli import status
+from hiyari.bridge.cli.first_run import first_run_note
 from hiyari.bridge.cli.parser import Parser
 from hiyari.errors import HiyariError
 from hiyari.version import __version__
@@ -67,6 +68,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         args.argv = list(sys.argv[1:] if argv is None else argv)  # the command as given
+        first_run_note(args.command)
         return int(args.func(args) or status.OK)
     except HiyariError as exc:
         print(f"hiyari: error: {exc}", file=sys.stderr)
