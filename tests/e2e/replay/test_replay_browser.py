@@ -42,6 +42,12 @@ ARGS = [
     "--disable-quic",
 ]
 VIEW = {"width": 1024, "height": 640}
+#: Playwright's limit for every wait and screenshot, ms. Software WebGL on a loaded 2-core
+#: machine can take tens of seconds per frame; the waits end as soon as their condition holds,
+#: so a generous limit costs nothing when the machine is idle.
+PAGE_TIMEOUT_MS = 180_000
+#: How long a picture may take to show what the test waits for, s.
+IMAGE_TIMEOUT_S = 120.0
 # The 3D view without the GUI panel (right) and the axes gizmo (bottom left).
 SCENE = (slice(0, VIEW["height"] - 80), slice(0, VIEW["width"] - 350))
 
@@ -78,9 +84,23 @@ def screenshot(page) -> np.ndarray:
     )
 
 
-def wait_for_image(page, ok: Callable[[np.ndarray], bool], timeout: float = 20.0) -> np.ndarray:
+def rendered(page) -> None:
+    """Wait for the page to draw two more frames: the state it shows now is on the canvas."""
+    page.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+
+
+def new_page(browser):
+    page = browser.new_page(viewport=VIEW)
+    page.set_default_timeout(PAGE_TIMEOUT_MS)
+    return page
+
+
+def wait_for_image(
+    page, ok: Callable[[np.ndarray], bool], timeout: float = IMAGE_TIMEOUT_S
+) -> np.ndarray:
     """Screenshots until ``ok`` holds (software WebGL needs a moment); returns the last one."""
     deadline = time.monotonic() + timeout
+    rendered(page)
     while True:
         img = screenshot(page)
         if ok(img) or time.monotonic() > deadline:
@@ -134,7 +154,7 @@ def test_replay_server_renders_the_run(recording, browser, tmp_path):
         stderr=subprocess.STDOUT,
         text=True,
     )
-    watchdog = threading.Timer(120.0, proc.kill)
+    watchdog = threading.Timer(PAGE_TIMEOUT_MS / 1000 * 2, proc.kill)
     watchdog.start()
     try:
         url = None
@@ -144,9 +164,9 @@ def test_replay_server_renders_the_run(recording, browser, tmp_path):
                 url = m.group(1)
                 break
         assert url == f"http://127.0.0.1:{port}/"
-        page = browser.new_page(viewport=VIEW)
+        page = new_page(browser)
         page.goto(url)
-        page.get_by_text(f"frame 1 / {n}").wait_for(timeout=30000)
+        page.get_by_text(f"frame 1 / {n}").wait_for()  # the heads-up text: the page is live
         hide_notifications(page)
         # first frame (t = 0.1 s): the road is drawn, no actor has entered yet
         first = wait_for_image(page, lambda im: im[SCENE].std() > 10)
@@ -159,7 +179,7 @@ def test_replay_server_renders_the_run(recording, browser, tmp_path):
         time_box.fill(f"{t:.1f}")
         time_box.press("Enter")
         time_box.blur()  # a focused box would send its old value back when the server moves it
-        page.get_by_text(f"frame {k + 1} / {n}").wait_for(timeout=15000)
+        page.get_by_text(f"frame {k + 1} / {n}").wait_for()
         page.get_by_label("Follow ego").dispatch_event("click")
         busy = wait_for_image(page, lambda im: count(im, EGO_COLOR) > 50)
         cv2.imwrite(str(tmp_path / "busy.png"), busy[..., ::-1])
@@ -178,7 +198,7 @@ def test_replay_server_renders_the_run(recording, browser, tmp_path):
             # a DOM click: playwright's actionability checks wait for animation frames, which
             # software WebGL makes slow; one click at a time, as a person would
             page.get_by_role("button", name="Step forward").dispatch_event("click")
-            page.get_by_text(f"frame {k + 1 + i} / {n}").wait_for(timeout=15000)
+            page.get_by_text(f"frame {k + 1 + i} / {n}").wait_for()
         moved = wait_for_image(
             page, lambda im: np.abs(im.astype(int) - busy.astype(int))[SCENE].mean() > 0.5
         )
@@ -191,7 +211,7 @@ def test_replay_server_renders_the_run(recording, browser, tmp_path):
         page.close()
     finally:
         proc.terminate()
-        code = proc.wait(timeout=15)
+        code = proc.wait(timeout=60)
         watchdog.cancel()
     assert code == 0
 
@@ -213,7 +233,7 @@ def test_static_export_plays_without_a_server(recording, browser, tmp_path):
     ]
     assert main(args) == 0
     assert "__VISER_EMBED_DATA__" in out.read_text()
-    page = browser.new_page(viewport=VIEW)
+    page = new_page(browser)
     blocked = []
 
     def local_only(route):
@@ -225,8 +245,9 @@ def test_static_export_plays_without_a_server(recording, browser, tmp_path):
 
     page.route("**/*", local_only)
     page.goto(out.as_uri())
+    page.locator("input").first.wait_for()  # the player's controls: the embedded data is read
     hide_notifications(page)
-    drawn = wait_for_image(page, lambda im: im[SCENE].std() > 10, timeout=60.0)
+    drawn = wait_for_image(page, lambda im: im[SCENE].std() > 10)
     assert drawn[SCENE].std() > 10
     # The player loops the 2 s clip while software WebGL takes a second or more per
     # screenshot, so a playing page shows whichever frame it is at. Pause it and seek: each
@@ -255,7 +276,8 @@ def seek_static(page, t: float) -> np.ndarray:
     box.fill(f"{t:.1f}")
     box.press("Enter")
     box.blur()
-    deadline = time.monotonic() + 30.0
+    deadline = time.monotonic() + IMAGE_TIMEOUT_S
+    rendered(page)
     last = screenshot(page)
     while True:
         time.sleep(0.4)
