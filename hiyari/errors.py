@@ -54,3 +54,20 @@ def about(path: str | os.PathLike[str], *also: str | os.PathLike[str]) -> Iterat
         if isinstance(exc, WriteFailed) or any(message.startswith(str(p)) for p in (path, *also)):
             raise
         raise HiyariError(f"{path}: {message}") from None
+
+
+@contextlib.contextmanager
+def unmasked_interrupts() -> Iterator[None]:
+    """A Ctrl-C (or SIGTERM delivered as one) that a library turned into another exception is
+    raised again as itself: numba raises a SystemError when the interrupt lands while it loads
+    a cached kernel, and an interrupted run must keep what it wrote, not be taken for a failed
+    one."""
+    try:
+        yield
+    except Exception as exc:
+        cause: BaseException | None = exc
+        while cause is not None and not isinstance(cause, KeyboardInterrupt):
+            cause = cause.__cause__ or cause.__context__
+        if cause is None:
+            raise
+        raise type(cause)(*cause.args) from None

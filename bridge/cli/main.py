@@ -12,7 +12,7 @@ import threading
 from hiyari.bridge.cli import status
 from hiyari.bridge.cli.first_run import first_run_note
 from hiyari.bridge.cli.parser import Parser
-from hiyari.errors import HiyariError
+from hiyari.errors import HiyariError, unmasked_interrupts
 from hiyari.version import __version__
 
 # Each module has register(subparsers) adding a parser whose defaults set func(args) -> int.
@@ -69,7 +69,8 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         args.argv = list(sys.argv[1:] if argv is None else argv)  # the command as given
         first_run_note(args.command)
-        return int(args.func(args) or status.OK)
+        with unmasked_interrupts():
+            return int(args.func(args) or status.OK)
     except HiyariError as exc:
         print(f"hiyari: error: {exc}", file=sys.stderr)
         return status.ERROR

@@ -31,7 +31,7 @@ from hiyari.bridge.loop.stack.interfaces import EgoStack
 from hiyari.bridge.loop.stack.perception_sensors import SensorPerception
 from hiyari.bridge.openscenario.engine import ScenarioEngine
 from hiyari.bridge.record.format import PART_SUFFIX
-from hiyari.errors import HiyariError, WriteFailed
+from hiyari.errors import HiyariError, WriteFailed, unmasked_interrupts
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.net.road.sumo_roads import sumo_road_lanes
@@ -123,7 +123,11 @@ def execute(
     final name (:func:`run_folder`). ``on_step(world, ego_step, collisions)`` after every
     stack step."""
     options = options or RunOptions()
-    with run_folder(options), tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp:
+    with (
+        run_folder(options),
+        unmasked_interrupts(),
+        tempfile.TemporaryDirectory(prefix="hiyari-run-") as tmp,
+    ):
         with start(spec, Path(tmp)) as run:
             decided = _decided_end(spec, run) if options.end_when_decided else None
             with recording(spec, run, options) as recorder:
