@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
-from scipy.stats import chi2
+from scipy.special import chdtri
 
 from hiyari.kinematics import Pose, rotation_2d
 from hiyari.sensors.outputs import ObjectList
@@ -144,7 +144,10 @@ class KalmanFusion:
     def __init__(self, config: FusionConfig | None = None) -> None:
         self.config = config or FusionConfig()
         # gate per measurement size: position (2), + radial speed (3), + velocity (4)
-        self._gates = {n: float(chi2.ppf(self.config.gate_probability, n)) for n in (2, 3, 4, 5)}
+        # chi-square quantiles (chi2.ppf) from scipy.special: scipy.stats costs every
+        # process that runs the loop seconds of import
+        p = self.config.gate_probability
+        self._gates = {n: float(chdtri(n, 1.0 - p)) for n in (2, 3, 4, 5)}
         self._tracks: list[_Track] = []
         self._next_id = 1
         # (dt, F, F^T, Q) of the last prediction: every step predicts over the same dt
