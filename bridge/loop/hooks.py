@@ -11,6 +11,8 @@ import numpy as np
 
 from hiyari.bridge.loop.closed_loop import ScenarioHooks
 from hiyari.bridge.openscenario.engine import ScenarioEngine, StepReport
+from hiyari.bridge.openscenario.engine.elements import STANDBY
+from hiyari.bridge.openscenario.engine.global_actions import is_global
 from hiyari.bridge.openscenario.model.scoring import Scoring
 from hiyari.kinematics import Pose, bumper_gap, unrotate
 from hiyari.traffic.simulation import Simulation
@@ -30,6 +32,9 @@ class EngineHooks(ScenarioHooks):
         self.ego_id = engine.ego or ""
         self.target_id = self.scoring.target
         self.conflict_point = self.scoring.conflict_point
+        self._disturbance = disturbance_events(engine)
+        self.has_disturbance = bool(len(self._disturbance))
+        self._disturbed = False
         self.report: StepReport = engine.start(sim)
         self.ego_requests: list[tuple[float, str]] = []
         self._stopped_at = math.nan
@@ -38,6 +43,15 @@ class EngineHooks(ScenarioHooks):
         self.report = self.engine.step(sim, world)
         self.ego_requests.extend((self.report.time, n) for n in self.report.ego_requests)
         return self.report.finished
+
+    def disturbance_started(self) -> bool:
+        """True once an Event acting on an actor other than the ego has started
+        (:func:`disturbance_events`)."""
+        if not self._disturbed and len(self._disturbance):
+            tree = self.engine.tree
+            ev = self._disturbance
+            self._disturbed = bool(((tree.state[ev] != STANDBY) | (tree.executions[ev] > 0)).any())
+        return self._disturbed
 
     def stack_drives_ego(self) -> bool:
         return not self.report.ego_storyboard_driven
@@ -71,6 +85,24 @@ class EngineHooks(ScenarioHooks):
         if not ahead.any():
             return -1
         return int(np.flatnonzero(ahead)[np.argmin(along[ahead])])
+
+
+def disturbance_events(engine: ScenarioEngine) -> np.ndarray:
+    """Element indices of the storyboard's Events that act on an actor other than the ego:
+    a private action of a maneuver group with such an actor (or one that selects the act's
+    triggering entities). Global actions (environment, variables, traffic) are left out:
+    they set the scene, the disturbance is what another road user does."""
+    tree, ego = engine.tree, engine.ego
+    out = []
+    for ev in tree.of_kind("event"):
+        if ev.index == tree.init_event:
+            continue
+        group = tree.elements[tree.elements[ev.parent].parent].model
+        others = [a for a in group.actors if a != ego] or group.select_triggering
+        private = any(not is_global(tree.elements[a].model.body) for a in ev.children)
+        if others and private:
+            out.append(ev.index)
+    return np.array(out, dtype=np.intp)
 
 
 #: Builds a run's hooks from its engine, SUMO (started) and scoring: EngineHooks, or a

@@ -37,7 +37,7 @@ def _result() -> RunResult:
 def test_one_list_of_result_fields():
     r = _result()
     d = r.as_dict()
-    assert list(d) == [f.key for f in RESULT_FIELDS] + ["detection"]
+    assert list(d) == [f.key for f in RESULT_FIELDS] + ["passes", "detection"]
     assert list(r.row()) == list(RESULT_KEYS) == list(SWEEP_KEYS)
     assert set(JUDGE_KEYS) <= set(RESULT_KEYS)
     # file units: km/h, rounded; infinite and missing values as None
