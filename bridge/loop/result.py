@@ -24,7 +24,7 @@ from hiyari.risk.metrics.false_braking import (
     false_activations,
     false_braking,
 )
-from hiyari.risk.metrics.tested import Tested, TestedRule, tested
+from hiyari.risk.metrics.tested import RunTested, RunTestedRule, run_tested
 from hiyari.units import mps_to_kmh
 
 
@@ -126,13 +126,13 @@ class RunResult:
     lane_left_time: float = float("nan")  # the ego first changed lane on an edge (nan: never)
     #: the closest pass of every actor the ego passed (hiyari.risk.metrics.clearance)
     clearances: PassingClearances = field(default_factory=PassingClearances)
-    tested_rule: TestedRule = field(default_factory=TestedRule)
+    tested_rule: RunTestedRule = field(default_factory=RunTestedRule)
     activation_rule: FalseActivationRule = field(default_factory=FalseActivationRule)
 
-    def tested(self) -> Tested:
+    def tested(self) -> RunTested:
         """Whether the run reached its disturbance untouched (hiyari.risk.metrics.tested)."""
         s = self.series
-        return tested(
+        return run_tested(
             s.t, s.ego_speed, s.ego_accel_cmd, self.disturbance_time, self.has_disturbance,
             self.lane_left_time, self.tested_rule,
         )  # fmt: skip

@@ -1,10 +1,10 @@
-"""Tested or not: whether a run reached the critical event it was built to test.
+"""RunTested or not: whether a run reached the critical event it was built to test.
 
 A scenario tests the ego's answer to a disturbance (a car cutting in, a lead braking, a child
 stepping out). If the ego already braked hard, stopped or left its lane before that
 disturbance started, the run did not test it: whatever follows (no collision included) says
 nothing about the answer, and such a run is never counted as passed (docs/models.md §4,
-"Tested or not").
+"RunTested or not").
 
 The disturbance starts at the first start of an Event that acts on an actor other than the
 ego (hiyari.bridge.loop.hooks.EngineHooks): the manoeuvre start of a TOML preset (its events
@@ -22,7 +22,7 @@ import numpy as np
 
 
 @dataclass(frozen=True)
-class TestedRule:
+class RunTestedRule:
     """The thresholds of the rule (SI)."""
 
     #: m/s^2: braking harder than this before the disturbance makes the run untested. The
@@ -38,7 +38,7 @@ BRAKED, STOPPED, LEFT_LANE, NOT_REACHED = "braked", "stopped", "left its lane", 
 
 
 @dataclass(frozen=True)
-class Tested:
+class RunTested:
     """``tested``; when not, ``cause`` (one of BRAKED, STOPPED, LEFT_LANE, NOT_REACHED) and
     ``time`` (s) at which it first held, and a sentence saying so (``reason``)."""
 
@@ -48,22 +48,22 @@ class Tested:
     reason: str = ""
 
 
-def tested(
+def run_tested(
     t: np.ndarray,
     speed: np.ndarray,
     accel_cmd: np.ndarray,
     disturbance_time: float,
     has_disturbance: bool,
     lane_left_time: float = float("nan"),
-    rule: TestedRule = TestedRule(),
-) -> Tested:
+    rule: RunTestedRule = RunTestedRule(),
+) -> RunTested:
     """Whether a run tested its disturbance, from its per-step series: time ``t`` (s), ego
     ``speed`` (m/s), commanded acceleration ``accel_cmd`` (m/s^2), the time the disturbance
     started ``disturbance_time`` (s; nan: not reached), whether the scenario has one
     (``has_disturbance``; False: always tested) and the time the ego first left its lane
     ``lane_left_time`` (s; nan: never)."""
     if not has_disturbance:
-        return Tested()
+        return RunTested()
     t = np.asarray(t, float)
     speed = np.asarray(speed, float)
     accel_cmd = np.asarray(accel_cmd, float)
@@ -82,7 +82,9 @@ def tested(
     if found:
         when, cause = min(found, key=lambda f: f[0])
         at = f"at {disturbance_time:.2f} s" if reached else "(never reached)"
-        return Tested(False, cause, when, f"{cause} at {when:.2f} s, before the disturbance {at}")
+        return RunTested(
+            False, cause, when, f"{cause} at {when:.2f} s, before the disturbance {at}"
+        )
     if not reached:
-        return Tested(False, NOT_REACHED, float("nan"), "the run ended before the disturbance")
-    return Tested()
+        return RunTested(False, NOT_REACHED, float("nan"), "the run ended before the disturbance")
+    return RunTested()
