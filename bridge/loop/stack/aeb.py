@@ -84,7 +84,7 @@ def time_to_collision(
     heading = track_heading(tracks, ego)
     pos, vel, heading = to_corridor(
         tracks.position[:, :2], np.nan_to_num(tracks.velocity[:, :2]), heading, ego.speed,
-        curvature, heading == 0.0,
+        curvature, heading == 0.0, tracks.size[:, 0],
     )  # fmt: skip
     ttc = footprint_entry_time(
         pos,

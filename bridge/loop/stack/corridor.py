@@ -79,13 +79,21 @@ def to_corridor(
     ego_speed: float,
     curvature: float,
     aligned: np.ndarray | None = None,
+    length: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Objects in the ego frame -> the corridor frame of an arc of ``curvature`` (1/m) through
     the ego: positions (N, 2) m -> (s, d); velocities relative to the ego (N, 2) m/s (the ego
     moving at ``ego_speed`` along x) -> (ds/dt, dd/dt) relative to the ego moving along s;
     headings (N,) rad relative to the ego -> relative to the arc's direction where the object
     is; objects flagged ``aligned`` (N,) (standing: no heading of their own) stay aligned,
-    now with the arc. A zero curvature leaves everything as it is."""
+    now with the arc. A zero curvature leaves everything as it is.
+
+    Velocities and headings are taken relative to the arc's direction at each object's rear
+    end (``length`` (N,) m along its heading; None: at its centre): a vehicle's heading is
+    the lane's tangent at its rear axle, not at the middle of its box. On ALKS 4_1_3 the
+    18.75 m truck beside the ego heads along the lane at the ego's position although its box
+    centre is 5.7 m ahead; taken at the centre, its velocity seemed to cross into the ego's
+    corridor at 0.2 m/s."""
     p = np.asarray(position, float)
     v = np.asarray(velocity, float)
     h = np.asarray(heading, float)
@@ -93,9 +101,14 @@ def to_corridor(
     if k == 0.0 or not len(p):
         return p, v, h
     x, y = p[:, 0], p[:, 1]
-    psi = np.arctan2(k * x, 1.0 - k * y)  # the arc's direction at the object's projection
-    s = psi / k
+    psi_c = np.arctan2(k * x, 1.0 - k * y)  # the arc's direction at the object's projection
+    s = psi_c / k
     d = (1.0 - np.hypot(k * x, 1.0 - k * y)) / k
+    psi = psi_c
+    if length is not None:
+        half = 0.5 * np.nan_to_num(np.asarray(length, float))
+        xr, yr = x - half * np.cos(h), y - half * np.sin(h)
+        psi = np.arctan2(k * xr, 1.0 - k * yr)
     vx, vy = v[:, 0] + ego_speed, v[:, 1]  # over ground, on the ego's axes
     c, sn = np.cos(psi), np.sin(psi)
     along = (vx * c + vy * sn) / np.maximum(1.0 - k * d, 1e-6)
