@@ -26,8 +26,9 @@ class RunTestedRule:
     """The thresholds of the rule (SI)."""
 
     #: m/s^2: braking harder than this before the disturbance makes the run untested. The
-    #: ACC's comfort limit (ACCConfig.max_decel, 3 m/s^2, also ISO 15622's ACC bound of
-    #: 3.5 m/s^2 rounded down): only an emergency function brakes harder.
+    #: ACC's comfort limit (ACCConfig.max_decel, 3 m/s^2; ISO 15622 keeps an ACC's
+    #: deceleration to a few m/s^2, 3.5 m/s^2 at higher speeds): only an emergency function
+    #: brakes harder.
     brake_decel: float = 3.0
     #: m/s: the ego counts as stopped below this speed (after having moved faster).
     stopped_speed: float = 0.1

@@ -37,6 +37,11 @@ class CorridorConfig:
     straight_curvature: float = 1e-4
     #: m: the distance travelled before a curvature is estimated (until then: straight).
     min_travel: float = 5.0
+    #: where a vehicle's rear axle is, as a share of its length from its rear end: a vehicle
+    #: following its lane heads along the lane's tangent there (its front swings out). 0.2:
+    #: about 1 m of rear overhang on a 4.8 m car; 3.75 m on an 18.75 m truck, whose axle the
+    #: ALKS 4_1_3 runs put 3.4 m from its rear (its heading there is the lane's).
+    rear_axle: float = 0.2
 
 
 class PathCurvature:
@@ -80,6 +85,7 @@ def to_corridor(
     curvature: float,
     aligned: np.ndarray | None = None,
     length: np.ndarray | None = None,
+    rear_axle: float = CorridorConfig.rear_axle,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Objects in the ego frame -> the corridor frame of an arc of ``curvature`` (1/m) through
     the ego: positions (N, 2) m -> (s, d); velocities relative to the ego (N, 2) m/s (the ego
@@ -89,11 +95,11 @@ def to_corridor(
     now with the arc. A zero curvature leaves everything as it is.
 
     Velocities and headings are taken relative to the arc's direction at each object's rear
-    end (``length`` (N,) m along its heading; None: at its centre): a vehicle's heading is
-    the lane's tangent at its rear axle, not at the middle of its box. On ALKS 4_1_3 the
-    18.75 m truck beside the ego heads along the lane at the ego's position although its box
-    centre is 5.7 m ahead; taken at the centre, its velocity seemed to cross into the ego's
-    corridor at 0.2 m/s."""
+    axle, ``rear_axle`` of its ``length`` (N,) m from its rear end along its heading (None:
+    at its centre): a vehicle's heading is the lane's tangent at its rear axle, not at the
+    middle of its box. On ALKS 4_1_3 the 18.75 m truck beside the ego heads along the lane
+    about 6 m behind its box centre; taken at the centre, its velocity seemed to cross into
+    the ego's corridor at 0.2 m/s."""
     p = np.asarray(position, float)
     v = np.asarray(velocity, float)
     h = np.asarray(heading, float)
@@ -106,8 +112,8 @@ def to_corridor(
     d = (1.0 - np.hypot(k * x, 1.0 - k * y)) / k
     psi = psi_c
     if length is not None:
-        half = 0.5 * np.nan_to_num(np.asarray(length, float))
-        xr, yr = x - half * np.cos(h), y - half * np.sin(h)
+        back = (0.5 - rear_axle) * np.nan_to_num(np.asarray(length, float))
+        xr, yr = x - back * np.cos(h), y - back * np.sin(h)
         psi = np.arctan2(k * xr, 1.0 - k * yr)
     vx, vy = v[:, 0] + ego_speed, v[:, 1]  # over ground, on the ego's axes
     c, sn = np.cos(psi), np.sin(psi)

@@ -85,3 +85,26 @@ def test_planner_raises_no_stage_for_the_adjacent_lane_of_a_curve():
         assert int(planner.plan(track, ego, t).aeb_stage) == 0
         straight.append(float(time_to_collision(track, ego, planner.aeb)[0]))
     assert min(straight) < AEBConfig().warning_ttc  # a straight corridor would have warned
+
+
+def test_a_long_truck_beside_the_ego_heads_along_the_lane_at_its_rear_axle():
+    """ALKS 4_1_3: an 18.75 m truck in the outer lane of a right curve (radius 240 m), its box
+    centre 9 m ahead of the ego's, heading along the lane at its rear axle (3.75 m from its
+    rear): the straight corridor saw it cut in (TTC 2-3 s, AEB warnings from 64.8 s)."""
+    radius, length = -240.0, 18.75
+    k = 1.0 / radius
+    ego = Pose(0.0, 0.0, 0.0, 0.0, SPEED, 0.0, 4.8, 1.9)
+    axle_s = 9.0 - 0.5 * length + 0.2 * length  # along the arc, from the ego's centre
+    heading = axle_s * k  # the lane's tangent at the truck's rear axle (right curve: < 0)
+    d = 3.0  # its centre's offset to the left of the ego's path, m
+    centre = np.array([9.0, d - 0.5 * k * 81.0])  # on the outer arc, ego frame
+    r = SPEED * (radius - d) / radius  # same angular speed as the ego: it keeps beside it
+    vel = r * np.array([math.cos(heading), math.sin(heading)]) - [SPEED, 0.0]
+    truck = ObjectList(
+        0.0, "fusion", np.eye(4), np.array([1]), np.array([1], np.int8),
+        np.array([[*centre, 0.0]]), np.array([[*vel, 0.0]]), np.array([[length, 2.5, 4.0]]),
+        np.ones(1), np.array(["truck"], dtype=object),
+    )  # fmt: skip
+    cfg = AEBConfig()
+    assert float(time_to_collision(truck, ego, cfg)[0]) < 3.0  # straight: cutting in
+    assert time_to_collision(truck, ego, cfg, k)[0] == np.inf
