@@ -61,6 +61,12 @@ class ScenarioHooks:
         """Whether the ego stack's command moves the ego now (else the scenario does)."""
         return True
 
+    def ego_lane_scripted(self) -> bool:
+        """Whether the scenario itself moves the ego across lanes now (its storyboard drives
+        the ego, or it commanded a lane change): a lane change then is not the system
+        leaving its lane (hiyari.risk.metrics.tested)."""
+        return not self.stack_drives_ego()
+
     def sensed(self, world: WorldState) -> WorldState:
         """The world as the ego's sensors may see it (a scenario may hide entities)."""
         return world
@@ -126,7 +132,8 @@ def run_closed_loop(
             step = stack.step(sensed, sensed.index(ego_id) if sensed is not world else row)
             ego = world.pose(row)
             _metrics(res, world, row, ego, step, hooks, truth)
-            lanes.update(res, world, row)
+            if not hooks.ego_lane_scripted():
+                lanes.update(res, world, row)
             if on_step is not None:
                 on_step(world, step, sim.collisions)
             # contact is overlapping outlines: SUMO's own check is per lane without sublanes,
