@@ -132,8 +132,7 @@ def run_closed_loop(
             step = stack.step(sensed, sensed.index(ego_id) if sensed is not world else row)
             ego = world.pose(row)
             _metrics(res, world, row, ego, step, hooks, truth)
-            if not hooks.ego_lane_scripted():
-                lanes.update(res, world, row)
+            lanes.update(res, world, row, scripted=hooks.ego_lane_scripted())
             if on_step is not None:
                 on_step(world, step, sim.collisions)
             # contact is overlapping outlines: SUMO's own check is per lane without sublanes,
@@ -229,11 +228,13 @@ class _LaneWatch:
     def __init__(self) -> None:
         self.edge, self.lane = "", ""
 
-    def update(self, res: RunResult, world: WorldState, row: int) -> None:
+    def update(self, res: RunResult, world: WorldState, row: int, scripted: bool = False) -> None:
+        """``scripted``: the scenario moves the ego across lanes now (not counted)."""
         edge, lane = str(world.edge[row]), str(world.lane[row])
         if not lane or edge.startswith(":"):
             return
-        if edge == self.edge and lane != self.lane and not np.isfinite(res.lane_left_time):
+        changed = edge == self.edge and lane != self.lane
+        if changed and not scripted and not np.isfinite(res.lane_left_time):
             res.lane_left_time = world.time
         self.edge, self.lane = edge, lane
 
