@@ -203,7 +203,13 @@ def _write_table(out: Path, rows: list[dict]) -> None:
         w.writeheader()
         w.writerows(rows)
     n_coll = sum(r["collision"] for r in rows)
-    print(f"{len(rows)} run(s), {n_coll} collision(s); table: {out / 'results.csv'}")
+    untested = sum(r.get("tested") is False for r in rows)
+    near = sum(int(r.get("near_misses") or 0) for r in rows)
+    false = sum(int(r.get("false_activations") or 0) for r in rows)
+    print(
+        f"{len(rows)} run(s), {n_coll} collision(s), {untested} not tested, {near} near "
+        f"miss(es), {false} false activation(s); table: {out / 'results.csv'}"
+    )
 
 
 def register(sub: argparse._SubParsersAction) -> None:
