@@ -137,9 +137,9 @@ def score_row(test: NcapTest, row: dict) -> scoring.PointScore:
     """The scored point of a results row (file values: strings or numbers)."""
     if row["status"] != "ok":
         return scoring.PointScore(test.key, row["lighting"], None, f"run failed: {row['error']}")
-    if str(row["tested"]) == "False":  # hiyari.risk.metrics.tested: never scored as passed
+    if str(row.get("tested", "")) == "False":  # hiyari.risk.metrics.tested: never a pass
         return scoring.PointScore(
-            test.key, row["lighting"], None, f"not tested: {row['untested_cause']}"
+            test.key, row["lighting"], None, f"not tested: {row.get('untested_cause', '')}"
         )
     test_kmh = float(row["test_speed_kmh"])
     held, worst = scoring.speed_held([float(row["speed_before_window_kmh"])], test_kmh)
