@@ -34,8 +34,9 @@ class ScenarioHooks:
     ego_id: str = "ego"
     target_id: str = ""
     conflict_point: tuple[float, float] | None = None  # network x, y of the conflict point
-    #: whether the scenario has a disturbance whose start :meth:`disturbance_started` reports
-    #: (hiyari.risk.metrics.tested: without one, a run is tested from its start)
+    #: whether the run has a disturbance whose start :meth:`disturbance_started` reports
+    #: (read after the run; hiyari.risk.metrics.tested: without one, a run is tested from
+    #: its start)
     has_disturbance: bool = False
 
     def disturbance_started(self) -> bool:
@@ -103,7 +104,7 @@ def run_closed_loop(
     """
     from tqdm import tqdm
 
-    res = RunResult(label=label, has_disturbance=hooks.has_disturbance)
+    res = RunResult(label=label)
     lanes = _LaneWatch()
     truth = TruthConfig()
     dt = sim.config.step_length
@@ -163,6 +164,7 @@ def run_closed_loop(
             bar.refresh()
         bar.close()
     res.wall_seconds = wallclock.perf_counter() - t0
+    res.has_disturbance = hooks.has_disturbance  # known once the acts that ran are known
     if len(res.series):
         res.final_speed = res.series.ego_speed[-1]
         res.sim_seconds = res.series.t[-1] - res.series.t[0] + dt

@@ -11,7 +11,6 @@ import numpy as np
 
 from hiyari.bridge.loop.closed_loop import ScenarioHooks
 from hiyari.bridge.openscenario.engine import ScenarioEngine, StepReport
-from hiyari.bridge.openscenario.engine.elements import STANDBY
 from hiyari.bridge.openscenario.engine.global_actions import is_global
 from hiyari.bridge.openscenario.model.scoring import Scoring
 from hiyari.kinematics import Pose, bumper_gap, unrotate
@@ -32,9 +31,13 @@ class EngineHooks(ScenarioHooks):
         self.ego_id = engine.ego or ""
         self.target_id = self.scoring.target
         self.conflict_point = self.scoring.conflict_point
-        self._disturbance = disturbance_events(engine)
-        self.has_disturbance = bool(len(self._disturbance))
+        tree = engine.tree
+        events = disturbance_events(engine)
+        self._disturbance = {tree.elements[i].name for i in events}
+        self._acts = {tree.elements[_act_of(tree, i)].name for i in events}
+        self._armed = False  # an act holding a disturbance event has started
         self._disturbed = False
+        self._log_seen = 0  # entries of the element log already looked at
         self.report: StepReport = engine.start(sim)
         self.ego_requests: list[tuple[float, str]] = []
         self._stopped_at = math.nan
@@ -47,11 +50,23 @@ class EngineHooks(ScenarioHooks):
     def disturbance_started(self) -> bool:
         """True once an Event acting on an actor other than the ego has started
         (:func:`disturbance_events`)."""
-        if not self._disturbed and len(self._disturbance):
-            tree = self.engine.tree
-            ev = self._disturbance
-            self._disturbed = bool(((tree.state[ev] != STANDBY) | (tree.executions[ev] > 0)).any())
+        if not self._disturbed and self._disturbance:
+            # start transitions in the element log, not states: the stop trigger ends every
+            # element, started or not, and an instant action's event starts and ends at once
+            log = self.engine.tree.log
+            for _, kind, name, what in log[self._log_seen :]:
+                if what == "startTransition":
+                    self._armed |= kind == "act" and name in self._acts
+                    self._disturbed |= kind == "event" and name in self._disturbance
+            self._log_seen = len(log)
         return self._disturbed
+
+    @property
+    def has_disturbance(self) -> bool:
+        """Whether this run has a disturbance: an act holding an Event on a non-ego actor
+        started (an act whose start trigger never holds, as a file's variant switch, e.g. the
+        Euro NCAP CCR file's braking act in a CCRs run, is not part of the run)."""
+        return self._armed or self._disturbed
 
     def stack_drives_ego(self) -> bool:
         return not self.report.ego_storyboard_driven
@@ -103,6 +118,13 @@ def disturbance_events(engine: ScenarioEngine) -> np.ndarray:
         if others and private:
             out.append(ev.index)
     return np.array(out, dtype=np.intp)
+
+
+def _act_of(tree: object, i: int) -> int:
+    """The act holding element ``i``."""
+    while tree.elements[i].kind != "act":
+        i = tree.elements[i].parent
+    return i
 
 
 #: Builds a run's hooks from its engine, SUMO (started) and scoring: EngineHooks, or a
