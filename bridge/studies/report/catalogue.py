@@ -134,10 +134,10 @@ def _summary(cells: list[Cell], rows: list[dict]) -> tuple[list[list[str]], str]
     elif n_pass == len(rows):
         line = f"all {len(rows)} runs passed; {scope}"
     else:
-        line = (f"{len(rows) - n_pass} of {len(rows)} runs did not pass ({prevent_fail} "
+        line = (f"{len(rows) - n_pass - untested} of {len(rows)} runs failed ({prevent_fail} "
                 f"collisions where the C&C driver avoids one, {worse} impacts harder than the "
-                f"C&C driver's + {IMPACT_TOLERANCE:g} m/s, {untested} not tested, {crashed} "
-                f"crashed); {scope}")  # fmt: skip
+                f"C&C driver's + {IMPACT_TOLERANCE:g} m/s, {crashed} crashed); {untested} not "
+                f"tested (never passed); {scope}")  # fmt: skip
     table = [
         ["verdict", verdict(rows)],
         ["concrete runs", f"{len(rows)} in {len(stats)} cells"],
