@@ -79,7 +79,7 @@ def evaluate(args: argparse.Namespace) -> int:
     false = sum(int(r.get("false_activations") or 0) for r in rows)
     print(
         f"{len(rows)} runs, {n_pass} passed, {len(rows) - n_pass - crashed - untested} failed, "
-        f"{untested} not tested, {crashed} crashed; {near} near misses, {false} false "
+        f"{crashed} crashed, {untested} not tested; {near} near misses, {false} false "
         f"activations; {wall:.1f} s wall"
     )
     print(f"report: {html}")
