@@ -34,6 +34,14 @@ class ScenarioHooks:
     ego_id: str = "ego"
     target_id: str = ""
     conflict_point: tuple[float, float] | None = None  # network x, y of the conflict point
+    #: whether the run has a disturbance whose start :meth:`disturbance_started` reports
+    #: (read after the run; hiyari.risk.metrics.tested: without one, a run is tested from
+    #: its start)
+    has_disturbance: bool = False
+
+    def disturbance_started(self) -> bool:
+        """True once the scenario's disturbance has started (on the state just reached)."""
+        return False
 
     def before_step(self, sim: Simulation, script_time: float) -> None:
         """Move scripted actors for the coming step."""
@@ -53,6 +61,12 @@ class ScenarioHooks:
     def stack_drives_ego(self) -> bool:
         """Whether the ego stack's command moves the ego now (else the scenario does)."""
         return True
+
+    def ego_lane_scripted(self) -> bool:
+        """Whether the scenario itself moves the ego across lanes now (its storyboard drives
+        the ego, or it commanded a lane change): a lane change then is not the system
+        leaving its lane (hiyari.risk.metrics.tested)."""
+        return not self.stack_drives_ego()
 
     def sensed(self, world: WorldState) -> WorldState:
         """The world as the ego's sensors may see it (a scenario may hide entities)."""
@@ -91,6 +105,7 @@ def run_closed_loop(
     from tqdm import tqdm
 
     res = RunResult(label=label)
+    lanes = _LaneWatch()
     truth = TruthConfig()
     dt = sim.config.step_length
     t_end = sim.time + duration
@@ -105,6 +120,8 @@ def run_closed_loop(
             world = sim.step()
             bar.update(1)
             ended = hooks.after_step(sim, world)
+            if not np.isfinite(res.disturbance_time) and hooks.disturbance_started():
+                res.disturbance_time = world.time
             if ego_id not in world.ids:
                 if ended:
                     break
@@ -116,6 +133,7 @@ def run_closed_loop(
             step = stack.step(sensed, sensed.index(ego_id) if sensed is not world else row)
             ego = world.pose(row)
             _metrics(res, world, row, ego, step, hooks, truth)
+            lanes.update(res, world, row, scripted=hooks.ego_lane_scripted())
             if on_step is not None:
                 on_step(world, step, sim.collisions)
             # contact is overlapping outlines: SUMO's own check is per lane without sublanes,
@@ -146,6 +164,7 @@ def run_closed_loop(
             bar.refresh()
         bar.close()
     res.wall_seconds = wallclock.perf_counter() - t0
+    res.has_disturbance = hooks.has_disturbance  # known once the acts that ran are known
     if len(res.series):
         res.final_speed = res.series.ego_speed[-1]
         res.sim_seconds = res.series.t[-1] - res.series.t[0] + dt
@@ -172,9 +191,16 @@ def _metrics(
         gap, beside = gap_to(xy, world.heading, world.length, world.width, row, k)
         if beside < 0 and gap > -world.length[k]:
             res.min_gap = min(res.min_gap, gap)
+    res.clearances.update(
+        world.time, world.ids, world.cls, xy, world.heading, world.length, world.width, row,
+        ego.speed,
+    )  # fmt: skip
     cmd = step.command
-    if cmd.aeb_stage >= 2 and not np.isfinite(res.aeb_first_time):
+    # any stage reached has its time: aeb_max_stage > 0 exactly when aeb_first_time is set
+    if cmd.aeb_stage >= 1 and not np.isfinite(res.aeb_first_time):
         res.aeb_first_time = world.time
+    if cmd.aeb_stage >= 2 and not np.isfinite(res.aeb_brake_time):
+        res.aeb_brake_time = world.time
     res.aeb_max_stage = max(res.aeb_max_stage, int(cmd.aeb_stage))
     s = res.series
     s.t.append(world.time)
@@ -194,6 +220,25 @@ def _metrics(
     for ol in step.object_lists:
         _count(res.detection[ol.source], ol, world, ego, hooks.target_id)
     _count(res.detection["fusion"], step.tracks, world, ego, hooks.target_id)
+
+
+class _LaneWatch:
+    """Sets ``RunResult.lane_left_time`` at the ego's first change of lane within an edge
+    (moving on to the next edge along its route, or through a junction's internal lanes, is
+    following the lane, not leaving it)."""
+
+    def __init__(self) -> None:
+        self.edge, self.lane = "", ""
+
+    def update(self, res: RunResult, world: WorldState, row: int, scripted: bool = False) -> None:
+        """``scripted``: the scenario moves the ego across lanes now (not counted)."""
+        edge, lane = str(world.edge[row]), str(world.lane[row])
+        if not lane or edge.startswith(":"):
+            return
+        changed = edge == self.edge and lane != self.lane
+        if changed and not scripted and not np.isfinite(res.lane_left_time):
+            res.lane_left_time = world.time
+        self.edge, self.lane = edge, lane
 
 
 def _count(

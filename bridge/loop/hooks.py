@@ -11,6 +11,7 @@ import numpy as np
 
 from hiyari.bridge.loop.closed_loop import ScenarioHooks
 from hiyari.bridge.openscenario.engine import ScenarioEngine, StepReport
+from hiyari.bridge.openscenario.engine.global_actions import is_global
 from hiyari.bridge.openscenario.model.scoring import Scoring
 from hiyari.kinematics import Pose, bumper_gap, unrotate
 from hiyari.traffic.simulation import Simulation
@@ -30,6 +31,13 @@ class EngineHooks(ScenarioHooks):
         self.ego_id = engine.ego or ""
         self.target_id = self.scoring.target
         self.conflict_point = self.scoring.conflict_point
+        tree = engine.tree
+        events = disturbance_events(engine)
+        self._disturbance = {tree.elements[i].name for i in events}
+        self._acts = {tree.elements[_act_of(tree, i)].name for i in events}
+        self._armed = False  # an act holding a disturbance event has started
+        self._disturbed = False
+        self._log_seen = 0  # entries of the element log already looked at
         self.report: StepReport = engine.start(sim)
         self.ego_requests: list[tuple[float, str]] = []
         self._stopped_at = math.nan
@@ -38,6 +46,27 @@ class EngineHooks(ScenarioHooks):
         self.report = self.engine.step(sim, world)
         self.ego_requests.extend((self.report.time, n) for n in self.report.ego_requests)
         return self.report.finished
+
+    def disturbance_started(self) -> bool:
+        """True once an Event acting on an actor other than the ego has started
+        (:func:`disturbance_events`)."""
+        if not self._disturbed and self._disturbance:
+            # start transitions in the element log, not states: the stop trigger ends every
+            # element, started or not, and an instant action's event starts and ends at once
+            log = self.engine.tree.log
+            for _, kind, name, what in log[self._log_seen :]:
+                if what == "startTransition":
+                    self._armed |= kind == "act" and name in self._acts
+                    self._disturbed |= kind == "event" and name in self._disturbance
+            self._log_seen = len(log)
+        return self._disturbed
+
+    @property
+    def has_disturbance(self) -> bool:
+        """Whether this run has a disturbance: an act holding an Event on a non-ego actor
+        started (an act whose start trigger never holds, as a file's variant switch, e.g. the
+        Euro NCAP CCR file's braking act in a CCRs run, is not part of the run)."""
+        return self._armed or self._disturbed
 
     def stack_drives_ego(self) -> bool:
         return not self.report.ego_storyboard_driven
@@ -71,6 +100,31 @@ class EngineHooks(ScenarioHooks):
         if not ahead.any():
             return -1
         return int(np.flatnonzero(ahead)[np.argmin(along[ahead])])
+
+
+def disturbance_events(engine: ScenarioEngine) -> np.ndarray:
+    """Element indices of the storyboard's Events that act on an actor other than the ego:
+    a private action of a maneuver group with such an actor (or one that selects the act's
+    triggering entities). Global actions (environment, variables, traffic) are left out:
+    they set the scene, the disturbance is what another road user does."""
+    tree, ego = engine.tree, engine.ego
+    out = []
+    for ev in tree.of_kind("event"):
+        if ev.index == tree.init_event:
+            continue
+        group = tree.elements[tree.elements[ev.parent].parent].model
+        others = [a for a in group.actors if a != ego] or group.select_triggering
+        private = any(not is_global(tree.elements[a].model.body) for a in ev.children)
+        if others and private:
+            out.append(ev.index)
+    return np.array(out, dtype=np.intp)
+
+
+def _act_of(tree: object, i: int) -> int:
+    """The act holding element ``i``."""
+    while tree.elements[i].kind != "act":
+        i = tree.elements[i].parent
+    return i
 
 
 #: Builds a run's hooks from its engine, SUMO (started) and scoring: EngineHooks, or a

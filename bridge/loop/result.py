@@ -17,7 +17,14 @@ from pathlib import Path
 import numpy as np
 
 from hiyari.atomic import atomic_path
-from hiyari.risk.metrics.false_braking import FalseBraking, false_braking
+from hiyari.risk.metrics.clearance import Passing, PassingClearances
+from hiyari.risk.metrics.false_braking import (
+    FalseActivationRule,
+    FalseBraking,
+    false_activations,
+    false_braking,
+)
+from hiyari.risk.metrics.tested import RunTested, RunTestedRule, run_tested
 from hiyari.units import mps_to_kmh
 
 
@@ -101,7 +108,8 @@ class RunResult:
     min_ttc: float = float("inf")  # true TTC over all actors
     min_gap: float = float("inf")  # bumper-to-bumper to the target
     stop_distance: float = float("nan")  # ego front to the conflict point at the first stop
-    aeb_first_time: float = float("nan")
+    aeb_first_time: float = float("nan")  # the first AEB stage (any, warning included)
+    aeb_brake_time: float = float("nan")  # the first braking AEB stage (partial or full)
     aeb_max_stage: int = 0
     final_speed: float = 0.0
     stop_trigger: bool = False  # the scenario's stop trigger ended the run
@@ -111,6 +119,45 @@ class RunResult:
         default_factory=lambda: defaultdict(DetectionStats)
     )
     series: TimeSeries = field(default_factory=TimeSeries)
+    #: whether the scenario has a disturbance (an Event acting on an actor other than the
+    #: ego), and the time it started (nan: not reached): hiyari.risk.metrics.tested
+    has_disturbance: bool = False
+    disturbance_time: float = float("nan")
+    lane_left_time: float = float("nan")  # the ego first changed lane on an edge (nan: never)
+    #: the closest pass of every actor the ego passed (hiyari.risk.metrics.clearance)
+    clearances: PassingClearances = field(default_factory=PassingClearances)
+    tested_rule: RunTestedRule = field(default_factory=RunTestedRule)
+    activation_rule: FalseActivationRule = field(default_factory=FalseActivationRule)
+
+    def tested(self) -> RunTested:
+        """Whether the run reached its disturbance untouched (hiyari.risk.metrics.tested)."""
+        s = self.series
+        return run_tested(
+            s.t, s.ego_speed, s.ego_accel_cmd, self.disturbance_time, self.has_disturbance,
+            self.lane_left_time, self.tested_rule,
+        )  # fmt: skip
+
+    def false_activations(self) -> int:
+        """AEB stages and over-comfort braking with no ground-truth conflict
+        (hiyari.risk.metrics.false_braking.false_activations)."""
+        s = self.series
+        return false_activations(
+            s.t, s.ego_accel_cmd, s.aeb_stage, s.ttc_true, self.activation_rule
+        )[0]
+
+    def near_misses(self) -> list[Passing]:
+        """The actors passed closer than the near-miss limit (the one hit left out)."""
+        return self.clearances.near_misses(exclude=self.collided_with)
+
+    def min_clearance(self, vru: bool) -> float:
+        """The smallest clearance (m) to a VRU (``vru``) or to a vehicle passed (inf: none),
+        the one hit left out."""
+        gaps = [
+            p.clearance
+            for name, p in self.clearances.passes.items()
+            if p.vru == vru and name != self.collided_with
+        ]
+        return min(gaps, default=float("inf"))
 
     def false_braking(self) -> dict[str, FalseBraking]:
         """AEB and ACC decelerations without a ground-truth hazard (risk.metrics.false_braking)."""
@@ -120,18 +167,39 @@ class RunResult:
         return false_braking(s.t, s.ego_accel_cmd, s.ttc_true, aeb, headway=headway)
 
     def verdict(self) -> str:
-        """'collision' or 'no collision'."""
-        return "collision" if self.collision else "no collision"
+        """'not tested', 'collision', 'near miss' or 'no collision' (in that order)."""
+        if not self.tested().tested:
+            return NOT_TESTED
+        if self.collision:
+            return "collision"
+        return NEAR_MISS if self.near_misses() else "no collision"
 
     def as_dict(self) -> dict:
-        """JSON-ready summary (no time series): every RESULT_FIELDS value, then detection."""
+        """JSON-ready summary (no time series): every RESULT_FIELDS value, then the closest
+        passes and detection."""
         doc = {f.key: f.value(self) for f in RESULT_FIELDS}
+        doc["passes"] = [
+            {
+                "actor": p.actor,
+                "vru": p.vru,
+                "min_clearance_m": round(p.clearance, 3),
+                "ego_speed_kmh": _kmh(p.speed),
+                "time_s": _num(p.time),
+                "limit_m": round(p.limit, 3),
+                "near_miss": p.near_miss and p.actor != self.collided_with,
+            }
+            for _, p in sorted(self.clearances.passes.items())
+        ]
         doc["detection"] = {k: v.as_dict() for k, v in sorted(self.detection.items())}
         return doc
 
     def row(self) -> dict:
         """The result-table columns (RESULT_KEYS) of this run."""
         return {f.key: f.value(self) for f in RESULT_FIELDS if f.in_table}
+
+
+#: The verdicts a run can have besides "collision" and "no collision".
+NOT_TESTED, NEAR_MISS = "not tested", "near miss"
 
 
 def _num(x: float) -> float | None:
@@ -174,7 +242,15 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
     ResultField("min_gap_m", lambda r: _num(r.min_gap), in_judge=True),
     ResultField("stop_distance_m", lambda r: _num(r.stop_distance)),
     ResultField("aeb_first_time_s", lambda r: _num(r.aeb_first_time)),
+    ResultField("aeb_brake_time_s", lambda r: _num(r.aeb_brake_time)),
     ResultField("aeb_max_stage", lambda r: r.aeb_max_stage),
+    ResultField("tested", lambda r: r.tested().tested, in_judge=True),
+    ResultField("untested_cause", lambda r: r.tested().reason, in_judge=True),
+    ResultField("disturbance_time_s", lambda r: _num(r.disturbance_time)),
+    ResultField("false_activations", lambda r: r.false_activations(), in_judge=True),
+    ResultField("near_misses", lambda r: len(r.near_misses()), in_judge=True),
+    ResultField("min_vru_clearance_m", lambda r: _num(r.min_clearance(True))),
+    ResultField("min_vehicle_clearance_m", lambda r: _num(r.min_clearance(False))),
     ResultField("final_speed_kmh", lambda r: _kmh(r.final_speed)),
     *(
         ResultField(f"false_{src}_{key}", _false_braking(src, attr, digits))

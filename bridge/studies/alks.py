@@ -30,6 +30,12 @@ COLUMNS = (
     "min_ttc_s",
     "min_gap_m",
     "aeb_max_stage",
+    "tested",
+    "untested_cause",
+    "near_misses",
+    "min_vru_clearance_m",
+    "min_vehicle_clearance_m",
+    "false_activations",
     "stop_trigger",
     "sim_seconds",
     "wall_seconds",
@@ -72,19 +78,32 @@ def run_task(task: AlksTask) -> dict:
 def row_of(task: AlksTask, d: dict, wall: float) -> dict:
     """The results.csv row of a run from its result summary (RunResult.as_dict())."""
     collision = bool(d["collision"])
+    tested = bool(d.get("tested", True))
+    near = int(d.get("near_misses", 0))
+    verdict = "collision" if collision else "near miss" if near else "no collision"
     return {
         "scenario": task.path.stem.removesuffix("_template"),
         "perception": task.perception,
-        "verdict": "collision" if collision else "no collision",
+        "verdict": verdict if tested else "not tested",
         "collided_with": d["collided_with"],
         "impact_speed_kmh": d["impact_speed_kmh"] if collision else "",
         "min_ttc_s": "" if d["min_ttc_s"] is None else d["min_ttc_s"],
         "min_gap_m": "" if d["min_gap_m"] is None else d["min_gap_m"],
         "aeb_max_stage": d["aeb_max_stage"],
+        "tested": tested,
+        "untested_cause": d.get("untested_cause", ""),
+        "near_misses": near,
+        "min_vru_clearance_m": _cell(d.get("min_vru_clearance_m")),
+        "min_vehicle_clearance_m": _cell(d.get("min_vehicle_clearance_m")),
+        "false_activations": int(d.get("false_activations", 0)),
         "stop_trigger": d["stop_trigger"],
         "sim_seconds": round(d["sim_seconds"], 2),
         "wall_seconds": round(wall, 1),
     }
+
+
+def _cell(x: object) -> object:
+    return "" if x is None else x
 
 
 def crashed_row(task: AlksTask, crash: object) -> dict:
@@ -123,16 +142,33 @@ def markdown(rows: list[dict]) -> str:
             if r["verdict"] == "crashed":
                 cells.append(f"**crashed** ({r['collided_with']}; run again to retry)")
                 continue
-            verdict = (
-                f"**collision** ({r['collided_with']}, {r['impact_speed_kmh']} km/h)"
-                if r["verdict"] == "collision"
-                else "no collision"
-            )
+            if r["verdict"] == "collision":
+                verdict = f"**collision** ({r['collided_with']}, {r['impact_speed_kmh']} km/h)"
+            elif r["verdict"] == "not tested":
+                verdict = f"**not tested** ({r['untested_cause']})"
+            elif r["verdict"] == "near miss":
+                gaps = [r[k] for k in ("min_vru_clearance_m", "min_vehicle_clearance_m")]
+                near = min(float(g) for g in gaps if g != "")
+                verdict = f"**near miss** ({near} m)"
+            else:
+                verdict = "no collision"
+            if int(r["false_activations"] or 0):
+                verdict += f", {r['false_activations']} false activation(s)"
             ttc = f"{r['min_ttc_s']} s" if r["min_ttc_s"] != "" else "–"
             gap = f"{r['min_gap_m']} m" if r["min_gap_m"] != "" else "–"
             end = "" if r["stop_trigger"] else " (no stop trigger)"
             cells.append(f"{verdict}, {ttc}, {gap}{end}")
         lines.append(f"| {name.removeprefix('alks_scenario_')} | " + " | ".join(cells) + " |")
+    lines.append("")
+    for m in modes:
+        sel = [r for r in rows if r["perception"] == m and r["verdict"] != "crashed"]
+        n = {v: sum(r["verdict"] == v for r in sel) for v in ("collision", "near miss")}
+        untested = sum(r["verdict"] == "not tested" for r in sel)
+        false = sum(int(r["false_activations"] or 0) for r in sel)
+        lines.append(
+            f"{m}: {len(sel) - untested} tested, {untested} not tested; {n['collision']} "
+            f"collisions, {n['near miss']} near misses; {false} false activations  "
+        )
     return "\n".join(lines) + "\n"
 
 

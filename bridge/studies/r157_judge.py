@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from hiyari.bridge.loop.execute import RunOptions, execute
-from hiyari.bridge.loop.result import JUDGE_KEYS, RESULT_KEYS
+from hiyari.bridge.loop.result import JUDGE_KEYS, NOT_TESTED, RESULT_KEYS
 from hiyari.bridge.loop.toml_runs import preset_spec
 from hiyari.bridge.loop.warm import ProcessCache
 from hiyari.bridge.openscenario.presets.toml_file import SENSOR_NAMES, ConcreteScenario
@@ -56,6 +56,7 @@ class JudgeOptions:
     params: CCParams = field(default_factory=CCParams)  # the C&C model of the expectations
     warm: bool = True  # each worker builds the road, scene and rig once (same rows)
     end_when_decided: bool = True  # stop a run once its judged values cannot change
+    stack: str = ""  # "module:callable" stack factory of the ego ('' hiyari's default stack)
 
 
 def check_expectations(points: list[R157Point], params: CCParams) -> None:
@@ -92,20 +93,37 @@ class JudgeReport:
         for cond in self.conditions:
             rows = [r for r in self.rows if r["condition"] == cond]
             prev = [r for r in rows if r["expected"] == "preventable"]
-            failed = [r["id"] for r in prev if r["verdict"] != "pass"]
+            untested = [r["id"] for r in prev if r["verdict"] == NOT_TESTED]
+            failed = [r["id"] for r in prev if r["verdict"] not in ("pass", NOT_TESTED)]
+            tested = [r for r in rows if r["verdict"] not in (NOT_TESTED, "crashed", "error")]
+            verdict = "fail" if failed else "not tested" if untested else "pass"
             out[cond] = {
                 "crashed": sum(r["verdict"] == "crashed" for r in rows),
                 "points": len(rows),
+                "tested": len(tested),
+                "not_tested": sum(r["verdict"] == NOT_TESTED for r in rows),
                 "preventable": len(prev),
-                "passed": len(prev) - len(failed),
+                "passed": sum(r["verdict"] == "pass" for r in prev),
                 "failed": len(failed),
+                "preventable_not_tested": len(untested),
                 "unpreventable_collided": sum(
-                    r["collision"] == "True" for r in rows if r["expected"] != "preventable"
+                    r["collision"] == "True" for r in tested if r["expected"] != "preventable"
                 ),
-                "verdict": "pass" if not failed else "fail",
+                "collisions": sum(r["collision"] == "True" for r in tested),
+                "near_misses": sum(_count(r["near_misses"]) for r in tested),
+                "false_activations": sum(_count(r["false_activations"]) for r in rows),
+                # fail: a Preventable point collided; not tested: none did, but some were not
+                # tested (nothing to pass on); pass: every Preventable point tested and passed
+                "verdict": verdict,
                 "failed_points": failed,
+                "not_tested_points": untested,
             }
         return out
+
+
+def _count(x: object) -> int:
+    """A count column of a row (empty for a failed run)."""
+    return int(x) if x not in ("", None) else 0
 
 
 def duration_for(point: R157Point, options: JudgeOptions) -> float:
@@ -148,6 +166,7 @@ def point_scenario(
         sensors=options.sensors,
         aeb_delay=options.aeb_delay,
         environment=preset,
+        stack=options.stack,
     )
 
 
@@ -202,6 +221,22 @@ def crashed_row(task: PointRun, crash: Crashed) -> dict:
     }
 
 
+def point_verdict(point: R157Point, row: dict) -> str:
+    """A run's verdict: crashed / error (the run failed), not tested (the ego braked hard,
+    stopped or left its lane before the manoeuvre started: hiyari.risk.metrics.tested; never
+    a pass, whatever the point's region), n/a (Unpreventable), else fail on a collision and
+    pass without one."""
+    if row["status"] == "crashed":
+        return "crashed"
+    if row["status"] != "ok":
+        return "error"
+    if not row["tested"]:
+        return NOT_TESTED
+    if point.expected != "preventable":
+        return "n/a"
+    return "fail" if row["collision"] else "pass"
+
+
 def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True) -> JudgeReport:
     """Run every point under every condition; return the report (rows in point order)."""
     from tqdm import tqdm
@@ -239,14 +274,7 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
         WORKER_CACHE.clear()  # runs made in this process (in_process) leave nothing behind
     for i, (point, cond) in enumerate(meta):
         r = results[i]
-        if r["status"] == "crashed":
-            verdict = "crashed"
-        elif r["status"] != "ok":
-            verdict = "error"
-        elif point.expected != "preventable":
-            verdict = "n/a"
-        else:
-            verdict = "fail" if r["collision"] else "pass"
+        verdict = point_verdict(point, r)
         report.rows.append(
             {
                 "id": point.id,

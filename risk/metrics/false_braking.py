@@ -75,3 +75,52 @@ def false_braking(
             peak_decel=float(peak[hit].max()) if hit.any() else 0.0,
         )
     return out
+
+
+@dataclass(frozen=True)
+class FalseActivationRule:
+    """What counts as a false activation of the ego's emergency functions (SI).
+
+    An activation step is one with an AEB stage (warning included) or a braking command
+    harder than ``comfort_decel``; an activation is a maximal run of such steps. It is false
+    when at none of its steps a ground-truth actor is in conflict with the ego: every
+    ground-truth TTC (hiyari.risk.metrics.ground_truth.time_to_collision, footprints overlapping
+    along the ego's corridor) above ``conflict_ttc``. docs/models.md §4, "False activations".
+    """
+
+    #: m/s^2: the ACC's comfort limit (ACCConfig.max_decel): only the AEB brakes harder.
+    comfort_decel: float = 3.0
+    #: s: ground truth is in conflict while some actor's TTC is at or below this. 1.5 times
+    #: the AEB's warning threshold (2.6 s): a stage the sensors raise a little early for a
+    #: real threat, or for one a little farther than the stack estimates, is not false.
+    conflict_ttc: float = 4.0
+
+
+def false_activations(
+    t: np.ndarray,
+    accel: np.ndarray,
+    aeb_stage: np.ndarray,
+    ttc_true: np.ndarray,
+    rule: FalseActivationRule = FalseActivationRule(),
+) -> tuple[int, float]:
+    """(count, first time s or nan) of false activations (:class:`FalseActivationRule`) from
+    per-step series: time ``t`` (s), commanded acceleration ``accel`` (m/s^2), AEB stage
+    decided (int, 0: off) and the smallest ground-truth TTC over all actors ``ttc_true`` (s,
+    inf: none)."""
+    t = np.asarray(t, float)
+    n = len(t)
+    if n == 0:
+        return 0, float("nan")
+    stage = np.asarray(aeb_stage if len(aeb_stage) == n else np.zeros(n), float)
+    active = (stage > 0) | (np.asarray(accel, float) < -rule.comfort_decel)
+    if not active.any():
+        return 0, float("nan")
+    start = active & ~np.concatenate([[False], active[:-1]])
+    episode = np.cumsum(start) - 1
+    k = int(start.sum())
+    conflict = np.asarray(ttc_true, float) <= rule.conflict_ttc
+    justified = np.bincount(episode[active], conflict[active], k) > 0
+    false = ~justified
+    if not false.any():
+        return 0, float("nan")
+    return int(false.sum()), float(t[start][false][0])

@@ -15,6 +15,7 @@ from enum import IntEnum
 
 import numpy as np
 
+from hiyari.bridge.loop.stack.corridor import PathCurvature, to_corridor
 from hiyari.kinematics import Pose, footprint_entry_time, footprint_extent
 from hiyari.sensors.outputs import ObjectList
 from hiyari.units import G
@@ -71,20 +72,28 @@ class ACCConfig:
     follow: bool = True
 
 
-def time_to_collision(tracks: ObjectList, ego: Pose, cfg: AEBConfig) -> np.ndarray:
+def time_to_collision(
+    tracks: ObjectList, ego: Pose, cfg: AEBConfig, curvature: float = 0.0
+) -> np.ndarray:
     """(N,) s until each track's footprint first overlaps the ego's; inf when never or beyond
     ``cfg.horizon``.
 
     Slab test on the ego's axes (hiyari.kinematics.footprint_entry_time): tracks at their
     relative velocity, each footprint along its velocity over ground (track_heading), the
-    ego's widened by ``cfg.lateral_margin`` on each side.
+    ego's widened by ``cfg.lateral_margin`` on each side; along the ego's corridor, an arc
+    of ``curvature`` (1/m, the road's: bridge.loop.stack.corridor).
     """
     if len(tracks) == 0:
         return np.zeros(0)
+    heading = track_heading(tracks, ego)
+    pos, vel, heading = to_corridor(
+        tracks.position[:, :2], np.nan_to_num(tracks.velocity[:, :2]), heading, ego.speed,
+        curvature, heading == 0.0, tracks.size[:, 0],
+    )  # fmt: skip
     ttc = footprint_entry_time(
-        tracks.position[:, :2],
-        np.nan_to_num(tracks.velocity[:, :2]),
-        track_heading(tracks, ego),
+        pos,
+        vel,
+        heading,
         ego.length,
         ego.width + 2 * cfg.lateral_margin,
         tracks.size[:, 0],
@@ -154,6 +163,7 @@ class AEBPlanner:
         self._pending: deque[tuple[float, float]] = deque()  # (apply_at, decel)
         self._applied = 0.0
         self._latched = 0.0  # m/s^2 held until standstill
+        self._path = PathCurvature()  # the road's curvature, for the corridor
 
     def plan(self, tracks: ObjectList, ego: Pose, time: float) -> EgoCommand:
         """Acceleration command for this step from the fused tracks (ego frame): ACC and AEB
@@ -167,7 +177,7 @@ class AEBPlanner:
             if tracks.velocity_sigma is not None:
                 keep &= tracks.velocity_sigma <= self.aeb.max_velocity_sigma
             tracks = select(tracks, keep)
-        ttc = time_to_collision(tracks, ego, self.aeb)
+        ttc = time_to_collision(tracks, ego, self.aeb, self._path.update(ego))
         k = int(np.argmin(ttc)) if len(ttc) else -1
         ttc_min = float(ttc[k]) if k >= 0 else float("inf")
         stage = self._stage(ttc_min, ego)

@@ -28,7 +28,8 @@ COLUMNS = (
     "point_id", "test", "lighting", "index", "seed", "row", "col", "test_speed_kmh",
     "reference_kmh", "status", "error", "contact", "collided_with", "impact_speed_kmh",
     "relative_impact_speed_kmh", "warning_ttc_s", "aeb_first_time_s", "min_ttc_s",
-    "speed_before_window_kmh", "final_speed_kmh", "sim_seconds", "wall_seconds",
+    "speed_before_window_kmh", "final_speed_kmh", "tested", "untested_cause",
+    "false_activations", "near_misses", "sim_seconds", "wall_seconds",
 )  # fmt: skip
 
 
@@ -124,6 +125,10 @@ def measure(point: NcapPoint, res: RunResult) -> dict:
         "min_ttc_s": _num(res.min_ttc),
         "speed_before_window_kmh": round(worst, 3),
         "final_speed_kmh": _kmh(res.final_speed),
+        "tested": res.tested().tested,
+        "untested_cause": res.tested().reason,
+        "false_activations": res.false_activations(),
+        "near_misses": len(res.near_misses()),
         "sim_seconds": round(res.sim_seconds, 3),
     }
 
@@ -132,6 +137,10 @@ def score_row(test: NcapTest, row: dict) -> scoring.PointScore:
     """The scored point of a results row (file values: strings or numbers)."""
     if row["status"] != "ok":
         return scoring.PointScore(test.key, row["lighting"], None, f"run failed: {row['error']}")
+    if str(row.get("tested", "")) == "False":  # hiyari.risk.metrics.tested: never a pass
+        return scoring.PointScore(
+            test.key, row["lighting"], None, f"not tested: {row.get('untested_cause', '')}"
+        )
     test_kmh = float(row["test_speed_kmh"])
     held, worst = scoring.speed_held([float(row["speed_before_window_kmh"])], test_kmh)
     if not held:

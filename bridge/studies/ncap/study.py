@@ -16,7 +16,7 @@ import csv
 import json
 import shutil
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -233,6 +233,16 @@ def run_study(
         tests, rows, scored, totals(tests, scored.values(), options.protocol), len(todo),
         len(points) - len(todo),
     )  # fmt: skip
+
+
+def activation_counts(rows: Iterable[dict]) -> tuple[int, int]:
+    """(near misses, false activations) summed over the results rows (their runs that ran)."""
+    near = false = 0
+    for r in rows:
+        if r.get("status") == "ok":
+            near += int(r.get("near_misses") or 0)
+            false += int(r.get("false_activations") or 0)
+    return near, false
 
 
 def _lost(p: scoring.PointScore) -> bool:

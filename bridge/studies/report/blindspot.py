@@ -22,12 +22,29 @@ def _verdict(r: CaseResult) -> str:
         return f"crashed ({r.crashed}; run again)"
     if r.collision is None:
         return "not run"
+    if r.tested is False:
+        return f"NOT TESTED ({r.untested_cause})"
     if r.collision:
         return "COLLISION"
+    near = ", NEAR MISS" if r.near_misses else ""
     return (
-        f"no collision, min TTC {r.min_ttc_s:.1f} s"
+        f"no collision, min TTC {r.min_ttc_s:.1f} s{near}"
         if math.isfinite(r.min_ttc_s)
-        else "no conflict"
+        else f"no conflict{near}"
+    )
+
+
+def verdict_counts(results: list[CaseResult]) -> str:
+    """One line: runs tested and not tested, collisions and near misses of the tested ones,
+    false activations of all (cases with one, and their sum)."""
+    run = [r for r in results if r.collision is not None]
+    tested = [r for r in run if r.tested is not False]
+    false = [r.false_activations or 0 for r in run]
+    return (
+        f"Closed loop: {len(run)} runs, {len(tested)} tested, {len(run) - len(tested)} not "
+        f"tested; {sum(bool(r.collision) for r in tested)} collisions, "
+        f"{sum(bool(r.near_misses) for r in tested)} near misses; false activations in "
+        f"{sum(f > 0 for f in false)} of {len(run)} runs ({sum(false)} in all)."
     )
 
 
@@ -43,14 +60,18 @@ def catalogue_markdown(results: list[CaseResult]) -> str:
         f"Ray-cast check: {hidden} of {len(results)} run cases have the hidden car below "
         f"{100 * HIDDEN_BELOW:.0f} % of its clear-view LiDAR returns at the start.",
         "",
-        "| case | geometry | hidden-car start (m from slot centre) | LiDAR visible % | occluded | AEB stage | verdict |",
-        "|---|---|---:|---:|---|---:|---|",
+        verdict_counts(results),
+        "",
+        "| case | geometry | hidden-car start (m from slot centre) | LiDAR visible % | occluded | AEB stage | false activations | verdict |",
+        "|---|---|---:|---:|---|---:|---:|---|",
     ]
     for r in results:
         stage = "-" if r.aeb_max_stage is None else str(r.aeb_max_stage)
+        false = "-" if r.false_activations is None else str(r.false_activations)
         lines.append(
             f"| {r.combo.name} | {r.combo.geometry.value} | {r.shift_m:+.1f} | "
-            f"{100 * r.visible_fraction:.0f} | {'yes' if r.hidden else 'no'} | {stage} | {_verdict(r)} |"
+            f"{100 * r.visible_fraction:.0f} | {'yes' if r.hidden else 'no'} | {stage} | "
+            f"{false} | {_verdict(r)} |"
         )
     return "\n".join(lines) + "\n"
 

@@ -119,8 +119,13 @@ def _summary(cells: list[Cell], rows: list[dict]) -> tuple[list[list[str]], str]
     n_pass = sum(r["passed"] == "True" for r in rows)
     prevent = [r for r in rows if r["preventable"] == "True"]
     crashed = sum(r["passed"] == "crashed" for r in rows)
-    prevent_fail = sum(r["passed"] not in ("True", "crashed") for r in prevent)
-    worse = len(rows) - n_pass - prevent_fail - crashed
+    untested = sum(r["passed"] == "not tested" for r in rows)
+    prevent_fail = sum(r["passed"] not in ("True", "crashed", "not tested") for r in prevent)
+    worse = len(rows) - n_pass - prevent_fail - crashed - untested
+    tested = [r for r in rows if r["passed"] not in ("crashed", "not tested")]
+    collisions = sum(r["collision"] == "True" for r in tested)
+    near = sum(int(r.get("near_misses") or 0) for r in tested)
+    false = sum(int(r.get("false_activations") or 0) for r in rows)
     partial = len(stats) < runnable
     scope = (f"{len(stats)} of the {runnable} applicable cells run (partial: a --cells "
              "selection)" if partial else f"all {runnable} applicable cells run")  # fmt: skip
@@ -129,9 +134,10 @@ def _summary(cells: list[Cell], rows: list[dict]) -> tuple[list[list[str]], str]
     elif n_pass == len(rows):
         line = f"all {len(rows)} runs passed; {scope}"
     else:
-        line = (f"{len(rows) - n_pass} of {len(rows)} runs failed ({prevent_fail} collisions "
-                f"where the C&C driver avoids one, {worse} impacts harder than the C&C "
-                f"driver's + {IMPACT_TOLERANCE:g} m/s, {crashed} crashed); {scope}")  # fmt: skip
+        line = (f"{len(rows) - n_pass - untested} of {len(rows)} runs failed ({prevent_fail} "
+                f"collisions where the C&C driver avoids one, {worse} impacts harder than the "
+                f"C&C driver's + {IMPACT_TOLERANCE:g} m/s, {crashed} crashed); {untested} not "
+                f"tested (never passed); {scope}")  # fmt: skip
     table = [
         ["verdict", verdict(rows)],
         ["concrete runs", f"{len(rows)} in {len(stats)} cells"],
@@ -139,6 +145,12 @@ def _summary(cells: list[Cell], rows: list[dict]) -> tuple[list[list[str]], str]
         ["failed: collision where the C&C driver avoids one", str(prevent_fail)],
         [f"failed: impact > C&C driver's + {IMPACT_TOLERANCE:g} m/s", str(worse)],
         ["Preventable runs (C&C avoids) passed", f"{len(prevent) - prevent_fail} / {len(prevent)}"],
+        [
+            "not tested (braked hard, stopped or left the lane before the disturbance)",
+            str(untested),
+        ],
+        ["tested runs: collisions / near misses", f"{collisions} / {near}"],
+        ["false activations (AEB or hard braking, no ground-truth conflict)", str(false)],
         ["crashed runs (worker process died; the same command again retries them)", str(crashed)],
         ["catalogue cells (position x lane count)", str(len(cells))],
     ]

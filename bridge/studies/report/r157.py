@@ -57,6 +57,7 @@ _STYLE = {
     "fail": ("tab:red", "X", "FAIL (Preventable, collided)"),
     "n/a collided": ("0.2", "s", "Unpreventable point, collided (allowed)"),
     "n/a avoided": ("0.65", "s", "Unpreventable point, avoided"),
+    "not tested": ("tab:orange", "v", "not tested (braked, stopped or left the lane before)"),
     "error": ("k", "*", "run error"),
     "crashed": ("tab:purple", "*", "run crashed (worker process died)"),
 }
@@ -99,9 +100,10 @@ def _finish(fig: Figure, rows: list[dict], extra: list, title: str, params: CCPa
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 4))
     prev = [r for r in rows if r["expected"] == "preventable"]
     passed = sum(r["verdict"] == "pass" for r in prev)
+    untested = sum(r["verdict"] == "not tested" for r in rows)
     outcome = (
         f"{'PASS' if passed == len(prev) else 'FAIL'}: {passed} of {len(prev)} Preventable "
-        f"points passed; {len(rows) - len(prev)} Unpreventable points"
+        f"points passed; {len(rows) - len(prev)} Unpreventable points; {untested} not tested"
     )
     note = textwrap.fill(params.convention_note(), width=int(13 * fig.get_figwidth()))
     fig.suptitle(f"{title}\n{outcome}\n{note}", fontsize=10)

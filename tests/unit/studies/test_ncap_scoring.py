@@ -91,6 +91,15 @@ def test_rows_scored_as_the_protocol_measures() -> None:
     assert failed.colour is None and failed.not_tested == "run failed: HiyariError: x"
 
 
+def test_a_run_not_tested_scores_nothing_even_without_contact() -> None:
+    """Issue 30, item 1: an ego that braked before the target moved avoided nothing."""
+    t = {x.key: x for x in TESTS}
+    cause = "braked at 0.30 s, before the disturbance at 1.50 s"
+    s = score_row(t["CCFtap"], _row(contact=False, tested=False, untested_cause=cause))
+    assert s.colour is None and s.not_tested == f"not tested: {cause}"
+    assert score_row(t["CCFtap"], _row(contact=False, tested=True)).colour is G
+
+
 def test_every_rule_names_its_source_and_the_unfound_ones_are_marked() -> None:
     for rule in scoring.RULES:
         assert rule.source and isinstance(rule.assumed, bool)

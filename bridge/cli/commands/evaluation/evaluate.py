@@ -74,9 +74,13 @@ def evaluate(args: argparse.Namespace) -> int:
     html = write_report(out, cells, rows, run_conf, options.ranges, structures)
     n_pass = sum(r["passed"] == "True" for r in rows)
     crashed = sum(r["passed"] == "crashed" for r in rows)
+    untested = sum(r["passed"] == "not tested" for r in rows)
+    near = sum(int(r.get("near_misses") or 0) for r in rows)
+    false = sum(int(r.get("false_activations") or 0) for r in rows)
     print(
-        f"{len(rows)} runs, {n_pass} passed, {len(rows) - n_pass - crashed} failed, "
-        f"{crashed} crashed; {wall:.1f} s wall"
+        f"{len(rows)} runs, {n_pass} passed, {len(rows) - n_pass - crashed - untested} failed, "
+        f"{crashed} crashed, {untested} not tested; {near} near misses, {false} false "
+        f"activations; {wall:.1f} s wall"
     )
     print(f"report: {html}")
     if crashed:

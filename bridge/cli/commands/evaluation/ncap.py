@@ -77,8 +77,11 @@ def ncap(args: argparse.Namespace) -> int:
               f"({p.percent:.1f} %)")  # fmt: skip
     lost = sum(s.colour is not None and s.colour.value != "green" for s in result.points.values())
     untested = sum(s.colour is None for s in result.points.values())
+    from hiyari.bridge.studies.ncap.study import activation_counts
+
+    near, false = activation_counts(result.rows.values())
     print(f"{len(result.points)} test points: {lost} lost points, {untested} not tested; "
-          f"{wall:.1f} s wall")  # fmt: skip
+          f"{near} near misses, {false} false activations; {wall:.1f} s wall")  # fmt: skip
     print(f"report: {html}")
     return status.verdict(lost == 0 and untested == 0)
 

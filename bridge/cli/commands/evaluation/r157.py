@@ -108,9 +108,14 @@ def run_judge(args: argparse.Namespace) -> int:
     for cond, s in report.summary().items():
         print(
             f"{cond}: {s['verdict'].upper()}: {s['passed']}/{s['preventable']} Preventable points "
-            f"passed, {s['failed']} failed; {s['unpreventable_collided']} of "
-            f"{s['points'] - s['preventable']} unpreventable points collided"
+            f"passed, {s['failed']} failed, {s['preventable_not_tested']} not tested; "
+            f"{s['unpreventable_collided']} of {s['points'] - s['preventable']} unpreventable "
+            f"points collided; {s['tested']} of {s['points']} points tested, "
+            f"{s['not_tested']} not tested; {s['near_misses']} near misses, "
+            f"{s['false_activations']} false activations"
         )
+        for pid in s["not_tested_points"][:10]:
+            print(f"   not tested: {pid}")
         for pid in s["failed_points"][:10]:
             print(f"   failed: {pid}")
         if s["failed"] > 10:

@@ -213,8 +213,12 @@ def _write_table(out: Path, rows: list[dict], skipped: int = 0) -> None:
         w.writerows(rows)
     n_coll = sum(r["collision"] for r in rows)
     skip = f", {skipped} skipped: constraint" if skipped else ""
+    untested = sum(r.get("tested") is False for r in rows)
+    near = sum(int(r.get("near_misses") or 0) for r in rows)
+    false = sum(int(r.get("false_activations") or 0) for r in rows)
     print(
-        f"{len(rows) + skipped} run(s){skip}, {n_coll} collision(s); table: {out / 'results.csv'}"
+        f"{len(rows) + skipped} run(s){skip}, {n_coll} collision(s), {untested} not tested, "
+        f"{near} near miss(es), {false} false activation(s); table: {out / 'results.csv'}"
     )
 
 

@@ -9,6 +9,10 @@ in plan order (workers finish in any order), so the same inputs give the same fi
 recording (``<out>/recordings/<run_id>.mcap``; runs are deterministic, so the recording is
 the failing run) and its static replay page (``<run_id>.html``).
 
+A run that did not test its disturbance (the ego braked hard, stopped or left its lane before
+it: hiyari.risk.metrics.tested) has ``passed = "not tested"`` and the reason in ``cause``: it
+is neither passed nor failed.
+
 A run whose worker process dies (a native crash, an out-of-memory kill) gets a row with
 ``passed = "crashed"`` and the signal in ``cause``; the other runs go on, and the same
 command again runs it anew (its new row replaces the crashed one).
@@ -49,8 +53,12 @@ COLUMNS = (
     "run_id", "cell", "combination", "geometry", "ego_motion", "position", "motion", "lanes",
     "params", "collision", "collided_with", "impact_mps", "min_gap_m", "min_ttc_s",
     "aeb_first_s", "collision_time_s", "cc_collision", "cc_impact_mps", "cc_source",
-    "preventable", "passed", "cause", "wall_s",
+    "preventable", "passed", "cause", "tested", "false_activations", "near_misses",
+    "min_vru_clearance_m", "wall_s",
 )  # fmt: skip
+#: ``passed`` of a run that did not test its disturbance (hiyari.risk.metrics.tested): neither
+#: passed nor failed, whatever it collided with.
+NOT_TESTED = "not tested"
 
 
 @dataclass(frozen=True)
@@ -145,7 +153,8 @@ def run_row(task: tuple[ConcreteCase, RunConfig]) -> dict:
         expected = Expectation(ref.collision, ref.relative_impact_speed if ref.collision else 0.0,
                                "reference")  # fmt: skip
     impact = res.relative_impact_speed if res.collision else 0.0
-    passed = judge(res.collision, impact, expected)
+    tested = res.tested()
+    passed = judge(res.collision, impact, expected) if tested.tested else NOT_TESTED
     c = case.cell.combination
     return {
         "run_id": case.run_id,
@@ -169,7 +178,11 @@ def run_row(task: tuple[ConcreteCase, RunConfig]) -> dict:
         "cc_source": expected.source,
         "preventable": expected.preventable,
         "passed": passed,
-        "cause": "" if passed else _cause(res, expected),
+        "cause": tested.reason if not tested.tested else "" if passed else _cause(res, expected),
+        "tested": tested.tested,
+        "false_activations": res.false_activations(),
+        "near_misses": len(res.near_misses()),
+        "min_vru_clearance_m": round(res.min_clearance(True), 3),
         "wall_s": round(time.perf_counter() - t0, 3),
     }
 

@@ -70,7 +70,11 @@ class CatalogueHooks(EngineHooks):
         super().__init__(engine, sim, scoring)
         self.roads = roads
         self.lane_change = lane_change
+        self._commanded = False  # the case's own lane change is under way or done
         self._world: WorldState | None = None
+
+    def ego_lane_scripted(self) -> bool:
+        return self._commanded or super().ego_lane_scripted()
 
     def after_step(self, sim: Simulation, world: WorldState) -> bool:
         self._world = world
@@ -87,6 +91,7 @@ class CatalogueHooks(EngineHooks):
         if lane is not None:
             sim.change_lane(self.ego_id, lane.index, LANE_HOLD_S)
             self.lane_change = None
+            self._commanded = True
 
 
 def case_spec(case: ConcreteCase, config: RunConfig, stack: StackFactory | None = None) -> RunSpec:

@@ -43,6 +43,12 @@ class CaseResult:
     aeb_max_stage: int | None
     crashed: str = ""
     """Why the closed-loop run's worker process died ("": it did not; then collision is None)."""
+    tested: bool | None = None
+    """Whether the run tested its disturbance (hiyari.risk.metrics.tested); None: not run."""
+    untested_cause: str = ""
+    false_activations: int | None = None
+    """AEB stages or hard braking with no ground-truth conflict (None: not run)."""
+    near_misses: int | None = None
 
     @property
     def hidden(self) -> bool:
@@ -57,14 +63,23 @@ def check_occlusion(combo: Combination, probe: OcclusionProbe) -> tuple[float, f
     return cands[best], fraction
 
 
-def _closed_loop(task: tuple[object, Path]) -> tuple[bool, float, int]:
-    """(collision, min TTC s, highest AEB stage) of one scenario run on its SUMO net."""
+def _closed_loop(task: tuple[object, Path]) -> dict:
+    """The CaseResult fields of one scenario run on its SUMO net."""
     from hiyari.bridge.loop.execute import execute
     from hiyari.bridge.loop.spec import EgoSetup, model_spec
 
     scenario, net = task
     res = execute(model_spec(scenario, EgoSetup(perception="sensors"), net))
-    return res.collision, res.min_ttc, res.aeb_max_stage
+    tested = res.tested()
+    return {
+        "collision": res.collision,
+        "min_ttc_s": res.min_ttc,
+        "aeb_max_stage": res.aeb_max_stage,
+        "tested": tested.tested,
+        "untested_cause": tested.reason,
+        "false_activations": res.false_activations(),
+        "near_misses": len(res.near_misses()),
+    }
 
 
 def run_catalogue(
@@ -106,6 +121,6 @@ def run_catalogue(
             if isinstance(res, Crashed):
                 out[i] = replace(out[i], crashed=str(res))
             else:
-                out[i] = replace(out[i], collision=res[0], min_ttc_s=res[1], aeb_max_stage=res[2])
+                out[i] = replace(out[i], **res)
             bar.update(1)
     return out

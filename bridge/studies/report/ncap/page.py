@@ -11,7 +11,7 @@ from pathlib import Path
 
 from hiyari.atomic import write_text_atomic
 from hiyari.bridge.studies.ncap import scoring
-from hiyari.bridge.studies.ncap.study import NcapResult
+from hiyari.bridge.studies.ncap.study import NcapResult, activation_counts
 from hiyari.bridge.studies.report.ncap.grids import write_grid
 
 STYLE = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
@@ -51,6 +51,10 @@ def write_report(out: Path, result: NcapResult, config: dict) -> Path:
             t = by_test[s.scenario]
             body.append([e(s.scenario), e(t.title), e("/".join(t.lightings)), str(s.tested),
                          str(s.not_tested), f"{s.points:.3f}", f"{s.max_points:.2f}"])  # fmt: skip
+    near, false = activation_counts(result.rows.values())
+    parts.append(f"<p>{near} near misses and {false} false activations (AEB stage or braking "
+                 "beyond the ACC's comfort limit with no ground-truth conflict) over the runs; "
+                 "runs not tested score nothing and are listed below.</p>")  # fmt: skip
     parts.append("<h2 id=points>Points per scenario</h2>" + _table(
         ["scenario", "test", "lighting", "points tested", "not tested", "points",
          "of (assumed)"], body))  # fmt: skip
