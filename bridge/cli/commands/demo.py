@@ -80,8 +80,8 @@ def run(args: argparse.Namespace) -> int:
     command = shlex.join(["hiyari", *args.argv]) + " (its catalogue stage)"
     c = run_catalogue_demo(out / "catalogue", args.catalogue_runs, args.workers, command)
     print(
-        f"   {c['verdict']}: {c['passed']}/{c['runs']} runs passed, "
-        f"{c['preventable_passed']}/{c['preventable']} "
+        f"   {c['verdict']}: {c['passed']}/{c['runs']} runs passed ({c['not_tested']} not "
+        f"tested), {c['preventable_passed']}/{c['preventable']} "
         f"Preventable; {c['report']} ({time.perf_counter() - t:.1f} s)"
     )
 

@@ -36,6 +36,7 @@ def run_catalogue_demo(out: Path, runs_per_cell: int, workers: int, command: str
         "verdict": verdict(rows),
         "runs": len(rows),
         "passed": sum(r["passed"] == "True" for r in rows),
+        "not_tested": sum(r["passed"] == "not tested" for r in rows),
         "preventable": len(prevent),
         "preventable_passed": sum(r["passed"] == "True" for r in prevent),
         "report": html,
