@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Protocol
 from hiyari.bridge.loop.scenario_environment import disturbance_from, grip
 from hiyari.bridge.loop.stack.aeb import ACCConfig, AEBConfig, AEBPlanner
 from hiyari.bridge.loop.stack.fusion import KalmanFusion
-from hiyari.bridge.loop.stack.interfaces import EgoStack
+from hiyari.bridge.loop.stack.interfaces import EgoStack, Perception
 from hiyari.bridge.loop.stack.perception_sensors import SensorPerception
 from hiyari.bridge.loop.stack.perception_truth import NoPerception, PerfectPerception
 from hiyari.bridge.loop.warm import WarmCache
@@ -106,34 +106,38 @@ class EgoSetup:
         }
 
 
-def default_stack(ctx: StackContext) -> EgoStack:
-    """hiyari's stack: perfect / no / sensor perception, Kalman fusion, ACC + AEB. The sensors
-    cast into ``ctx.warm``'s scene of the road when there is one (built once per process).
-    With the environment "scenario" the sensors see the scenario's EnvironmentAction (clear
-    when it has none); the road's friction scales the decelerations the planner commands."""
+def default_perception(ctx: StackContext) -> Perception:
+    """The setup's perception: perfect, none, or the default sensor rig, casting into
+    ``ctx.warm``'s scene of the road when there is one (built once per process). With the
+    environment "scenario" the sensors see the scenario's EnvironmentAction (clear when it
+    has none)."""
     s = ctx.setup
     preset = disturbance_preset(s.environment if s.environment != SCENARIO_ENVIRONMENT else "clear")
     if s.environment == SCENARIO_ENVIRONMENT and ctx.environment is not None:
         preset = disturbance_from(ctx.environment)
     if s.perception == "perfect":
-        perception = PerfectPerception()
-    elif s.perception == "none":
-        perception = NoPerception()
-    elif ctx.warm is not None:
+        return PerfectPerception()
+    if s.perception == "none":
+        return NoPerception()
+    if ctx.warm is not None:
         scene = ctx.warm.scene(ctx.network, buildings=False, workers=CAST_WORKERS)
         rig = ctx.warm.rig(s.sensors)
-        perception = SensorPerception(scene, rig, preset, ctx.ego_id, s.step_length, s.seed)
-    else:
-        perception = SensorPerception.default_rig(
-            ctx.network, s.sensors, s.environment, s.step_length, s.seed, ctx.ego_id,
-            workers=CAST_WORKERS, preset=preset,
-        )  # fmt: skip
+        return SensorPerception(scene, rig, preset, ctx.ego_id, s.step_length, s.seed)
+    return SensorPerception.default_rig(
+        ctx.network, s.sensors, s.environment, s.step_length, s.seed, ctx.ego_id,
+        workers=CAST_WORKERS, preset=preset,
+    )  # fmt: skip
+
+
+def default_stack(ctx: StackContext) -> EgoStack:
+    """hiyari's stack: :func:`default_perception`, Kalman fusion, ACC + AEB; the road's
+    friction (the scenario's environment) scales the decelerations the planner commands."""
     mu = min(1.0, grip(ctx.environment))
-    aeb = AEBConfig(actuation_delay=s.aeb_delay)
+    aeb = AEBConfig(actuation_delay=ctx.setup.aeb_delay)
     aeb = replace(aeb, partial_decel_g=aeb.partial_decel_g * mu, full_decel_g=aeb.full_decel_g * mu)
     acc = ACCConfig(set_speed=ctx.set_speed)
     planner = AEBPlanner(replace(acc, max_decel=acc.max_decel * mu), aeb)
-    return EgoStack(perception, KalmanFusion(), planner)
+    return EgoStack(default_perception(ctx), KalmanFusion(), planner)
 
 
 def load_stack(name: str, where: str) -> StackFactory:

@@ -4,31 +4,20 @@ the user's stack factory (``--stack module:callable``, the contract of ``hiyari 
 
 from __future__ import annotations
 
-from hiyari.bridge.loop.spec import StackContext, StackFactory, load_stack
+from hiyari.bridge.loop.spec import StackContext, StackFactory, default_perception, load_stack
 from hiyari.bridge.loop.stack.aeb import ACCConfig, AEBConfig, AEBPlanner
 from hiyari.bridge.loop.stack.fusion import KalmanFusion
 from hiyari.bridge.loop.stack.interfaces import EgoStack
-from hiyari.bridge.loop.stack.perception_sensors import SensorPerception
-from hiyari.bridge.loop.stack.perception_truth import NoPerception, PerfectPerception
 
 
 def ncap_stack(ctx: StackContext, aeb: AEBConfig | None = None) -> EgoStack:
     """hiyari's stack for a test: the setup's perception, Kalman fusion, speed keeping at the
     test speed and the staged AEB ``aeb`` (None: the defaults with the setup's delay)."""
-    s = ctx.setup
-    if s.perception == "perfect":
-        perception = PerfectPerception()
-    elif s.perception == "none":
-        perception = NoPerception()
-    else:
-        perception = SensorPerception.default_rig(
-            ctx.network, s.sensors, s.environment, s.step_length, s.seed, ego_id=ctx.ego_id
-        )
     planner = AEBPlanner(
         ACCConfig(set_speed=ctx.set_speed, follow=False),
-        aeb or AEBConfig(actuation_delay=s.aeb_delay),
+        aeb or AEBConfig(actuation_delay=ctx.setup.aeb_delay),
     )
-    return EgoStack(perception, KalmanFusion(), planner)
+    return EgoStack(default_perception(ctx), KalmanFusion(), planner)
 
 
 def stack_factory(spec: str) -> StackFactory:

@@ -155,17 +155,8 @@ def run_row(task: tuple[ConcreteCase, RunConfig]) -> dict:
     impact = res.relative_impact_speed if res.collision else 0.0
     tested = res.tested()
     passed = judge(res.collision, impact, expected) if tested.tested else NOT_TESTED
-    c = case.cell.combination
     return {
-        "run_id": case.run_id,
-        "cell": case.cell.key,
-        "combination": c.key,
-        "geometry": c.geometry.value,
-        "ego_motion": c.ego.value,
-        "position": case.cell.position.value,
-        "motion": c.motion.value,
-        "lanes": case.cell.lanes,
-        "params": ";".join(f"{k}={v:.4g}" for k, v in case.params.items()),
+        **_case_columns(case),
         "collision": res.collision,
         "collided_with": res.collided_with or "",
         "impact_mps": round(impact, 3),
@@ -187,11 +178,10 @@ def run_row(task: tuple[ConcreteCase, RunConfig]) -> dict:
     }
 
 
-def crashed_row(case: ConcreteCase, crash: Crashed) -> dict:
-    """The row of a run whose worker process died: the case, its parameters, the signal."""
+def _case_columns(case: ConcreteCase) -> dict:
+    """The columns that name a case: its id, cell, combination and parameters."""
     c = case.cell.combination
     return {
-        **dict.fromkeys(COLUMNS, ""),
         "run_id": case.run_id,
         "cell": case.cell.key,
         "combination": c.key,
@@ -201,6 +191,14 @@ def crashed_row(case: ConcreteCase, crash: Crashed) -> dict:
         "motion": c.motion.value,
         "lanes": case.cell.lanes,
         "params": ";".join(f"{k}={v:.4g}" for k, v in case.params.items()),
+    }
+
+
+def crashed_row(case: ConcreteCase, crash: Crashed) -> dict:
+    """The row of a run whose worker process died: the case, its parameters, the signal."""
+    return {
+        **dict.fromkeys(COLUMNS, ""),
+        **_case_columns(case),
         "passed": "crashed",
         "cause": str(crash),
         "wall_s": 0.0,  # not empty: an empty wall_s marks a line cut short
