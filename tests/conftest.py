@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import resource
 import shutil
 import tempfile
 from pathlib import Path
@@ -31,7 +32,13 @@ def pytest_configure(config: pytest.Config) -> None:
     Under pytest-xdist the controller makes that folder before it starts the workers, which
     inherit it (TMPDIR), and checks it once they have all finished. The workers share the
     compiled kernels' cache with every other hiyari process (hiyari/jit.py makes it safe), so a
-    kernel compiles once, not once per worker."""
+    kernel compiles once, not once per worker.
+
+    No core files: several tests crash processes on purpose (the pool's SIGSEGV hook, an
+    aborted xdist worker), and each core of a process with hiyari loaded is about 300 MB in the
+    working folder. On a CI machine with little free disk one of them fills it, and every
+    later run that writes fails."""
+    resource.setrlimit(resource.RLIMIT_CORE, (0, resource.getrlimit(resource.RLIMIT_CORE)[1]))
     if _xdist_worker(config) is not None:
         return
     config.pluginmanager.register(

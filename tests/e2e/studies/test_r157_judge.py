@@ -35,7 +35,10 @@ def test_perfect_perception_passes_every_preventable_point(points, tmp_path):
     report = judge(judged, JudgeOptions(perception="perfect", workers=2), progress=False)
     s = report.summary()["perfect"]
     assert s["preventable"] == len(judged) >= 20
-    assert s["verdict"] == "pass" and s["failed"] == 0, s["failed_points"]
+    why = {
+        r["id"]: (r["verdict"], r["error"]) for r in report.rows if r["id"] in s["failed_points"]
+    }
+    assert s["verdict"] == "pass" and s["failed"] == 0, why
     paths = write_report(report, tmp_path)
     assert {p.name for p in paths} >= {"judge.csv", "summary.json", "judge_cut-in.png"}
 

@@ -41,6 +41,15 @@ def _scenario(tmp_path: Path, stack: str = "") -> Path:
     return p
 
 
+def _errors(table: Path) -> dict[int, str]:
+    """The error column of a sweep table's rows that are not ok (a failed assert shows why)."""
+    return {
+        i: f"{r['status']}: {r['error']}"
+        for i, r in read_table(table).items()
+        if r["status"] != "ok"
+    }
+
+
 def _plan(path: Path) -> TomlPlan:
     return TomlPlan(load_scenario(path))
 
@@ -238,7 +247,7 @@ def test_crashed_run_is_recorded_then_retried(reference, tmp_path, monkeypatch, 
     assert crashed["collision"] == ""
     assert all(rows[i] == ref[i] for i in (0, 1, 3))
     # the rerun retries the crashed run only (the hook stays set: there is no task 2 of 1)
-    assert main(argv) == status.OK
+    assert main(argv) == status.OK, _errors(out / "results.csv")
     assert "4 runs: 1 ran now, 3 already done, 0 failed, 0 crashed" in capsys.readouterr().out
     assert (out / "results.csv").read_bytes() == b"".join(reference.splitlines(True)[:5])
 
@@ -269,5 +278,5 @@ def test_full_disk_stops_the_sweep_keeping_the_rows_done(reference, tmp_path):
     assert sorted(p.name for p in out.iterdir()) == ["results.csv", "timings.csv"]
     from hiyari.bridge.cli.main import main
 
-    assert main(argv) == 0
+    assert main(argv) == 0, _errors(table)
     assert table.read_bytes() == b"".join(lines[:5])

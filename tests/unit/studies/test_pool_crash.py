@@ -50,3 +50,29 @@ def test_one_worker_is_a_worker_and_in_process_is_here():
 def test_an_exception_in_a_run_stops_the_pool_and_is_raised():
     with pytest.raises(ValueError, match="bad value 2"):
         list(run_all(_task, [("ok", 1), ("raise", 2), ("ok", 3)], PoolOptions(workers=2)))
+
+
+NO_CORE_PROBE = """
+import os, resource, sys
+resource.setrlimit(resource.RLIMIT_CORE, (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
+os.environ["HIYARI_TEST_CRASH_RUN"] = "0"
+from hiyari.bridge.studies.pool import Crashed, PoolOptions, run_all
+out = dict(run_all(abs, [-1, -2], PoolOptions(workers=1)))
+sys.exit(0 if isinstance(out[0], Crashed) and out[1] == 2 else 1)
+"""
+
+
+def test_the_crash_hook_writes_no_core_file(tmp_path):
+    """The test-only crash hook kills its worker without a core file even where core dumps
+    are on (a core of a process with hiyari loaded is ~300 MB in the working folder), and
+    the suite itself runs with core files off."""
+    import resource
+    import subprocess
+    import sys
+
+    assert resource.getrlimit(resource.RLIMIT_CORE)[0] == 0  # tests/conftest.py
+    if resource.getrlimit(resource.RLIMIT_CORE)[1] != resource.RLIM_INFINITY:
+        pytest.skip("core dumps cannot be turned on here (hard limit)")
+    proc = subprocess.run([sys.executable, "-c", NO_CORE_PROBE], cwd=tmp_path, timeout=120)
+    assert proc.returncode == 0
+    assert list(tmp_path.iterdir()) == []
