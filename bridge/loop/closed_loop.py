@@ -16,6 +16,7 @@ from hiyari.bridge.loop.result import DetectionStats, RunResult
 from hiyari.bridge.loop.stack.interfaces import EgoStack, EgoStep
 from hiyari.kinematics import Pose
 from hiyari.risk.metrics.ground_truth import TruthConfig, gap_to, path_headway, time_to_collision
+from hiyari.risk.metrics.visibility import in_line_of_sight
 from hiyari.sensors.outputs import ObjectList
 from hiyari.traffic.collision import Collision
 from hiyari.traffic.simulation import Simulation
@@ -191,6 +192,11 @@ def _metrics(
         gap, beside = gap_to(xy, world.heading, world.length, world.width, row, k)
         if beside < 0 and gap > -world.length[k]:
             res.min_gap = min(res.min_gap, gap)
+        if not np.isfinite(res.target_sight_time) and in_line_of_sight(
+            xy, world.heading, world.length, world.width, row, k
+        ):
+            res.target_sight_time = world.time
+            res.target_sight_range = float(np.hypot(*(xy[k] - xy[row])))
     res.clearances.update(
         world.time, world.ids, world.cls, xy, world.heading, world.length, world.width, row,
         ego.speed,

@@ -124,6 +124,10 @@ class RunResult:
     has_disturbance: bool = False
     disturbance_time: float = float("nan")
     lane_left_time: float = float("nan")  # the ego first changed lane on an edge (nan: never)
+    #: the first time the scenario's target was in line of sight of the ego (no other actor's
+    #: footprint between them: hiyari.risk.metrics.visibility), and its range then (centres)
+    target_sight_time: float = float("nan")
+    target_sight_range: float = float("nan")
     #: the closest pass of every actor the ego passed (hiyari.risk.metrics.clearance)
     clearances: PassingClearances = field(default_factory=PassingClearances)
     tested_rule: RunTestedRule = field(default_factory=RunTestedRule)
@@ -136,6 +140,16 @@ class RunResult:
             s.t, s.ego_speed, s.ego_accel_cmd, self.disturbance_time, self.has_disturbance,
             self.lane_left_time, self.tested_rule,
         )  # fmt: skip
+
+    def target_tracked_time(self) -> float:
+        """The first time the stack's fused tracks held the scenario's target, s (nan: never)."""
+        stats = self.detection.get("fusion")
+        return stats.target_first_time if stats is not None else float("nan")
+
+    def target_tracked_range(self) -> float:
+        """The target's range (centres, m) when first tracked (nan: never)."""
+        stats = self.detection.get("fusion")
+        return stats.target_first_range if stats is not None else float("nan")
 
     def false_activations(self) -> int:
         """AEB stages and over-comfort braking with no ground-truth conflict
@@ -242,11 +256,17 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
     ResultField("min_gap_m", lambda r: _num(r.min_gap), in_judge=True),
     ResultField("stop_distance_m", lambda r: _num(r.stop_distance)),
     ResultField("aeb_first_time_s", lambda r: _num(r.aeb_first_time)),
-    ResultField("aeb_brake_time_s", lambda r: _num(r.aeb_brake_time)),
+    ResultField("aeb_brake_time_s", lambda r: _num(r.aeb_brake_time), in_judge=True),
     ResultField("aeb_max_stage", lambda r: r.aeb_max_stage),
     ResultField("tested", lambda r: r.tested().tested, in_judge=True),
     ResultField("untested_cause", lambda r: r.tested().reason, in_judge=True),
     ResultField("disturbance_time_s", lambda r: _num(r.disturbance_time)),
+    # when the target could first be seen and when the stack first tracked it: what explains a
+    # sensor verdict that differs from perfect perception's (hiyari.bridge.studies.r157_compare)
+    ResultField("target_in_sight_s", lambda r: _num(r.target_sight_time), in_judge=True),
+    ResultField("target_in_sight_range_m", lambda r: _num(r.target_sight_range), in_judge=True),
+    ResultField("target_tracked_s", lambda r: _num(r.target_tracked_time()), in_judge=True),
+    ResultField("target_tracked_range_m", lambda r: _num(r.target_tracked_range()), in_judge=True),
     ResultField("false_activations", lambda r: r.false_activations(), in_judge=True),
     ResultField("near_misses", lambda r: len(r.near_misses()), in_judge=True),
     ResultField("min_vru_clearance_m", lambda r: _num(r.min_clearance(True))),

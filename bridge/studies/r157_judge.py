@@ -39,7 +39,9 @@ from hiyari.units import G
 
 @dataclass(frozen=True)
 class JudgeOptions:
-    """Conditions and execution. ``presets`` apply with ``perception="sensors"`` only."""
+    """Conditions and execution. ``perception``: "perfect", "sensors" or "none", or a comma
+    list of them (each its own condition: "perfect,sensors" compares the sensors with ground
+    truth, hiyari.bridge.studies.r157_compare). ``presets`` apply to "sensors" only."""
 
     perception: str = "perfect"
     presets: tuple[str, ...] = ("clear",)
@@ -237,6 +239,25 @@ def point_verdict(point: R157Point, row: dict) -> str:
     return "fail" if row["collision"] else "pass"
 
 
+PERCEPTIONS = ("perfect", "sensors", "none")
+
+
+def judge_conditions(options: JudgeOptions) -> list[tuple[str, str]]:
+    """(perception, preset) of every condition: "sensors" once per preset, the others once
+    (HiyariError for an unknown perception or an empty list)."""
+    names = [n.strip() for n in options.perception.split(",") if n.strip()]
+    unknown = [n for n in names if n not in PERCEPTIONS]
+    if unknown or not names:
+        raise HiyariError(
+            f"--perception: unknown {', '.join(unknown) or 'empty list'} "
+            f"(a comma list of {', '.join(PERCEPTIONS)})"
+        )
+    out: list[tuple[str, str]] = []
+    for name in dict.fromkeys(names):
+        out += [("sensors", p) for p in options.presets] if name == "sensors" else [(name, "clear")]
+    return out
+
+
 def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True) -> JudgeReport:
     """Run every point under every condition; return the report (rows in point order)."""
     from tqdm import tqdm
@@ -246,10 +267,7 @@ def judge(points: list[R157Point], options: JudgeOptions, progress: bool = True)
         keep = np.sort(rng.choice(len(points), size=options.sample, replace=False))
         points = [points[i] for i in keep]
     check_expectations(points, options.params)
-    if options.perception == "sensors":
-        conditions = [("sensors", p) for p in options.presets]
-    else:
-        conditions = [(options.perception, "clear")]
+    conditions = judge_conditions(options)
     runs, meta = [], []
     for perception, preset in conditions:
         for p in points:

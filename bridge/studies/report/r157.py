@@ -1,11 +1,13 @@
-"""The R157 judge's outputs: judge.csv, summary.json and one figure per scenario type and
-condition, the points drawn over the C&C model's exact colliding regions."""
+"""The R157 judge's outputs: judge.csv, summary.json, one figure per scenario type and
+condition, the points drawn over the C&C model's exact colliding regions, and with perfect
+perception among other conditions differences.csv (hiyari.bridge.studies.r157_compare)."""
 
 from __future__ import annotations
 
 import csv
 import json
 import textwrap
+from dataclasses import fields
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +17,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from hiyari.atomic import atomic_path
+from hiyari.bridge.studies.r157_compare import PERFECT, Difference, differences, rig_reach_m
 from hiyari.bridge.studies.r157_judge import JudgeReport
 from hiyari.risk.cc.boundary import cut_out_boundary
 from hiyari.risk.cc.evaluator import cut_out_lead_clear_gap
@@ -24,8 +27,10 @@ from hiyari.units import KMH_PER_MPS
 
 
 def write_report(report: JudgeReport, out_dir: Path) -> list[Path]:
-    """judge.csv (every point x condition), summary.json and one PNG per scenario type and
-    condition (``judge_<scenario>.png``, with ``_<condition>`` when there are several)."""
+    """judge.csv (every point x condition), summary.json, one PNG per scenario type and
+    condition (``judge_<scenario>.png``, with ``_<condition>`` when there are several) and,
+    when perfect perception is one of several conditions, differences.csv: every point whose
+    verdict differs from perfect perception's, with the perception limit that explains it."""
     out_dir.mkdir(parents=True, exist_ok=True)
     csv_path = out_dir / "judge.csv"
     with atomic_path(csv_path) as tmp, tmp.open("w", newline="") as f:
@@ -37,6 +42,13 @@ def write_report(report: JudgeReport, out_dir: Path) -> list[Path]:
     with atomic_path(summary) as tmp:
         tmp.write_text(json.dumps(report.summary(), indent=2))
     paths = [csv_path, summary]
+    if PERFECT in report.conditions and len(report.conditions) > 1:
+        paths.append(out_dir / "differences.csv")
+        diffs = differences(report.rows, rig_reach_m())
+        with atomic_path(paths[-1]) as tmp, tmp.open("w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=[fd.name for fd in fields(Difference)])
+            w.writeheader()
+            w.writerows(d.row() for d in diffs)
     for scenario in ("cut-in", "cut-out", "decel"):
         for cond in report.conditions:
             rows = [r for r in report.rows if r["scenario"] == scenario and r["condition"] == cond]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv
 import json
 import subprocess
 import sys
@@ -43,11 +44,22 @@ def test_perfect_perception_passes_every_preventable_point(points, tmp_path):
     assert {p.name for p in paths} >= {"judge.csv", "summary.json", "judge_cut-in.png"}
 
 
-def test_without_sensors_the_judge_fails(points):
-    cut_in = [p for p in points if p.scenario == "cut-in" and p.expected == "preventable"][:8]
-    report = judge(cut_in, JudgeOptions(perception="none", workers=2), progress=False)
+def test_without_sensors_the_judge_fails(points, tmp_path):
+    """Judged with and without perception: every point that fails without perception and
+    passes with perfect perception is listed in differences.csv as never detected (its target
+    was in sight from the start), and no other point is."""
+    cut_in = [p for p in points if p.scenario == "cut-in" and p.expected == "preventable"][:6]
+    report = judge(cut_in, JudgeOptions(perception="perfect,none", workers=2), progress=False)
     s = report.summary()["none"]
-    assert s["verdict"] == "fail" and s["failed"] >= 4
+    assert s["verdict"] == "fail" and s["failed"] >= 3
+    assert report.summary()["perfect"]["failed"] == 0
+    write_report(report, tmp_path)
+    with (tmp_path / "differences.csv").open() as f:
+        listed = list(csv.DictReader(f))
+    assert sorted(r["id"] for r in listed) == sorted(s["failed_points"])
+    assert {(r["perfect"], r["verdict"], r["cause"]) for r in listed} == {
+        ("pass", "fail", "not detected")
+    }
 
 
 def test_cli_judge(points, tmp_path):

@@ -9,6 +9,8 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from collections import Counter
+from typing import TYPE_CHECKING
 
 from hiyari.bridge.cli import status
 from hiyari.bridge.cli.commands.evaluation.boundary import add_model_options, model_params
@@ -23,6 +25,9 @@ from hiyari.risk.cc.r157_points import (
     write_points_csv,
     write_points_json,
 )
+
+if TYPE_CHECKING:
+    from hiyari.bridge.studies.r157_judge import JudgeReport
 
 
 def run_points(args: argparse.Namespace) -> int:
@@ -122,6 +127,7 @@ def run_judge(args: argparse.Namespace) -> int:
             print(f"   ... and {s['failed'] - 10} more (see judge.csv)")
         if s["crashed"]:
             print(f"   {s['crashed']} point(s) crashed (worker process died; see judge.csv)")
+    _print_differences(report)
     for p in paths:
         print(f"   {p}")
     summary = report.summary().values()
@@ -133,6 +139,27 @@ def run_judge(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     return status.verdict(all(s["verdict"] == "pass" for s in summary), crashed)
+
+
+def _print_differences(report: JudgeReport) -> None:
+    """Per condition other than perfect perception: verdicts equal to perfect perception's, and
+    the differences by cause."""
+    from hiyari.bridge.studies.r157_compare import PERFECT, differences, rig_reach_m
+
+    if PERFECT not in report.conditions:
+        return
+    diffs = differences(report.rows, rig_reach_m())
+    n_points = sum(r["condition"] == PERFECT for r in report.rows)
+    for cond in report.conditions:
+        if cond == PERFECT:
+            continue
+        mine = [d for d in diffs if d.condition == cond]
+        causes = Counter(d.cause for d in mine)
+        by = ", ".join(f"{n} {c}" for c, n in causes.most_common())
+        print(
+            f"{cond} against perfect perception: {n_points - len(mine)} of {n_points} verdicts "
+            f"equal" + (f"; {len(mine)} differ: {by} (differences.csv)" if mine else "")
+        )
 
 
 def add_judge(sub: argparse._SubParsersAction) -> None:
@@ -147,7 +174,13 @@ def add_judge(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("points", help="points file from 'hiyari r157 points' (CSV or JSON)")
     p.add_argument("-o", "--out", default="out/r157_judge", help="output folder")
-    p.add_argument("--perception", choices=["perfect", "sensors", "none"], default="perfect")
+    p.add_argument(
+        "--perception",
+        default="perfect",
+        help="perfect, sensors or none, or a comma list: each is a condition (perfect,sensors "
+        "lists every point whose verdict differs from perfect perception's, with the "
+        "perception limit that explains it, in differences.csv)",
+    )
     p.add_argument(
         "--presets",
         default="clear",
