@@ -133,31 +133,63 @@ def measure(point: NcapPoint, res: RunResult) -> dict:
     }
 
 
+def _number(value: object) -> float | None:
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return None
+
+
+def point_weight(test: NcapTest, row: dict) -> float:
+    """The weight of a results row's point in its scenario (scoring.point_weight): its test
+    speed and overlap when the grid has them."""
+    speed = _number(row.get("row")) if test.row == "Ego_speed_kph" else None
+    overlap = _number(row.get("col")) if test.col == "Overlap" else None
+    return scoring.point_weight(test.key, speed, overlap)
+
+
 def score_row(test: NcapTest, row: dict) -> scoring.PointScore:
     """The scored point of a results row (file values: strings or numbers)."""
+    light, weight = row["lighting"], point_weight(test, row)
     if row["status"] != "ok":
-        return scoring.PointScore(test.key, row["lighting"], None, f"run failed: {row['error']}")
+        return scoring.PointScore(
+            test.key, light, None, f"run failed: {row['error']}", weight=weight
+        )
     if str(row.get("tested", "")) == "False":  # hiyari.risk.metrics.tested: never a pass
         return scoring.PointScore(
-            test.key, row["lighting"], None, f"not tested: {row.get('untested_cause', '')}"
+            test.key, light, None, f"not tested: {row.get('untested_cause', '')}", weight=weight
         )
     test_kmh = float(row["test_speed_kmh"])
     held, worst = scoring.speed_held([float(row["speed_before_window_kmh"])], test_kmh)
     if not held:
         window = scoring.WINDOW_TTC_S.value
+        below, above = scoring.SPEED_TOLERANCE_KMH.value  # type: ignore[misc]
+        why = "it braked before the test began" if worst < test_kmh else "it was too fast"
         return scoring.PointScore(
-            test.key, row["lighting"], None,
+            test.key, light, None,
             f"the ego was at {worst:.1f} km/h before the test window (true TTC {window} s), "
-            f"not at its test speed {test_kmh:g} km/h: it braked before the test began",
+            f"not at its test speed {test_kmh:g} km/h (+{above:g} / -{below:g} km/h): {why}",
+            weight=weight,
         )  # fmt: skip
     contact = str(row["contact"]) == "True"
+    impact = _number(row.get("impact_speed_kmh")) if contact else 0.0
+    impact = 0.0 if impact is None else impact
+    voids = False
     if test.scoring == "fcw":
-        w = row["warning_ttc_s"]
-        colour = scoring.fcw_colour(float(w) if w != "" else None)
+        w = _number(row.get("warning_ttc_s"))
+        colour, _ = scoring.fcw_colour(test_kmh, w, contact, impact)
+    elif test.scoring == "ccr":
+        if test.relative:  # CCRm: the relative impact speed
+            impact = float(row["relative_impact_speed_kmh"]) if contact else 0.0
+        colour = scoring.ccr_colour(test.key, test_kmh, contact, impact)
+        limit = float(scoring.CCRS_AVOIDANCE_UP_TO_KMH.value)  # type: ignore[arg-type]
+        voids = test.key == "CCRs" and contact and test_kmh <= limit + 1e-9
+    elif test.scoring == "headon":
+        colour = scoring.headon_colour(test_kmh, contact, impact)
     elif test.scoring == "avoidance":
         colour = scoring.avoidance_colour(contact)
     else:
         key = "relative_impact_speed_kmh" if test.relative else "impact_speed_kmh"
         impact = float(row[key]) if contact else 0.0
         colour = scoring.impact_colour(contact, impact, float(row["reference_kmh"]))
-    return scoring.PointScore(test.key, row["lighting"], colour)
+    return scoring.PointScore(test.key, light, colour, weight=weight, voids_scenario=voids)

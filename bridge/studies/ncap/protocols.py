@@ -3,8 +3,10 @@ in Vector's OSC-NCAP-scenarios set, the grid's axes as the datasheet draws them 
 overlap, impact position, target speed...), how it is scored, its lightings and its points.
 
 The grids are the Variations files' own distributions (nothing is re-declared here): a test's
-runs are exactly the file's runs. The scenario points are assumed (see
-bridge.studies.ncap.scoring): the assessment protocols' point tables were not found.
+runs are exactly the file's runs. The C2C scenario points and lightings follow the Safety
+Assist - Collision Avoidance assessment protocol v10.4.1 (sections 3.3.2-3.3.5; its tests are
+daylight tests, AEB C2C test protocol v4.3.1 section 7.2.3); the VRU ones are assumed (see
+bridge.studies.ncap.scoring): the VRU assessment protocol's point tables were not found.
 """
 
 from __future__ import annotations
@@ -26,11 +28,14 @@ class NcapTest:
 
     ``file``: its Variations file under OpenSCENARIO/NCAP. ``row`` / ``col``: the parameters
     of the datasheet grid's rows (the test speed) and columns (None: one column).
-    ``scoring``: "impact" (colour by speed reduction), "avoidance" or "fcw".
+    ``scoring``: "ccr" (CCR colour bands by impact speed per test speed), "fcw" (CCRs FCW:
+    impact speed with the robot braking after the warning), "headon" (speed reduction),
+    "avoidance" or "impact" (VRU: colour by speed reduction, assumed).
     ``target_speed``: the parameter whose value (km/h) the target moves at along the ego's
     path; the reference speed of the impact bands is the ego's test speed minus it.
     ``lightings``: ("day",) or ("day", "night"); ``night_assumed``: the night test is not
-    confirmed by a source. ``max_points``: the scenario's points (assumed)."""
+    confirmed by a source. ``max_points``: the scenario's points; ``points_assumed``: not
+    found in the assessment protocol (scoring.C2C_POINTS has the C2C ones' source)."""
 
     key: str
     protocol: str
@@ -43,12 +48,14 @@ class NcapTest:
     target_speed: str | None = None
     lightings: tuple[str, ...] = ("day",)
     night_assumed: bool = True
+    points_assumed: bool = True
 
     @property
     def relative(self) -> bool:
-        """Whether the impact bands use the closing speed (rear and longitudinal tests:
-        the target moves along the ego's path) rather than the ego's speed."""
-        return self.target_speed is not None or self.key == "CCRb"
+        """Whether the point is judged by the relative impact speed (CCRm, and the VRU
+        longitudinal tests: the target moves along the ego's path) rather than the ego's
+        impact speed (CCRs and CCRb: Vimpact, SA Collision Avoidance v10.4.1 3.3.1)."""
+        return self.key == "CCRm" or (self.protocol == "vru" and self.target_speed is not None)
 
 
 _C = "AEB_C2C_2023/Variations/NCAP_AEB_C2C_"
@@ -58,20 +65,23 @@ DN = ("day", "night")
 #: Every test, in datasheet order.
 TESTS: tuple[NcapTest, ...] = (
     NcapTest("CCRs", "c2c", "Car-to-Car Rear stationary", f"{_C}CCRs_Variation_2023.xosc",
-             "Ego_speed_kph", "Overlap", "impact", 1.5, "GVT_init_speed_kph"),
+             "Ego_speed_kph", "Overlap", "ccr", 1.0, "GVT_init_speed_kph", points_assumed=False),
     NcapTest("CCRs-FCW", "c2c", "Car-to-Car Rear stationary, FCW",
-             f"{_C}CCRs_FCW_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "fcw", 0.5),
+             f"{_C}CCRs_FCW_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "fcw", 0.5,
+             points_assumed=False),
     NcapTest("CCRm", "c2c", "Car-to-Car Rear moving", f"{_C}CCRm_Variation_2023.xosc",
-             "Ego_speed_kph", "Overlap", "impact", 1.5, "GVT_init_speed_kph"),
+             "Ego_speed_kph", "Overlap", "ccr", 1.0, "GVT_init_speed_kph", points_assumed=False),
     NcapTest("CCRb", "c2c", "Car-to-Car Rear braking", f"{_C}CCRb_Variation_2023.xosc",
-             "GVT_headway", "GVT_deceleration", "impact", 1.0),
+             "GVT_headway", "GVT_deceleration", "ccr", 1.0, points_assumed=False),
     NcapTest("CCFtap", "c2c", "Car-to-Car Front turn-across-path",
              f"{_C}CCFtap_Variation_2023.xosc", "Ego_speed_kph", "Target_finalSpeed_kph",
-             "avoidance", 1.5),
+             "avoidance", 1.0, points_assumed=False),
     NcapTest("CCFhos", "c2c", "Car-to-Car Front head-on straight",
-             f"{_C}CCFhos_Variation_2023.xosc", "Ego_speed_kph", None, "avoidance", 1.0),
+             f"{_C}CCFhos_Variation_2023.xosc", "Ego_speed_kph", None, "headon", 0.5,
+             points_assumed=False),
     NcapTest("CCFhol", "c2c", "Car-to-Car Front head-on lane change",
-             f"{_C}CCFhol_Variation_2023.xosc", "Ego_speed_kph", None, "avoidance", 1.0),
+             f"{_C}CCFhol_Variation_2023.xosc", "Ego_speed_kph", None, "headon", 0.5,
+             points_assumed=False),
     NcapTest("CPNA-25", "vru", "Pedestrian Nearside Adult 25 %",
              f"{_V}CPNA-25_Variation_2023.xosc", "Ego_speed_kph", "Overlap", "impact", 1.0,
              lightings=DN),

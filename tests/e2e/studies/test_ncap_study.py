@@ -73,7 +73,7 @@ def default(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def test_resumed_study_scores_full_marks(default: Path) -> None:
-    assert _score(default) == {"c2c": 1.5, "vru": 1.0}
+    assert _score(default) == {"c2c": 1.0, "vru": 1.0}  # CCRs: 1 point (SA 3.3.2)
     rows = _rows(default)
     assert [r["point_id"] for r in rows][:2] == ["CCRs-day-040", "CCRs-day-041"]
     assert {r["lighting"] for r in rows if r["test"] == "CPNA-25"} == {"day", "night"}

@@ -49,15 +49,16 @@ def write_report(out: Path, result: NcapResult, config: dict) -> Path:
     for p in result.protocols:
         for s in p.scenarios:
             t = by_test[s.scenario]
+            of = f"{s.max_points:.2f}" + (" (assumed)" if t.points_assumed else "")
             body.append([e(s.scenario), e(t.title), e("/".join(t.lightings)), str(s.tested),
-                         str(s.not_tested), f"{s.points:.3f}", f"{s.max_points:.2f}"])  # fmt: skip
+                         str(s.not_tested), f"{s.points:.3f}", of])  # fmt: skip
     near, false = activation_counts(result.rows.values())
     parts.append(f"<p>{near} near misses and {false} false activations (AEB stage or braking "
                  "beyond the ACC's comfort limit with no ground-truth conflict) over the runs; "
                  "runs not tested score nothing and are listed below.</p>")  # fmt: skip
     parts.append("<h2 id=points>Points per scenario</h2>" + _table(
         ["scenario", "test", "lighting", "points tested", "not tested", "points",
-         "of (assumed)"], body))  # fmt: skip
+         "of"], body))  # fmt: skip
     parts.append("<h2 id=grids>Grids</h2>")
     for t in result.tests:
         pids = [pid for pid, r in result.rows.items() if r["test"] == t.key]
@@ -85,7 +86,8 @@ def write_report(out: Path, result: NcapResult, config: dict) -> Path:
                  + (_table(["point", "why"], nt) if nt else "<p>none</p>"))  # fmt: skip
     parts.append("<h2 id=rules>Scoring rules</h2>" + _table(
         ["rule", "value", "source", "assumed"],
-        [[e(r.name), e(_value(r.value)), e(r.source), "assumed" if r.assumed else "found"]
+        [[e(r.name), e(r.shown or _value(r.value)), e(r.source),
+          "assumed" if r.assumed else "found"]
          for r in scoring.RULES]))  # fmt: skip
     parts.append("<h2 id=config>Configuration</h2>" + _table(
         ["", ""], [[e(k), e(str(v))] for k, v in config.items()]))  # fmt: skip
