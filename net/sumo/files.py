@@ -68,13 +68,15 @@ def _lanes_by_edge(root: etree._Element) -> dict[str, list[float]]:
 
 
 def road_difference(net: str | Path, reference: str | Path) -> str | None:
-    """How ``net`` differs from ``reference`` as a road: the first edge one has and the other
-    lacks, or an edge whose lane count or lane lengths (beyond SAME_LENGTH_TOLERANCE m)
+    """How ``net`` differs from ``reference`` as a road, in words about ``net``: the first
+    edge it has that the reference lacks ("is not in the reference") or lacks ("is
+    missing"), or an edge whose lane count or lane lengths (beyond SAME_LENGTH_TOLERANCE m)
     differ; None when they have the same edges and lanes."""
     mine, theirs = _lanes_by_edge(check_net(net)), _lanes_by_edge(check_net(reference))
     only = sorted(set(mine) ^ set(theirs))
     if only:
-        return f"edge {only[0]} is only in {net if only[0] in mine else reference}"
+        where = "is not in the reference" if only[0] in mine else "is missing"
+        return f"edge {only[0]} {where}"
     for edge in sorted(mine):
         a, b = mine[edge], theirs[edge]
         if len(a) != len(b):

@@ -173,14 +173,14 @@ def _sct_arguments(s: argparse.ArgumentParser) -> None:
         "--days",
         type=numbers.number(None, 3660, unit="days"),  # > 0 checked by the study config
         default=None,
-        help=f"simulated days per arm (default {d.days:g}; with --sumocfg each run is the "
-        "scenario's time window)",
+        help=f"simulated days per arm (default: {d.days}); with --sumocfg, each run is the "
+        "scenario's time window unless given",
     )
     s.add_argument(
         "--vph",
         type=numbers.per_hour(),
         default=None,
-        help=f"vehicles per hour (default {d.vehicles_per_hour:g}; not with --sumocfg)",
+        help=f"vehicles per hour (default: {d.vehicles_per_hour}); not with --sumocfg",
     )
     s.add_argument(
         "--pph",
@@ -192,7 +192,7 @@ def _sct_arguments(s: argparse.ArgumentParser) -> None:
         "--variants",
         default=None,
         help="comma-separated intersection variants: unsignalised, signalised (or 'both'; "
-        f"default {','.join(d.variants)})",
+        f"default: {','.join(d.variants)})",
     )
     s.add_argument(
         "--minor-crossings",

@@ -273,7 +273,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=numbers.seconds(lo_open=False),
         default=None,
         help=".xosc with --sumocfg: seconds the scenario's demand runs before the storyboard "
-        "starts (default 0; a TOML city file gives its warmup_s)",
+        "starts (default: 0; a TOML city file gives its warmup_s)",
     )
     p.add_argument("-o", "--out", default="out/run", help="output folder")
     p.add_argument(
