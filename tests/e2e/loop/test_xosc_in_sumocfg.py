@@ -115,6 +115,23 @@ def test_net_of_another_road_is_refused(files, tmp_path, capsys):
     assert not out.exists()
 
 
+def test_scenario_vehicle_named_as_an_entity_refused(files, tmp_path, capsys):
+    xosc, cfg = files
+    routes = cfg.with_name("road.rou.xml").read_text()
+    clash = cfg.with_name("clash.rou.xml")
+    clash.write_text(routes.replace("</routes>", '<vehicle id="ego" depart="55"><route '
+                                    'edges="-0"/></vehicle></routes>'))  # fmt: skip
+    bad = cfg.with_name("clash.sumocfg")
+    bad.write_text(cfg.read_text().replace("road.rou.xml", clash.name))
+    out = tmp_path / "out"
+    argv = ["run", str(xosc), "--sumocfg", str(bad), "--warmup", "10", "--max-duration", "5",
+            "-q", "-o", str(out)]  # fmt: skip
+    assert main(argv) == 1
+    err = capsys.readouterr().err
+    assert "cannot insert 'ego': the simulation already has a vehicle" in err
+    assert err.count("\n") == 1 and not out.exists()
+
+
 def test_map_and_stray_warmup_refused(files, tmp_path, capsys):
     xosc, cfg = files
     out = str(tmp_path / "out")
