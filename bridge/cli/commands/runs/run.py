@@ -18,7 +18,6 @@ if TYPE_CHECKING:
     from hiyari.bridge.loop.result import RunResult
     from hiyari.bridge.loop.spec import EgoSetup, Plan, PlannedRun
     from hiyari.bridge.openscenario.presets.scenarios import World
-    from hiyari.traffic.sumocfg import SumoScenario
 
 
 def run(args: argparse.Namespace) -> int:
@@ -52,7 +51,8 @@ def load_plan(args: argparse.Namespace) -> Plan:
                               "LogicFile names (--map applies to city scenarios)")  # fmt: skip
         if warmup is not None and not args.sumocfg:
             raise HiyariError("--warmup: the warm-up is of a SUMO scenario's demand (--sumocfg)")
-        sumo = _sumo_scenario(args.sumocfg) if getattr(args, "sumocfg", None) else None
+        world = _world(args) if world_given else None  # --sumocfg: --map is refused above
+        sumo = world.sumo if world is not None else None
         setup, params = ego_setup(args), xosc_params(args)
         return load_xosc(args.scenario, setup, params, sumo, warmup or 0.0)
     if warmup is not None:
@@ -79,17 +79,6 @@ def _world(args: argparse.Namespace) -> World | None:
     if args.map is not None:
         return World.of_net(args.map)
     return None
-
-
-def _sumo_scenario(path: str) -> SumoScenario:
-    """The user's SUMO scenario an OpenSCENARIO run drives inside, its files checked."""
-    from hiyari.net.sumo.files import check_net
-    from hiyari.traffic.sumocfg import read_sumocfg
-
-    sc = read_sumocfg(path)
-    with about(path):  # the net's error says which scenario names it
-        check_net(sc.net)
-    return sc
 
 
 def ego_setup(args: argparse.Namespace) -> EgoSetup:
