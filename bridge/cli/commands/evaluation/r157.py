@@ -156,11 +156,6 @@ def add_judge(sub: argparse._SubParsersAction) -> None:
     p.add_argument("points", help="points file from 'hiyari r157 points' (CSV or JSON)")
     p.add_argument("-o", "--out", default="out/r157_judge", help="output folder")
     p.add_argument("--perception", choices=["perfect", "sensors", "none"], default="perfect")
-    world = p.add_mutually_exclusive_group()
-    for option in ("--sumocfg", "--map"):  # accepted so that the refusal says why
-        world.add_argument(
-            option, help="refused: the points run alone on the Annex G expressway (docs)"
-        )
     p.add_argument(
         "--presets",
         default="clear",
@@ -177,6 +172,11 @@ def add_judge(sub: argparse._SubParsersAction) -> None:
         help="run the points one after the other in this process, not in worker processes "
         "(a native crash then ends the judge)",
     )
+    world = p.add_mutually_exclusive_group()
+    for option in ("--sumocfg", "--map"):  # accepted so that the refusal says why
+        world.add_argument(
+            option, help="refused: the points run alone on the Annex G expressway (docs)"
+        )
     p.add_argument("-q", "--quiet", action="store_true")
     add_model_options(p)
     p.set_defaults(func=run_judge)
