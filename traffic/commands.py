@@ -9,15 +9,17 @@ converted here), speeds m/s, accelerations m/s^2, times s.
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from itertools import compress, repeat
 from typing import Any
 
 import numpy as np
 
+from hiyari.errors import HiyariError
 from hiyari.kinematics import point_ahead
 
 #: SUMO speed mode bits: 0 = no checks at all (scripted actors follow the script exactly);
@@ -143,14 +145,15 @@ class Commands:
         if rid in s.route.getIDList():  # the same id inserted again (removed in between)
             rid = f"{rid}#{len(s.route.getIDList())}"
         s.route.add(rid, list(route))
-        s.vehicle.add(
-            vehicle_id,
-            rid,
-            typeID=type_id,
-            departLane=str(lane),
-            departPos=f"{pos:.3f}",
-            departSpeed=f"{speed:.3f}",
-        )
+        with self._adding(vehicle_id, "vehicle"):
+            s.vehicle.add(
+                vehicle_id,
+                rid,
+                typeID=type_id,
+                departLane=str(lane),
+                departPos=f"{pos:.3f}",
+                departSpeed=f"{speed:.3f}",
+            )
         if scripted:
             s.vehicle.setSpeedMode(vehicle_id, SPEED_MODE_SCRIPTED)
             s.vehicle.setLaneChangeMode(vehicle_id, LANE_CHANGE_SCRIPTED)
@@ -159,7 +162,8 @@ class Commands:
         """Insert a person standing on ``edge`` at ``pos`` m for ``wait`` s (scripted people
         are then moved with ``move_person``)."""
         p = self._api().person
-        p.add(person_id, edge, pos=pos, typeID=type_id)
+        with self._adding(person_id, "person"):
+            p.add(person_id, edge, pos=pos, typeID=type_id)
         p.appendWaitingStage(person_id, wait)
 
     def add_walking_person(
@@ -169,8 +173,22 @@ class Commands:
         if speed >= 0:  # a set walking speed may exceed the person's own maximum
             self._commanded((person_id,), persons=True)
         p = self._api().person
-        p.add(person_id, edges[0], pos=pos, typeID=type_id)
+        with self._adding(person_id, "person"):
+            p.add(person_id, edges[0], pos=pos, typeID=type_id)
         p.appendWalkingStage(person_id, list(edges), arrivalPos=-1.0, speed=speed)
+
+    @contextlib.contextmanager
+    def _adding(self, actor_id: str, kind: str) -> Iterator[None]:
+        """Around one insertion: SUMO refusing an id it already has (running, or loaded to
+        depart later) becomes one line. A user's SUMO scenario may name one of its own
+        vehicles or persons as a scenario names its entity."""
+        try:
+            yield
+        except self._api().TraCIException as exc:
+            if "already exists" not in str(exc):
+                raise
+            raise HiyariError(f"cannot insert {actor_id!r}: the simulation already has a {kind} "
+                              "of that id (the SUMO scenario's own)") from None  # fmt: skip
 
     def remove_actor(self, actor_id: str, is_person: bool = False) -> None:
         """Take a vehicle (or person) out of the simulation now."""

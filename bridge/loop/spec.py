@@ -193,6 +193,37 @@ def import_road(scenario: Scenario, workdir: Path) -> Path:
     return import_opendrive(xodr, workdir / f"{Path(xodr).stem}.net.xml")
 
 
+def sumo_road(
+    scenario: Scenario, sumo: SumoScenario, imported: Path, warmup: float, duration: float
+) -> Road:
+    """The road of an OpenSCENARIO run inside the user's SUMO scenario ``sumo``: its net must
+    be the SUMO conversion of the OpenDRIVE road the scenario names (the same edges and lanes
+    as ``imported``, hiyari's import of it), since the storyboard's positions are OpenDRIVE
+    road / lane / s and SUMO runs the scenario's own net; the run (``warmup`` s of the
+    scenario's demand, then at most ``duration`` s) must end inside its time window.
+    HiyariError (one line naming the .sumocfg) otherwise."""
+    from hiyari.bridge.openscenario.presets.scenarios import World
+    from hiyari.net.sumo.files import road_difference
+
+    xodr = scenario.road_network
+    if xodr is None:
+        raise HiyariError(f"{scenario.source or scenario.name}: the scenario names no road")
+    differs = road_difference(sumo.net, imported)
+    if differs is not None:
+        raise HiyariError(
+            f"{sumo.config}: its net {sumo.net.name} is not the conversion of {xodr.name}, the "
+            f"road the OpenSCENARIO file names ({differs}); make it with 'hiyari net import "
+            f"{xodr.name}'"
+        )
+    if sumo.end is not None and sumo.begin + warmup + duration > sumo.end:
+        raise HiyariError(
+            f"{sumo.config}: the run (warmup {warmup:g} s + max duration {duration:g} s from "
+            f"begin {sumo.begin:g} s) ends after the scenario's end {sumo.end:g} s"
+        )
+    network = World(sumo.net, sumo).network()  # with the scenario's buildings
+    return Road(xodr, sumo.net, network, sumo=sumo, user_net=True)
+
+
 @dataclass(frozen=True)
 class RunSpec:
     """One closed-loop run: the scenario model the ScenarioEngine runs on ``road``, the ego

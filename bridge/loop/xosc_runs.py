@@ -15,24 +15,35 @@ file and element, and nothing is written); run ``k`` is seeded ``seed + k`` as T
 from __future__ import annotations
 
 import contextlib
+import tempfile
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from hiyari.bridge.loop.spec import EgoSetup, RunSpec, SkippedRun, import_road, model_spec
+from hiyari.bridge.loop.spec import (
+    EgoSetup,
+    RunSpec,
+    SkippedRun,
+    import_road,
+    model_spec,
+    sumo_road,
+)
 from hiyari.bridge.openscenario.model.storyboard import Scenario
 from hiyari.bridge.openscenario.xosc import document
 from hiyari.bridge.openscenario.xosc.context import INT_TYPES, ConstraintViolation, Ctx, Scope
 from hiyari.bridge.openscenario.xosc.distributions import read_distribution
 from hiyari.bridge.openscenario.xosc.reader import read_scenario
 from hiyari.errors import HiyariError
+from hiyari.traffic.sumocfg import SumoScenario
 
 
 @dataclass(frozen=True)
 class XoscRun:
     """One concrete run: the scenario file, its parameter values (file text) and the ego setup
     (``setup.seed`` is this run's seed). ``road_net``: an OpenDRIVE file and the SUMO net
-    already imported from it (used when the scenario's road is that file)."""
+    already imported from it (used when the scenario's road is that file). ``sumo``: the user's SUMO scenario
+    the run drives inside (its net the conversion of the scenario's road), its demand running
+    ``warmup`` s before the storyboard starts."""
 
     scenario: Path
     name: str
@@ -41,6 +52,8 @@ class XoscRun:
     setup: EgoSetup
     road_net: tuple[Path, Path] | None = None
     type: str = "openscenario"
+    sumo: SumoScenario | None = None
+    warmup: float = 0.0
 
     @property
     def seed(self) -> int:
@@ -61,7 +74,16 @@ class XoscRun:
         """The run's spec: the scenario read with this run's values, on the road imported
         for the plan (or imported when the run starts)."""
         sc = self.load()
-        yield model_spec(sc, self.setup, _imported(self, sc))
+        spec = model_spec(sc, self.setup, _imported(self, sc))
+        if self.sumo is None:
+            yield spec
+            return
+        with tempfile.TemporaryDirectory(prefix="hiyari-road-") as tmp:
+            net = spec.road.net or import_road(sc, Path(tmp))
+            road = sumo_road(sc, self.sumo, net, self.warmup, self.setup.max_duration)
+            doc = {**spec.doc, "sumocfg": str(self.sumo.config), "warmup_s": self.warmup}
+            yield replace(spec, road=road, warmup=self.warmup, doc=doc,
+                          metadata={**spec.metadata, **doc})  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -79,6 +101,8 @@ class XoscPlan:
     road_net: tuple[Path, Path] | None = None
     indices: tuple[int, ...] | None = None  # None: 0, 1, ... (nothing skipped)
     skipped: tuple[SkippedRun, ...] = ()
+    sumo: SumoScenario | None = None  # the user's SUMO scenario every run drives inside
+    warmup: float = 0.0  # s the SUMO scenario's demand runs before the storyboard starts
 
     @property
     def parameter_names(self) -> list[str]:
@@ -113,14 +137,20 @@ class XoscPlan:
                 dict(p),
                 replace(self.setup, seed=self.setup.seed + k),
                 self.road_net,
+                sumo=self.sumo,
+                warmup=self.warmup,
             )
             for k, p in zip(indices, self.param_sets, strict=True)
         ]
 
     def with_roads(self, folder: Path) -> XoscPlan:
-        """This plan with its road imported once into ``folder`` for every run (sweeps)."""
+        """This plan with its road imported once into ``folder`` for every run (sweeps); a
+        SUMO scenario the runs drive inside is checked against it here, before any run."""
         sc = read_scenario(self.scenario, self.param_sets[0])
-        return replace(self, road_net=(self.road, import_road(sc, folder)))
+        net = import_road(sc, folder)
+        if self.sumo is not None:
+            sumo_road(sc, self.sumo, net, self.warmup, self.setup.max_duration)
+        return replace(self, road_net=(self.road, net))
 
 
 def _is_number(v: str | None) -> bool:
@@ -137,13 +167,19 @@ def is_openscenario(path: str | Path) -> bool:
 
 
 def load_plan(
-    path: str | Path, setup: EgoSetup | None = None, params: Mapping[str, str] | None = None
+    path: str | Path,
+    setup: EgoSetup | None = None,
+    params: Mapping[str, str] | None = None,
+    sumo: SumoScenario | None = None,
+    warmup: float = 0.0,
 ) -> XoscPlan:
     """The runs of the scenario or distribution file ``path``, checked (see module).
 
     ``params``: values for the scenario's top-level ParameterDeclarations in every run (as
     esmini's ``--param``), checked like the file's own: a declared name, its type and its
-    ValueConstraints; a distribution may not set them too."""
+    ValueConstraints; a distribution may not set them too. ``sumo``: run inside this SUMO
+    scenario (its net must be the conversion of the scenario's road: ``sumo_road``), its
+    demand running ``warmup`` s before the storyboard starts."""
     setup = setup or EgoSetup()
     params = dict(params or {})
     root = document.load(path)
@@ -183,6 +219,8 @@ def load_plan(
         first.road_network,
         indices=tuple(kept),
         skipped=tuple(s for s, _ in skipped),
+        sumo=sumo,
+        warmup=warmup,
     )
 
 

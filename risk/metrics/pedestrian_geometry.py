@@ -18,6 +18,7 @@ Three things are extracted:
 
 from __future__ import annotations
 
+from collections.abc import Collection
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -84,8 +85,9 @@ class NetGeometry:
     _paths: dict[tuple[str, ...], np.ndarray] = field(default_factory=dict, repr=False)
 
     @staticmethod
-    def from_net(net_file: str | Path) -> NetGeometry:
-        """Read ``net_file`` (a SUMO .net.xml with sidewalks and crossings)."""
+    def from_net(net_file: str | Path, junctions: Collection[str] | None = None) -> NetGeometry:
+        """Read ``net_file`` (a SUMO .net.xml with sidewalks and crossings); ``junctions``:
+        only the crossings of these junctions (ids) are studied (None: every crossing)."""
         net_file = Path(net_file)
         if not net_file.is_file():
             raise HiyariError(f"{net_file}: network not found")
@@ -95,7 +97,12 @@ class NetGeometry:
             )
         except Exception as exc:  # sumolib raises plain SAX / KeyError on broken files
             raise HiyariError(f"{net_file}: not a readable SUMO network ({exc})") from None
-        crossings = [e for e in net.getEdges(withInternal=True) if e.getFunction() == "crossing"]
+        crossings = [
+            e
+            for e in net.getEdges(withInternal=True)
+            if e.getFunction() == "crossing"
+            and (junctions is None or e.getFromNode().getID() in junctions)
+        ]
         footways = [
             ln.getID()
             for e in net.getEdges(withInternal=True)

@@ -61,3 +61,43 @@ def write_scenario(folder: Path) -> Path:
 """
     )
     return cfg
+
+
+#: The road scenario's window (s) and flows on the straight ALKS road's opposite carriageway
+#: (id, lane, vehicles per hour); the second uses a vehicle type from the additional file.
+ROAD_BEGIN, ROAD_END = 50.0, 200.0
+ROAD_FLOWS = (("back", "1", 900), ("vans", "3", 600))
+
+
+def write_road_scenario(folder: Path, net: Path) -> Path:
+    """A SUMO scenario on ``net`` (hiyari's import of the straight ALKS road, edges "0" and
+    "-0"): flows on the opposite carriageway "-0", one of them of a vehicle type defined in
+    an additional file, over [ROAD_BEGIN, ROAD_END] s. Return the .sumocfg."""
+    folder.mkdir(parents=True, exist_ok=True)
+    add = etree.Element("additional")
+    etree.SubElement(add, "vType", id="van", vClass="delivery", length="6.5", maxSpeed="25")
+    etree.ElementTree(add).write(str(folder / "types.add.xml"), pretty_print=True)
+    routes = etree.Element("routes")
+    for fid, lane, per_hour in ROAD_FLOWS:
+        kind = {"type": "van"} if fid == "vans" else {}
+        etree.SubElement(routes, "flow", id=fid, begin=f"{ROAD_BEGIN:g}", end=f"{ROAD_END:g}",
+                         vehsPerHour=str(per_hour), departLane=lane, departSpeed="max",
+                         **{"from": "-0", "to": "-0"}, **kind)  # fmt: skip
+    etree.ElementTree(routes).write(str(folder / "road.rou.xml"), pretty_print=True)
+    cfg = folder / "road.sumocfg"
+    cfg.write_text(
+        f"""<?xml version="1.0" encoding="UTF-8"?>
+<configuration>
+    <input>
+        <net-file value="{net}"/>
+        <route-files value="road.rou.xml"/>
+        <additional-files value="types.add.xml"/>
+    </input>
+    <time>
+        <begin value="{ROAD_BEGIN:g}"/>
+        <end value="{ROAD_END:g}"/>
+    </time>
+</configuration>
+"""
+    )
+    return cfg

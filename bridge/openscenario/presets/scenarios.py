@@ -64,7 +64,7 @@ from hiyari.bridge.openscenario.model.storyboard import (
 )
 from hiyari.bridge.openscenario.model.trajectories import Polyline, Trajectory, Vertex
 from hiyari.bridge.openscenario.presets.toml_file import ConcreteScenario
-from hiyari.errors import HiyariError
+from hiyari.errors import HiyariError, about
 from hiyari.net.road.buildings import poly_path
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.road.opendrive_lanes import RoadLanes
@@ -138,7 +138,8 @@ class World:
     def of_sumocfg(path: str | Path) -> World:
         """A user's SUMO scenario, read from its .sumocfg (one-line HiyariError when broken)."""
         sc = read_sumocfg(path)
-        check_net(sc.net)
+        with about(path):  # the net's error says which scenario names it
+            check_net(sc.net)
         return World(sc.net, sc)
 
     def network(self) -> RoadNetwork:

@@ -253,6 +253,24 @@ def _residual_facts(config: StudyConfig, results: list[ArmResult], variant: str)
     return out
 
 
+def _setting(c: StudyConfig) -> str:
+    """Where the study ran and with what demand, as the report's first sentence."""
+    crossings = (
+        f"the crossings {', '.join(c.crossings)}"
+        if c.crossings
+        else "every crossing with a sidewalk at both ends"
+    )
+    walkers = f"{c.persons_per_hour:g} pedestrians/h (Poisson) walking across {crossings}"
+    if c.sumocfg:
+        return f"Inside the SUMO scenario {c.sumocfg} (its own vehicles and persons); {walkers}"
+    if c.map_net:
+        return (f"On the map {c.map_net}, its junctions as they are; {c.vehicles_per_hour:g} "
+                f"passenger cars/h (Poisson, fringe to fringe) and {walkers}")  # fmt: skip
+    return (f"Four-leg intersection with a crossing on every leg; {c.vehicles_per_hour:g} "
+            f"passenger cars/h and {c.persons_per_hour:g} pedestrians/h (Poisson, fringe to "
+            "fringe)")  # fmt: skip
+
+
 def _markdown(
     config: StudyConfig,
     summaries: list[ArmSummary],
@@ -264,8 +282,7 @@ def _markdown(
     lines = [
         "# Pedestrian incident study: SUMO drivers vs Safety Cushion Time drivers",
         "",
-        f"Four-leg intersection with a crossing on every leg; {c.vehicles_per_hour:g} passenger "
-        f"cars/h and {c.persons_per_hour:g} pedestrians/h (Poisson, fringe to fringe); "
+        f"{_setting(c)}; "
         f"{c.days:g} simulated days per arm and variant at {c.step_length:g} s, split into "
         f"{c.runs} run(s) with seeds {c.seed}..{c.seed + c.runs - 1}, identical in both arms. "
         f"SCT arm: {c.penetration:.0%} of vehicles driven by the SCT model "

@@ -27,14 +27,16 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import sumolib
 from lxml import etree
 
 from hiyari.atomic import atomic_path
 from hiyari.bridge.loop.drivers.sct_controller import SCTController, SCTControllerConfig
 from hiyari.bridge.studies.pool import Crashed, PoolOptions, report_progress, run_all
 from hiyari.bridge.studies.sct.scan import zone_scan
-from hiyari.errors import HiyariError
+from hiyari.errors import HiyariError, about
 from hiyari.net.sumo.build import IntersectionParams, build_intersection
+from hiyari.net.sumo.files import check_net
 from hiyari.risk.metrics.contact import PostEncroachmentTracker, SCTConfig
 from hiyari.risk.metrics.incidents import (
     Encounter,
@@ -45,11 +47,14 @@ from hiyari.risk.metrics.pedestrian_geometry import NetGeometry
 from hiyari.risk.sct.model import SCTModel
 from hiyari.sumo_tools import run_sumo_tool
 from hiyari.traffic.actor_class import ActorClass
-from hiyari.traffic.demand import DemandConfig, write_demand
+from hiyari.traffic.demand import DemandConfig, check_crossings, crossing_ids, write_demand
 from hiyari.traffic.simulation import SimConfig, Simulation
+from hiyari.traffic.sumocfg import SumoScenario, read_sumocfg
 from hiyari.traffic.world_state import WorldState
 
 VARIANTS = {"unsignalised": False, "signalised": True}
+#: The variant of a study on the user's map or SUMO scenario (its junctions as they are).
+WORLD_VARIANT = "map"
 _PEDESTRIAN = np.int8(ActorClass.PEDESTRIAN)  # compared as a numpy scalar: no enum lookup
 ARMS = ("baseline", "sct")
 
@@ -83,6 +88,13 @@ class StudyConfig:
         and the steps where no pair is that close are skipped.
     sct_log_period: s, the SCT written to the encounter log is sampled this often (TTC, PET,
         contacts and the controller's own SCT every step); it is for the histograms only.
+    map_net / sumocfg: study on the user's SUMO net (generated vehicle demand) or inside the
+        user's SUMO scenario (its own vehicles and persons, over its time window from its
+        begin) instead of the generated intersection; the one variant is then WORLD_VARIANT
+        and the junctions keep the right of way the net gives them ("": not used).
+    crossings: on a map or scenario, the pedestrian crossings (SUMO crossing edge ids) the
+        study's pedestrians walk across, persons_per_hour of them in all; the junctions of
+        these crossings are studied (empty: every crossing with a sidewalk at both ends).
     """
 
     days: float = 2.0
@@ -101,6 +113,9 @@ class StudyConfig:
     max_pedestrian_speed: float = 2.5
     metric_horizon: float = 3.0
     sct_log_period: float = 0.5
+    map_net: str = ""
+    sumocfg: str = ""
+    crossings: tuple[str, ...] = ()
     sct: SCTConfig = field(default_factory=SCTConfig)
     controller: SCTControllerConfig = field(default_factory=SCTControllerConfig)
     incidents: IncidentConfig = field(default_factory=IncidentConfig)
@@ -116,9 +131,18 @@ class StudyConfig:
             raise HiyariError("study: days must be > 0 and runs >= 1")
         if self.vehicles_per_hour <= 0 or self.persons_per_hour < 0:
             raise HiyariError("study: vehicles per hour must be > 0, persons per hour >= 0")
-        unknown = [v for v in self.variants if v not in VARIANTS]
-        if unknown or not self.variants:
-            raise HiyariError(f"study: unknown variant(s) {unknown} (known: {', '.join(VARIANTS)})")
+        if self.map_net and self.sumocfg:
+            raise HiyariError("study: a map or a SUMO scenario, not both")
+        if self.map_net or self.sumocfg:
+            if self.variants != (WORLD_VARIANT,):
+                raise HiyariError(f"study: on a map the one variant is {WORLD_VARIANT!r}")
+        else:
+            unknown = [v for v in self.variants if v not in VARIANTS]
+            if unknown or not self.variants:
+                known = ", ".join(VARIANTS)
+                raise HiyariError(f"study: unknown variant(s) {unknown} (known: {known})")
+            if self.crossings:
+                raise HiyariError("study: crossings are chosen on a map or a SUMO scenario")
         if not 0.0 <= self.penetration <= 1.0:
             raise HiyariError(f"study: penetration must be in 0..1, got {self.penetration}")
         if self.run_seconds < 60:
@@ -128,8 +152,58 @@ class StudyConfig:
 
 
 @dataclass(frozen=True)
+class StudyWorld:
+    """A study on the user's map: its ``net``, the user's SUMO scenario ``sumo`` (None: a
+    map with generated demand) and the ``crossings`` the study's pedestrians walk across."""
+
+    net: Path
+    sumo: SumoScenario | None
+    crossings: tuple[str, ...]
+
+    @property
+    def junctions(self) -> tuple[str, ...]:
+        """The junctions of the crossings (SUMO names a crossing ':<junction>_c<k>')."""
+        return tuple(sorted({c[1:].rsplit("_c", 1)[0] for c in self.crossings}))
+
+    @property
+    def begin(self) -> float:
+        """Simulation time (s) the runs start at: the scenario's begin, else 0."""
+        return self.sumo.begin if self.sumo is not None else 0.0
+
+
+def study_world(config: StudyConfig) -> StudyWorld | None:
+    """The map or SUMO scenario of ``config``, checked (None: the generated intersection):
+    HiyariError in one line naming the file for a broken net or scenario, an unknown crossing
+    id or one without a sidewalk at both ends, a net without such crossings, and runs that
+    do not fit into the scenario's time window."""
+    if not (config.map_net or config.sumocfg):
+        return None
+    sumo = read_sumocfg(config.sumocfg) if config.sumocfg else None
+    net = sumo.net if sumo is not None else Path(config.map_net)
+    with about(config.sumocfg or net):  # a scenario's net is named with the scenario
+        check_net(net)
+    if sumo is not None:
+        if sumo.end is None:
+            raise HiyariError(f"{sumo.config}: the study runs in the scenario's time window, "
+                              "which has no end")  # fmt: skip
+        if sumo.begin + config.run_seconds > sumo.end + 1e-6:
+            raise HiyariError(
+                f"{sumo.config}: a run of {config.run_seconds:g} s from begin {sumo.begin:g} s "
+                f"ends after the scenario's end {sumo.end:g} s"
+            )
+    if config.crossings:
+        check_crossings(net, config.crossings)
+        crossings = config.crossings
+    else:
+        crossings = tuple(crossing_ids(net, walkable=True))
+        if not crossings:
+            raise HiyariError(f"{net}: no pedestrian crossing with a sidewalk at both ends")
+    return StudyWorld(net, sumo, crossings)
+
+
+@dataclass(frozen=True)
 class ArmTask:
-    """One run: a variant, an arm, a seed, its input files."""
+    """One run: a variant, an arm, a seed, its input files; on a map, its ``world``."""
 
     variant: str
     arm: str
@@ -138,6 +212,25 @@ class ArmTask:
     net: Path
     routes: Path
     study: StudyConfig
+    world: StudyWorld | None = None
+
+    def sim_config(self, extra_args: tuple[str, ...] = ()) -> SimConfig:
+        """What SUMO runs: the net with the run's demand, or the user's scenario with the
+        study's pedestrians added to its own route files; ``study.run_seconds`` from the
+        scenario's begin (0 on other nets)."""
+        cfg = self.study
+        sumo = self.world.sumo if self.world is not None else None
+        if sumo is None:
+            return SimConfig(
+                net=self.net, routes=[self.routes], step_length=cfg.step_length, seed=self.seed,
+                end_time=cfg.run_seconds, extra_args=extra_args,
+            )  # fmt: skip
+        # SUMO's -r replaces the configuration's route files: they are named again
+        return SimConfig(
+            config=sumo.config, routes=[*sumo.routes, self.routes], step_length=cfg.step_length,
+            seed=self.seed, begin=sumo.begin, end_time=sumo.begin + cfg.run_seconds,
+            extra_args=extra_args, generated=[self.routes],
+        )  # fmt: skip
 
 
 @dataclass
@@ -177,7 +270,10 @@ class ArmResult:
 def build_inputs(config: StudyConfig, folder: Path) -> list[ArmTask]:
     """Build the nets and demand files under ``folder`` and list every run of the study."""
     config.validate()
+    world = study_world(config)
     folder.mkdir(parents=True, exist_ok=True)
+    if world is not None:
+        return _world_inputs(config, world, folder)
     tasks = []
     for variant in config.variants:
         net = build_intersection(
@@ -200,6 +296,29 @@ def build_inputs(config: StudyConfig, folder: Path) -> list[ArmTask]:
             )
             routes = write_demand(net, folder / f"{variant}_run{k}.rou.xml", demand)
             tasks += [ArmTask(variant, arm, k, seed, net, routes, config) for arm in ARMS]
+    return tasks
+
+
+def _world_inputs(config: StudyConfig, world: StudyWorld, folder: Path) -> list[ArmTask]:
+    """The runs on a map: per run, the study's demand on the user's net (never modified)
+    written under ``folder``: vehicles between the fringes (none in a SUMO scenario, whose own
+    vehicles are the study's) and pedestrians across the chosen crossings."""
+    tasks = []
+    for k in range(config.runs):
+        seed = config.seed + k
+        demand = DemandConfig(
+            vehicles_per_hour=0.0 if world.sumo is not None else config.vehicles_per_hour,
+            persons_per_hour=config.persons_per_hour,
+            begin=world.begin,
+            end=world.begin + config.run_seconds,
+            seed=seed,
+            vehicle_mix={"car": 1.0},
+            crossings=world.crossings,
+        )
+        routes = write_demand(world.net, folder / f"{WORLD_VARIANT}_run{k}.rou.xml", demand)
+        tasks += [
+            ArmTask(WORLD_VARIANT, arm, k, seed, world.net, routes, config, world) for arm in ARMS
+        ]
     return tasks
 
 
@@ -242,33 +361,56 @@ class _Schedule:
     depart: np.ndarray  # (n,) sorted
     earliest_suffix: np.ndarray  # (n,) min over k >= i of depart + travel to the zone
     lead: float  # s, the shortest travel from any departure point to the zone
+    #: departures not known ahead (a SUMO scenario's own demand): an actor may come any time
+    anytime: bool = False
 
     def next_entry(self, now: float) -> float:
+        if self.anytime:
+            return now
         i = int(np.searchsorted(self.depart, now, side="right"))
         return float(self.earliest_suffix[i]) if i < len(self.depart) else math.inf
 
 
 def _schedules(task: ArmTask, geometry: NetGeometry, net: Any) -> tuple[_Schedule, _Schedule]:
     cfg = task.study
+    if task.world is not None and task.world.sumo is not None:
+        # the scenario's route files are SUMO's to read (flows, routes by id, stops ...)
+        anytime = _Schedule(np.zeros(0), np.zeros(0), 0.0, anytime=True)
+        return anytime, anytime
     root = etree.parse(str(task.routes)).getroot()
 
-    def start_distance(edge_id: str) -> float:
-        x, y = net.getEdge(edge_id).getShape()[0][:2]
+    def start_distance(edge_id: str, pos: str | None) -> float:
+        """From the departure point (the edge's start, or ``pos`` m along its first lane)
+        to the nearest studied junction, m."""
+        edge = net.getEdge(edge_id)
+        x, y = edge.getShape()[0][:2]
+        if pos is not None:  # lane lengths are along the shape, scaled where a junction cut it
+            lane = edge.getLanes()[0]
+            shape = lane.getShape()
+            scale = sumolib.geomhelper.polyLength(shape) / max(lane.getLength(), 1e-9)
+            x, y = sumolib.geomhelper.positionAtShapeOffset(shape, float(pos) * scale)[:2]
         return float(np.min(np.linalg.norm(geometry.junction_xy - (x, y), axis=1)))
 
-    def schedule(items: list[tuple[float, str]], zone: float, speed: float) -> _Schedule:
+    def schedule(
+        items: list[tuple[float, str, str | None]], zone: float, speed: float
+    ) -> _Schedule:
         if not items:
             return _Schedule(np.zeros(0), np.zeros(0), math.inf)
-        dep = np.array([t for t, _ in items])
-        lead = np.array([max(start_distance(e) - zone, 0.0) / speed for _, e in items])
+        dep = np.array([t for t, _, _ in items])
+        lead = np.array([max(start_distance(e, p) - zone, 0.0) / speed for _, e, p in items])
         order = np.argsort(dep, kind="stable")
         dep, lead = dep[order], lead[order]
         suffix = np.minimum.accumulate((dep + lead)[::-1])[::-1]
         return _Schedule(dep, suffix, float(lead.min()))
 
-    trips = [(float(t.get("depart")), t.get("from")) for t in root.iter("trip")]
+    trips = [(float(t.get("depart")), t.get("from"), None) for t in root.iter("trip")]
+    # circulating vehicles (demand on nets without fringes) depart on their route's first edge
+    trips += [
+        (float(v.get("depart")), v.find("route").get("edges").split()[0], None)
+        for v in root.iter("vehicle")
+    ]
     persons = [
-        (float(p.get("depart")), p.find("walk").get("from"))
+        (float(p.get("depart")), p.find("walk").get("from"), p.get("departPos"))
         for p in root.iter("person")
         if p.find("walk") is not None
     ]
@@ -301,7 +443,7 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
     """Run one arm of one variant for ``study.run_seconds`` and return its encounters and
     trip statistics. ``progress`` receives simulated seconds as they pass."""
     cfg = task.study
-    geometry = NetGeometry.from_net(task.net)
+    geometry = NetGeometry.from_net(task.net, task.world.junctions if task.world else None)
     if len(geometry.junction_xy) == 0:
         raise HiyariError(f"{task.net}: the network has no crossings to study")
     model = SCTModel(geometry, cfg.sct)
@@ -320,20 +462,14 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
         if task.arm == "baseline"
         else max(cfg.metric_horizon, cfg.controller.sct_safe)
     )
-    dt, end = cfg.step_length, cfg.run_seconds
+    begin = task.world.begin if task.world is not None else 0.0
+    dt, end = cfg.step_length, begin + cfg.run_seconds
     eps = 1e-6
     evaluated = 0
-    reported = 0.0
+    reported = begin
     with tempfile.TemporaryDirectory(prefix="hiyari-study-") as tmp:
         trip_file = Path(tmp) / "tripinfo.xml"
-        sim_cfg = SimConfig(
-            net=task.net,
-            routes=[task.routes],
-            step_length=dt,
-            seed=task.seed,
-            end_time=end,
-            extra_args=("--tripinfo-output", str(trip_file)),
-        )
+        sim_cfg = task.sim_config(("--tripinfo-output", str(trip_file)))
         t0, c0 = time.perf_counter(), time.process_time()
         with Simulation(sim_cfg, detect_collisions=False) as sim:
             links = _crossing_links(sim, geometry)
@@ -422,7 +558,7 @@ def run_arm(task: ArmTask, progress: Callable[[float], None] | None = None) -> A
         arm=task.arm,
         run=task.run,
         seed=task.seed,
-        sim_seconds=end,
+        sim_seconds=cfg.run_seconds,
         wall_seconds=wall,
         steps=int(round(end / dt)),
         evaluated_steps=evaluated,
@@ -569,20 +705,13 @@ def run_bare(task: ArmTask, read_state: bool = False) -> tuple[float, float]:
     """Wall and CPU time (s) of the same SUMO run as ``task`` with no metrics and no
     controller: libsumo stepping only, or (``read_state``) stepping with a WorldState read
     per step."""
-    cfg = task.study
-    sim_cfg = SimConfig(
-        net=task.net,
-        routes=[task.routes],
-        step_length=cfg.step_length,
-        seed=task.seed,
-        end_time=cfg.run_seconds,
-    )
-    end = cfg.run_seconds - 1e-6
+    sim_cfg = task.sim_config()
+    end = sim_cfg.end_time
     with Simulation(sim_cfg, detect_collisions=False) as sim:
         t0, c0 = time.perf_counter(), time.process_time()
         if read_state:
-            while sim.time < end:
+            while sim.time < end - 1e-6:
                 sim.step()
         else:
-            sim.run_bare(cfg.run_seconds)
+            sim.run_bare(end)
         return time.perf_counter() - t0, time.process_time() - c0

@@ -81,6 +81,14 @@ def run_judge(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.report.r157 import write_report
     from hiyari.risk.cc.r157_points import load_point_params, load_points
 
+    for option, given in (("--sumocfg", args.sumocfg), ("--map", args.map)):
+        if given:
+            raise HiyariError(
+                f"{option}: an R157 test point is its Annex G manoeuvre alone on a straight "
+                "expressway, its expected verdict computed for exactly that; other traffic "
+                "would judge another scenario (run a .xosc in a SUMO scenario with 'hiyari run "
+                "x.xosc --sumocfg' instead)"
+            )
     out = output_folder(args.out)
     points = load_points(args.points)
     stored, given = load_point_params(args.points), model_params(args)
@@ -197,6 +205,11 @@ def add_judge(sub: argparse._SubParsersAction) -> None:
         help="run the points one after the other in this process, not in worker processes "
         "(a native crash then ends the judge)",
     )
+    world = p.add_mutually_exclusive_group()
+    for option in ("--sumocfg", "--map"):  # accepted so that the refusal says why
+        world.add_argument(
+            option, help="refused: the points run alone on the Annex G expressway (docs)"
+        )
     p.add_argument("-q", "--quiet", action="store_true")
     add_model_options(p)
     p.set_defaults(func=run_judge)

@@ -19,18 +19,30 @@ def study_config(args: argparse.Namespace) -> StudyConfig:
     """The StudyConfig the command line asks for (validated)."""
     # the study loads SUMO and the SCT model: imported when it runs, not for `hiyari --help`
     from hiyari.bridge.loop.drivers.sct_controller import SCTControllerConfig
-    from hiyari.bridge.studies.sct.study import VARIANTS, StudyConfig
+    from hiyari.bridge.studies.sct.study import VARIANTS, WORLD_VARIANT, StudyConfig
     from hiyari.risk.metrics.incidents import IncidentConfig
 
-    variants = tuple(v.strip() for v in args.variants.split(",") if v.strip())
+    base = StudyConfig()
+    world = args.map or args.sumocfg
+    _refuse_without_meaning(args, world)
+    variants = tuple(v.strip() for v in (args.variants or "").split(",") if v.strip())
     if args.variants == "both":
         variants = tuple(VARIANTS)
-    base = StudyConfig()
+    if world:
+        variants = (WORLD_VARIANT,)
+    crossings = ()
+    if args.crossings is not None and args.crossings.strip() != "auto":
+        crossings = tuple(c.strip() for c in args.crossings.split(",") if c.strip())
+        if not crossings:
+            raise HiyariError("--crossings: give 'auto' or crossing ids such as :J_c0")
+    days = base.days if args.days is None else args.days
+    if args.sumocfg and args.days is None:  # each run the scenario's whole time window
+        days = _window_days(args.sumocfg, args.runs) or days
     config = StudyConfig(
-        days=args.days,
-        vehicles_per_hour=args.vph,
+        days=days,
+        vehicles_per_hour=base.vehicles_per_hour if args.vph is None else args.vph,
         persons_per_hour=args.pph,
-        variants=variants,
+        variants=variants or base.variants,
         crossing_priority=not args.minor_crossings,
         runs=args.runs,
         seed=args.seed,
@@ -40,19 +52,47 @@ def study_config(args: argparse.Namespace) -> StudyConfig:
             IncidentConfig(), ttc_threshold=args.ttc_threshold, pet_threshold=args.pet_threshold
         ),
         sct=base.sct,
+        map_net=args.map or "",
+        sumocfg=args.sumocfg or "",
+        crossings=crossings,
     )
     config.validate()
     return config
 
 
+def _refuse_without_meaning(args: argparse.Namespace, world: str | None) -> None:
+    """One line for an option that means nothing with (or without) a map or scenario."""
+    if world:
+        given = {"--variants": args.variants is not None,
+                 "--minor-crossings": args.minor_crossings, "--sensitivity": args.sensitivity > 0}  # fmt: skip
+        used = [option for option, on in given.items() if on]
+        if used:
+            raise HiyariError(f"{used[0]}: applies to the generated intersection; on a map "
+                              "the junctions are the map's, as they are")  # fmt: skip
+    elif args.crossings is not None:
+        raise HiyariError("--crossings: choose crossings on a map (--map or --sumocfg)")
+    if args.sumocfg and args.vph is not None:
+        raise HiyariError("--vph: in a SUMO scenario its own vehicles are the study's")
+
+
+def _window_days(sumocfg: str, runs: int) -> float | None:
+    """Days of ``runs`` runs each as long as the SUMO scenario's time window (None: it has
+    no end, which the study refuses)."""
+    from hiyari.traffic.sumocfg import read_sumocfg
+
+    sc = read_sumocfg(sumocfg)
+    return None if sc.end is None else runs * (sc.end - sc.begin) / 86400.0
+
+
 def run_sct(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.report.sct import write_report
-    from hiyari.bridge.studies.sct.study import run_study
+    from hiyari.bridge.studies.sct.study import run_study, study_world
     from hiyari.bridge.studies.sct.summary import SEED_REDUCTION, change_text, reduction, summarise
 
     config = study_config(args)
     if args.jobs is not None and args.jobs < 1:
         raise HiyariError(f"--jobs must be >= 1, got {args.jobs}")
+    study_world(config)  # a bad map, scenario or crossing id is refused before any output
     out = output_folder(args.out)
     results, wall = run_study(
         config, out, args.jobs, progress=not args.quiet, in_process=args.in_process
@@ -111,22 +151,48 @@ def _sct_arguments(s: argparse.ArgumentParser) -> None:
 
     d = StudyConfig()
     s.add_argument("--out", "-o", default="out/study_sct", help="report folder")
+    world = s.add_mutually_exclusive_group()
+    world.add_argument(
+        "--map",
+        help="study on this SUMO net (e.g. from 'hiyari net import map.osm') with generated "
+        "vehicles, instead of the generated intersection",
+    )
+    world.add_argument(
+        "--sumocfg",
+        help="study inside this SUMO scenario: its own vehicles and persons over its time "
+        "window, plus the study's pedestrians at the crossings",
+    )
+    s.add_argument(
+        "--crossings",
+        default=None,
+        help="with --map / --sumocfg: 'auto' (default: every crossing of the net with a "
+        "sidewalk at both ends) or comma-separated crossing ids (:J_c0) the study's "
+        "pedestrians walk across",
+    )
     s.add_argument(
         "--days",
         type=numbers.number(None, 3660, unit="days"),  # > 0 checked by the study config
-        default=d.days,
-        help="simulated days per arm",
+        default=None,
+        help=f"simulated days per arm (default: {d.days}); with --sumocfg, each run is the "
+        "scenario's time window unless given",
     )
     s.add_argument(
-        "--vph", type=numbers.per_hour(), default=d.vehicles_per_hour, help="vehicles per hour"
+        "--vph",
+        type=numbers.per_hour(),
+        default=None,
+        help=f"vehicles per hour (default: {d.vehicles_per_hour}); not with --sumocfg",
     )
     s.add_argument(
-        "--pph", type=numbers.per_hour(), default=d.persons_per_hour, help="pedestrians per hour"
+        "--pph",
+        type=numbers.per_hour(),
+        default=d.persons_per_hour,
+        help="pedestrians per hour (on a map: walking across the chosen crossings)",
     )
     s.add_argument(
         "--variants",
-        default=",".join(d.variants),
-        help="comma-separated intersection variants: unsignalised, signalised (or 'both')",
+        default=None,
+        help="comma-separated intersection variants: unsignalised, signalised (or 'both'; "
+        f"default: {','.join(d.variants)})",
     )
     s.add_argument(
         "--minor-crossings",

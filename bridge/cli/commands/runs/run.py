@@ -29,7 +29,9 @@ def run(args: argparse.Namespace) -> int:
         )
     if args.scenario is None:
         return _run(args, load_plan(args))
-    with about(args.scenario, Path(args.scenario).resolve()):
+    # an error about the SUMO scenario names it first, and stays as it is
+    world = [args.sumocfg] if args.sumocfg else []
+    with about(args.scenario, Path(args.scenario).resolve(), *world):
         return _run(args, load_plan(args))
 
 
@@ -42,11 +44,19 @@ def load_plan(args: argparse.Namespace) -> Plan:
     from hiyari.bridge.openscenario.presets.toml_file import load_scenario, parse_scenario
 
     world_given = getattr(args, "sumocfg", None) or getattr(args, "map", None)
+    warmup = getattr(args, "warmup", None)
     if args.scenario is not None and is_openscenario(args.scenario):
-        if world_given:
-            raise HiyariError(f"{args.scenario}: an OpenSCENARIO file runs on its own road "
-                              "(--sumocfg and --map apply to city scenarios)")  # fmt: skip
-        return load_xosc(args.scenario, ego_setup(args), xosc_params(args))
+        if getattr(args, "map", None):
+            raise HiyariError(f"{args.scenario}: an OpenSCENARIO file runs on the road its "
+                              "LogicFile names (--map applies to city scenarios)")  # fmt: skip
+        if warmup is not None and not args.sumocfg:
+            raise HiyariError("--warmup: the warm-up is of a SUMO scenario's demand (--sumocfg)")
+        world = _world(args) if world_given else None  # --sumocfg: --map is refused above
+        sumo = world.sumo if world is not None else None
+        setup, params = ego_setup(args), xosc_params(args)
+        return load_xosc(args.scenario, setup, params, sumo, warmup or 0.0)
+    if warmup is not None:
+        raise HiyariError("--warmup: a city scenario's warm-up is its warmup_s parameter")
     world = _world(args) if world_given else None  # named before the scenario expands
     if args.scenario is None:  # free city driving with the city defaults in that world
         logical = parse_scenario({"scenario": {"type": "city"}}, "--sumocfg/--map")
@@ -238,13 +248,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     world = p.add_mutually_exclusive_group()
     world.add_argument(
         "--sumocfg",
-        help="city runs: drive inside this SUMO scenario (its net, demand, additional files "
-        "and time window; hiyari adds only the ego)",
+        help="drive inside this SUMO scenario (its net, demand, additional files and time "
+        "window; hiyari adds only the ego and the scenario's actors). A .xosc file's: its net "
+        "must be the conversion of the road the .xosc names ('hiyari net import road.xodr')",
     )
     world.add_argument(
         "--map",
         help="city runs: drive on this SUMO net (e.g. from 'hiyari net import map.osm') with "
         "generated vehicles and pedestrians",
+    )
+    p.add_argument(
+        "--warmup",
+        type=numbers.seconds(lo_open=False),
+        default=None,
+        help=".xosc with --sumocfg: seconds the scenario's demand runs before the storyboard "
+        "starts (default: 0; a TOML city file gives its warmup_s)",
     )
     p.add_argument("-o", "--out", default="out/run", help="output folder")
     p.add_argument(
