@@ -25,6 +25,7 @@ import csv
 import io
 import math
 import os
+import shutil
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -146,10 +147,16 @@ def run_sweep(plan: Plan, options: SweepOptions) -> SweepSummary:
             f"{plan.path}: the parameter ranges give {n:,} runs, more than --max-runs "
             f"{options.max_runs:,} (use coarser steps, or raise --max-runs)"
         )
-    plan = plan.with_roads(options.out_dir / "roads")
-    runs = plan.expand()
-    if not runs:
-        raise HiyariError(f"{plan.path}: the parameters expand to no run")
+    existed = options.out_dir.exists()
+    try:
+        plan = plan.with_roads(options.out_dir / "roads")
+        runs = plan.expand()
+        if not runs:
+            raise HiyariError(f"{plan.path}: the parameters expand to no run")
+    except BaseException:
+        if not existed:  # refused before any run: nothing of this sweep is left
+            shutil.rmtree(options.out_dir, ignore_errors=True)
+        raise
     out = options.out_dir
     out.mkdir(parents=True, exist_ok=True)
     table = out / "results.csv"

@@ -139,3 +139,24 @@ def test_map_and_stray_warmup_refused(files, tmp_path, capsys):
     assert "runs on the road its LogicFile names" in capsys.readouterr().err
     assert main(["run", str(xosc), "--warmup", "5", "-o", out]) == 1
     assert "--warmup: the warm-up is of a SUMO scenario's demand" in capsys.readouterr().err
+
+
+def test_sweep_takes_the_same_world(files, tmp_path, capsys):
+    """``hiyari sweep x.xosc --sumocfg``: the run goes inside the scenario (its net checked
+    before any run: another road's net is refused in one line), and runs to its end."""
+    from hiyari.bridge.studies.sweep import read_table
+
+    xosc, cfg = files
+    other = net_for(ROADS / "alks_road_left_radius_250m.xodr", tmp_path)
+    bad = cfg.with_name("sweep_other_road.sumocfg")
+    bad.write_text(cfg.read_text().replace(str(read_sumocfg(cfg).net), str(other)))
+    common = ["--warmup", "5", "--max-duration", "10", "--step-length", "0.1", "-j", "1", "-q"]
+    assert (
+        main(["sweep", str(xosc), "--sumocfg", str(bad), *common, "-o", str(tmp_path / "b")]) == 1
+    )
+    assert "is not the conversion of alks_road_straight.xodr" in capsys.readouterr().err
+    assert not (tmp_path / "b").exists()
+    out = tmp_path / "sweep"
+    assert main(["sweep", str(xosc), "--sumocfg", str(cfg), *common, "-o", str(out)]) == 0
+    (row,) = read_table(out / "results.csv").values()
+    assert row["status"] == "ok" and row["collision"] == "False"

@@ -245,25 +245,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="scenario file: hiyari TOML, or OpenSCENARIO .xosc (a scenario or a "
         "ParameterValueDistribution); optional with --sumocfg / --map (free city driving)",
     )
-    world = p.add_mutually_exclusive_group()
-    world.add_argument(
-        "--sumocfg",
-        help="drive inside this SUMO scenario (its net, demand, additional files and time "
-        "window; hiyari adds only the ego and the scenario's actors). A .xosc file's: its net "
-        "must be the conversion of the road the .xosc names ('hiyari net import road.xodr')",
-    )
-    world.add_argument(
-        "--map",
-        help="city runs: drive on this SUMO net (e.g. from 'hiyari net import map.osm') with "
-        "generated vehicles and pedestrians",
-    )
-    p.add_argument(
-        "--warmup",
-        type=numbers.seconds(lo_open=False),
-        default=None,
-        help=".xosc with --sumocfg: seconds the scenario's demand runs before the storyboard "
-        "starts (default: 0; a TOML city file gives its warmup_s)",
-    )
+    add_world_options(p)
     p.add_argument("-o", "--out", default="out/run", help="output folder")
     p.add_argument(
         "--max-runs", type=numbers.count(), default=50, help="refuse larger grids (use sweep)"
@@ -285,6 +267,30 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     add_xosc_options(p)
     p.set_defaults(func=run, run_parser=p)
+
+
+def add_world_options(p: argparse.ArgumentParser) -> None:
+    """The world options of ``run`` and ``sweep``: a SUMO scenario or a map to drive in, and
+    the warm-up of the scenario's demand before a .xosc storyboard starts."""
+    world = p.add_mutually_exclusive_group()
+    world.add_argument(
+        "--sumocfg",
+        help="drive inside this SUMO scenario (its net, demand, additional files and time "
+        "window; hiyari adds only the ego and the scenario's actors). A .xosc file's: its net "
+        "must be the conversion of the road the .xosc names ('hiyari net import road.xodr')",
+    )
+    world.add_argument(
+        "--map",
+        help="city runs: drive on this SUMO net (e.g. from 'hiyari net import map.osm') with "
+        "generated vehicles and pedestrians",
+    )
+    p.add_argument(
+        "--warmup",
+        type=numbers.seconds(lo_open=False),
+        default=None,
+        help=".xosc with --sumocfg: seconds the scenario's demand runs before the storyboard "
+        "starts (default: 0; a TOML city file gives its warmup_s)",
+    )
 
 
 def add_xosc_options(p: argparse.ArgumentParser) -> None:

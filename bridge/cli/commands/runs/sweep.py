@@ -23,7 +23,9 @@ def run(args: argparse.Namespace) -> int:
     from hiyari.bridge.studies.sweep import SweepOptions, read_table, run_sweep
 
     output_folder(args.out)
-    with about(args.scenario, Path(args.scenario).resolve()):
+    # an error about the SUMO scenario names it first, and stays as it is
+    world = [args.sumocfg] if args.sumocfg else []
+    with about(args.scenario, Path(args.scenario).resolve(), *world):
         plan = load_plan(args)
     if args.dry_run:  # counts every run, whatever --max-runs (a real sweep refuses them)
         return _dry_run(plan, args.max_runs)
@@ -94,7 +96,7 @@ SHOWN_SKIPS = 20
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    from hiyari.bridge.cli.commands.runs.run import add_xosc_options
+    from hiyari.bridge.cli.commands.runs.run import add_world_options, add_xosc_options
 
     p = sub.add_parser("sweep", help="run every concrete scenario of a logical scenario file")
     p.add_argument(
@@ -102,6 +104,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="scenario file: TOML with parameter ranges, or OpenSCENARIO .xosc (a "
         "ParameterValueDistribution, or a scenario: one run)",
     )
+    add_world_options(p)
     p.add_argument("-o", "--out", default="out/sweep", help="output folder (resumable)")
     p.add_argument(
         "--workers",
