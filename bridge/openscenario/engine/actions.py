@@ -564,10 +564,7 @@ class ActionStarter:
         read_targets(tb)
         tb.kappa[r] = 0.0
         before = tb.long_travelled[r].copy()
-        ended = MK.advance_long(
-            r, now, self.e.dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par,
-            tb.long_done,
-        )  # fmt: skip
+        ended = MK.advance_long(r, now, self.e.dt, tuple(tb.arrays))
         ds = tb.long_travelled[r] - before
         for a, d in zip(actors, ds.tolist(), strict=True):
             if a.path is not None:

@@ -20,6 +20,11 @@ from hiyari.bridge.openscenario.engine.kernels import measures as M
 from hiyari.bridge.openscenario.engine.kernels import trigger_kernel as K
 from hiyari.bridge.openscenario.engine.kernels.measures import EntityRows
 from hiyari.bridge.openscenario.engine.kernels.snapshot import Snapshot, gather_entities
+from hiyari.bridge.openscenario.engine.kernels.tables import (
+    ElementArrays,
+    EntityFields,
+    TriggerArrays,
+)
 from hiyari.bridge.openscenario.engine.positions import Pose
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.conditions import (
@@ -170,6 +175,13 @@ class ConditionBank:
         self._counts = np.zeros((2, n), dtype=np.int64)
         self._flags = np.zeros((2, n), dtype=bool)
         self._fired = np.zeros(self.n_triggers, dtype=bool)
+        #: The tables above as one table for the trigger kernel (updated in place; passed as
+        #: ``tuple(arrays)``, see kernels.tables).
+        self.arrays = TriggerArrays(
+            self.cond, self.time_value, self.static, self.group_start, self.trigger_group,
+            self.prev, self.history, self.row_table, self.rows.value, self.points, self.since,
+            self._work, self._counts, self._flags, self._fired,
+        )  # fmt: skip
         self.n_fired = 0
         self._values_version = -1
         self.refresh_values()
@@ -222,10 +234,6 @@ class ConditionBank:
         """(E, E) bool, all False: the contact matrix of a step without contacts."""
         return self._no_contact
 
-    def work_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """The trigger kernel's work arrays and its result (``fired``), in its order."""
-        return self._work, self._counts, self._flags, self._fired
-
     # ------------------------------------------------------------------ evaluate
     def evaluate(
         self,
@@ -237,42 +245,38 @@ class ConditionBank:
     ) -> np.ndarray:
         """Fired triggers (bool per trigger; an array reused by the next call) given which
         triggers are ``active``, element ``states`` (codes) and the ``transitions`` (codes)
-        each element went through at the last update. ``gather``: the arguments of
-        :func:`snapshot.gather_entities` filling ``snap``'s arrays, run first in the same
-        compiled call (None: ``snap`` is filled). ``n_fired``: how many fired."""
+        each element went through at the last update. ``gather``: the WorldState, gather and
+        actor tables (plain tuples) of :func:`snapshot.gather_entities` filling ``snap``'s
+        arrays, run first in the same compiled call (None: ``snap`` is filled). ``n_fired``:
+        how many fired."""
         for i, ec in self.python_conditions:
             if active[self.cond_trigger[i]] and self.python_eval is not None:
                 self.static[i] = self.python_eval(ec)
-        if len(self.point_rows):
-            if gather is not None:  # the points need the entities' presence first
-                gather_entities(*gather)
-                gather = None
-            self._resolve_points(snap, active)
         contact = self._no_contact
         if snap.contacts:
             contact = np.zeros_like(self._no_contact)
             for pair in snap.contacts:
                 i, j = (*pair, *pair)[:2]  # a pair, or one entity (a set of one)
                 contact[i, j] = contact[j, i] = True
+        ent = EntityFields(
+            snap.present, snap.centre, snap.ref, snap.heading, snap.length, snap.width,
+            snap.speed, snap.accel, snap.on_net, snap.road_s, snap.road_t, snap.road_dir,
+            contact, snap.contact_any,
+        )  # fmt: skip
+        ent = tuple(ent)  # the kernels take tables as plain tuples (see kernels.tables)
+        if len(self.point_rows):
+            if gather is not None:  # the points need the entities' presence first
+                gather_entities(*gather, ent)
+                gather = None
+            self._resolve_points(snap, active)
         if len(self._work) != len(snap.heading):
             self._work = np.zeros((len(snap.heading), M.N_FIELDS))
+            self.arrays = self.arrays._replace(work=self._work)
+        trig, el = tuple(self.arrays), tuple(ElementArrays(active, states, transitions))
         if gather is None:
-            self.n_fired = K.evaluate_triggers(
-                snap.time, self.step_no, active, self.cond, self.time_value, self.static,
-                self.group_start, self.trigger_group, self.prev, self.history, self.row_table,
-                self.rows.value, self.points, self.since, snap.present, snap.centre, snap.ref,
-                snap.heading, snap.length, snap.width, snap.speed, snap.accel, snap.on_net,
-                snap.road_s, snap.road_t, snap.road_dir, contact, snap.contact_any, states,
-                transitions, self._work, self._counts, self._flags, self._fired,
-            )  # fmt: skip
+            self.n_fired = K.evaluate_triggers(snap.time, self.step_no, trig, ent, el)
         else:
-            self.n_fired = K.gather_and_evaluate(
-                *gather, snap.time, self.step_no, active, self.cond, self.time_value,
-                self.static, self.group_start, self.trigger_group, self.prev, self.history,
-                self.row_table, self.rows.value, self.points, self.since, snap.length,
-                snap.width, snap.on_net, contact, snap.contact_any, states, transitions,
-                self._work, self._counts, self._flags, self._fired,
-            )  # fmt: skip
+            self.n_fired = K.gather_and_evaluate(snap.time, self.step_no, *gather, trig, ent, el)
         self.step_no += 1
         return self._fired
 

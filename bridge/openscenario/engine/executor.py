@@ -49,6 +49,13 @@ from hiyari.bridge.openscenario.engine.kernels.snapshot import (
     gather_entities,
 )
 from hiyari.bridge.openscenario.engine.kernels.step_kernel import quiet_step
+from hiyari.bridge.openscenario.engine.kernels.tables import (
+    CommandArrays,
+    ElementArrays,
+    EntityFields,
+    GatherArrays,
+    WorldArrays,
+)
 from hiyari.bridge.openscenario.engine.measured import entity_holds, time_of_day_holds
 from hiyari.bridge.openscenario.engine.motion import (
     Actor,
@@ -140,13 +147,6 @@ class StepReport(NamedTuple):
     started: tuple[str, ...] = ()
     ended: tuple[str, ...] = ()
     ego_requests: tuple[str, ...] = ()
-
-
-def _command_arrays(m: int) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
-    """The arrays ``command_rows`` fills for ``m`` actors (centres (m, 2), headings, speeds to
-    send, SUMO commands (3, m)), the last two rows of one (4, m) array, and that array."""
-    cmd = np.empty((4, m))
-    return (np.empty((m, 2)), np.empty(m), cmd[3], cmd[:3]), cmd
 
 
 class ScenarioEngine:
@@ -243,22 +243,19 @@ class ScenarioEngine:
         self._lane_key = np.full((n, 3), -2, dtype=np.int64)  # road code, lane, section
         self._edge: list[str] = [""] * n
         self._lane_index: list[int] = [-1] * n
-        # the rows commanded (inserted and driven), their names and the arrays their centres,
-        # headings, speeds and SUMO commands (see command_rows) are computed into, for the
-        # view version and insert count they were found at; the speeds and SUMO commands are
-        # the rows of one (4, m) array (front x, front y, SUMO angle, speed), read as lists in
-        # one call
-        self._moved: tuple[np.ndarray, list[str], tuple[np.ndarray, ...], np.ndarray] = (
-            np.zeros(0, np.intp), [], *_command_arrays(0),
+        self._sent_speed = np.full(n, np.nan)  # speed last sent to SUMO per entity, m/s
+        # the rows commanded (inserted and driven), their names and their command table
+        # (see _command_table), for the view version and insert count they were found at
+        no_rows = np.zeros(0, np.intp)
+        self._moved: tuple[np.ndarray, list[str], CommandArrays, np.ndarray] = (
+            no_rows, [], *self._command_table(no_rows),
         )  # fmt: skip
         self._moved_key: tuple[int, int] = (-1, -1)
-        self._command_cache: tuple[object, tuple] = (None, ())  # lane profile, command_step args
         self._inserts = 0
         self._types: set[str] = set()  # entities whose SUMO vehicle type is defined
         self._lanes_of: tuple[np.ndarray | None, list[str], list[int]] = (None, [], [])
         # table rows on roads / following paths, for the view and motion versions
         self._advance_rows: tuple[tuple[int, int], np.ndarray, list[int]] | None = None
-        self._sent_speed = np.full(n, np.nan)  # speed last sent to SUMO per entity, m/s
         # the snapshot's arrays, filled in place every step (see snapshot.gather_entities)
         self._present = np.zeros(n, dtype=bool)
         self._centre, self._ref = np.zeros((n, 2)), np.zeros((n, 2))
@@ -269,6 +266,13 @@ class ScenarioEngine:
             0.0, self._present, self._ref, self._centre, out[F_HEADING], self._length,
             self._width, out[F_SPEED], out[F_ACCEL], self._no_contact, out[F_ROAD_S],
             out[F_ROAD_T], out[F_ROAD_DIR], set(), self._no_contact,
+        )  # fmt: skip
+        # the same arrays as the kernels take them, for steps without contacts and without
+        # end-of-road conditions (the quiet step, and the gather before entities are located)
+        self._fields = EntityFields(
+            self._present, self._centre, self._ref, out[F_HEADING], self._length, self._width,
+            out[F_SPEED], out[F_ACCEL], self._no_contact, out[F_ROAD_S], out[F_ROAD_T],
+            out[F_ROAD_DIR], self.bank.no_contact, self._no_contact,
         )  # fmt: skip
         self._near: dict[str, tuple[str, float]] = {}  # last road and s of located entities
         self._view_cache: _View | None = None
@@ -570,9 +574,8 @@ class ScenarioEngine:
                 read_targets(self.table)
             bank = self.bank
             n_fired, ended, missing, lat_ended, placed, changed = quiet_step(
-                world.xyz, world.heading, world.speed, world.accel, self.now, bank.step_no,
-                self.now + self.dt, *quiet,
-            )  # fmt: skip
+                _world_arrays(world), self.now, bank.step_no, self.now + self.dt, *quiet
+            )
             bank.step_no += 1
             bank.n_fired = n_fired
             if not n_fired:
@@ -610,7 +613,7 @@ class ScenarioEngine:
         # when no action can end (see _finish_actions), the commands are computed in the
         # motion pass's compiled call
         idle = (len(self.tree.log), self.table.motion_version) == self._idle[1] and not self.keepers
-        return self._command_and_send(sim, self._advance(self._command_args() if idle else None))
+        return self._command_and_send(sim, self._advance(self._commands() if idle else None))
 
     def _command_and_send(self, sim: Simulation, changed: np.ndarray | None) -> StepReport:
         """Send the step's commands and return its report; ``changed``: the rows whose SUMO
@@ -622,7 +625,7 @@ class ScenarioEngine:
         return self._send(sim, changed, self._report())
 
     def _quiet_args(self) -> tuple | None:
-        """The arguments of ``step_kernel.quiet_step`` after the WorldState arrays, the time
+        """The arguments of ``step_kernel.quiet_step`` after the WorldState's table, the times
         and the evaluation number, when this step can be quiet; else None. A step is quiet
         when the latest storyboard update and action-ending pass changed nothing (see
         ``_idle``), the element transitions are cleared, the conditions read nothing the
@@ -659,14 +662,11 @@ class ScenarioEngine:
         motion = None if on_path else quiet_motion(self.roads.odr, tb, on_road, self.dt)
         if motion is None:
             return None
+        where = GatherArrays(self._entity_rows, self._centre_offset, view.own)
+        elements = ElementArrays(view.active, self.tree.state, self.tree.transition)
         return (
-            self._entity_rows, self._centre_offset, view.own, tb.road_code, tb.state,
-            tb.direction, self._present, self._centre, self._ref, self._ent, view.active,
-            bank.cond, bank.time_value, bank.static, bank.group_start, bank.trigger_group,
-            bank.prev, bank.history, bank.row_table, bank.rows.value, bank.points, bank.since,
-            self._length, self._width, self._no_contact, bank.no_contact, self._no_contact,
-            self.tree.state, self.tree.transition, *bank.work_arrays(), *motion,
-            *self._command_args(),
+            tuple(where), tuple(bank.arrays), tuple(self._fields), tuple(elements), *motion,
+            tuple(self._commands()),
         )  # fmt: skip
 
     def _report(self) -> StepReport:
@@ -778,9 +778,9 @@ class ScenarioEngine:
             self._advance_rows = (key, on_road, np.flatnonzero(view.driven & tb.free).tolist())
         return self._advance_rows[1], self._advance_rows[2]
 
-    def _advance(self, command: tuple | None = None) -> np.ndarray | None:
-        """Move the driven actors to the next step; ``command``: the arguments of
-        ``command_step``, run in the same compiled call when the pass ends nothing (returns
+    def _advance(self, command: CommandArrays | None = None) -> np.ndarray | None:
+        """Move the driven actors to the next step; ``command``: the commands' table, whose
+        ``command_step`` runs in the same compiled call when the pass ends nothing (returns
         its result; None: not run)."""
         nxt = self.now + self.dt
         on_road, on_path = self._motion_rows()
@@ -824,29 +824,37 @@ class ScenarioEngine:
         self._send(sim, command_step(*self._command_args()), None)
 
     def _command_args(self) -> tuple:
-        """The arguments of ``command_step`` for the inserted scripted actors (kept while the
-        rows and the lane profile hold: the arrays are updated in place)."""
+        """The arguments of ``command_step``: the commands' table (:meth:`_commands`), the
+        ActorTable's and its lane profile's (as plain tuples: see kernels.tables)."""
         tb = self.table
+        return tuple(self._commands()), tuple(tb.arrays), tuple(tb.lanes(self.roads.odr))
+
+    def _commands(self) -> CommandArrays:
+        """The command table of the inserted scripted actors, kept while the rows hold (its
+        arrays are updated in place)."""
         key = (self._view().version, self._inserts)
-        prof = tb.lane_profile(self.roads.odr)
-        if key == self._moved_key and prof is self._command_cache[0]:
-            return self._command_cache[1]
         if key != self._moved_key:
-            rows = np.flatnonzero(tb.inserted & self._driven())
+            rows = np.flatnonzero(self.table.inserted & self._driven())
             if not np.array_equal(rows, self._moved[0]):
                 names = [self.names[k] for k in rows.tolist()]
-                self._moved = (rows, names, *_command_arrays(len(rows)))
+                self._moved = (rows, names, *self._command_table(rows))
                 left = np.ones(len(self.names), dtype=bool)
                 left[rows] = False
                 self._sent_speed[left] = np.nan  # others may set its speed meanwhile
             self._moved_key = key
-        rows, _, out, _ = self._moved
-        args = (
-            rows, tb.state, self._cx, self._cy, self._length, self._sent_speed, *out, tb.free,
-            tb.road_code, tb.lane, prof.sec_first, prof.sec_count, prof.sec_s0, self._lane_key,
+        return self._moved[2]
+
+    def _command_table(self, rows: np.ndarray) -> tuple[CommandArrays, np.ndarray]:
+        """The command table of ``rows`` and the (4, m) array whose rows hold the SUMO commands
+        and the speeds to send (front x, front y, SUMO angle, speed), read as lists in one
+        call."""
+        m = len(rows)
+        cmd = np.empty((4, m))
+        table = CommandArrays(
+            rows, self._cx, self._cy, self._length, self._sent_speed, self._lane_key,
+            np.empty((m, 2)), np.empty(m), cmd[3], cmd[:3],
         )  # fmt: skip
-        self._command_cache = (prof, args)
-        return args
+        return table, cmd
 
     def _send(
         self, sim: Simulation, changed: np.ndarray, report: StepReport | None
@@ -903,20 +911,17 @@ class ScenarioEngine:
         self, world: WorldState, sim: Simulation, view: _View
     ) -> tuple[Snapshot, tuple | None]:
         """What the conditions read now, in arrays reused from step to step (the snapshot
-        lives for one evaluation), and the arguments of ``gather_entities`` that fills its
-        entity arrays in the trigger evaluation's compiled call (None: filled here, as
-        entities are located on the map after it)."""
-        rows, tb, out = self._entity_rows, self.table, self._ent
+        lives for one evaluation), and the arguments of ``gather_entities`` before its output
+        that fills the snapshot's entity arrays in the trigger evaluation's compiled call
+        (None: filled here, as entities are located on the map after it)."""
+        rows, tb = self._entity_rows, self.table
         if self.bank.needs_road:
             tb.refresh(self.roads.odr)
         present = self._present
-        gather = (
-            rows, world.xyz, world.heading, world.speed, world.accel, self._centre_offset,
-            view.own, tb.road_code, tb.state, tb.direction, present, self._centre, self._ref,
-            out,
-        )  # fmt: skip
+        where = GatherArrays(rows, self._centre_offset, view.own)
+        gather = (_world_arrays(world), tuple(where), tuple(tb.arrays))
         if view.located:
-            gather_entities(*gather)
+            gather_entities(*gather, tuple(self._fields))
             gather = None
             self._located_road_coords(present)
         n = len(rows)
@@ -942,6 +947,12 @@ class ScenarioEngine:
             self.now, on_net, contacts, contact_any
         )  # fmt: skip
         return snap, gather
+
+
+def _world_arrays(world: WorldState) -> tuple:
+    """The WorldState's arrays the snapshot reads, as the kernels take them (a WorldArrays
+    as a plain tuple: see kernels.tables)."""
+    return tuple(WorldArrays(world.xyz, world.heading, world.speed, world.accel))
 
 
 __all__ = ["ScenarioEngine", "StepReport", "EntityKind"]

@@ -24,6 +24,12 @@ import numpy as np
 from hiyari.bridge.openscenario.engine.kernels import command_kernel as CK
 from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
 from hiyari.bridge.openscenario.engine.kernels.shapes import SHAPE_CODE
+from hiyari.bridge.openscenario.engine.kernels.tables import (
+    ActorArrays,
+    CommandArrays,
+    LaneArrays,
+    RoadArrays,
+)
 from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.model.actions import Shape
 from hiyari.bridge.openscenario.model.entities import Entity
@@ -173,6 +179,7 @@ class ActorTable:
         self.long_targets: dict[int, Callable[[], float]] = {}
         self.lat_offsets: dict[int, Callable[[], float]] = {}
         self._profile: LaneProfile | None = None
+        self._lanes: tuple[LaneProfile, LaneArrays] | None = None  # see lanes
         #: Counts road changes of rows: the grouping of rows by road holds until it moves.
         self.road_version = 0
         self._groups: tuple[np.ndarray, int, list[tuple[str, np.ndarray]]] | None = None
@@ -180,6 +187,13 @@ class ActorTable:
         #: only have finished when it moved.
         self.motion_version = 0
         self._pass: tuple[tuple, tuple] | None = None  # see pass_args
+        #: The arrays above as one table for the compiled passes (built once: the arrays are
+        #: only ever updated in place; passed as ``tuple(arrays)``, see kernels.tables).
+        self.arrays = ActorArrays(
+            self.state, self.direction, self.kappa, self.road_code, self.lane, self.free,
+            self.has_long, self.long_par, self.long_done, self.has_lat, self.lat_par,
+            self.lat_done,
+        )  # fmt: skip
 
     def set_road(self, k: int, road: str) -> None:
         """Row ``k`` is on ``road`` ('' for none)."""
@@ -207,23 +221,27 @@ class ActorTable:
             self._profile = lane_profile([odr.road(r) for r in self.road_ids])
         return self._profile
 
+    def lanes(self, odr: OpenDriveMap) -> LaneArrays:
+        """The arrays of :meth:`lane_profile`, kept while the profile is the same."""
+        prof = self.lane_profile(odr)
+        if self._lanes is None or self._lanes[0] is not prof:
+            self._lanes = (prof, LaneArrays(*prof.arrays()))
+        return self._lanes[1]
+
     def pass_args(self, odr: OpenDriveMap, rows: np.ndarray, dt: float, plan: PlanView) -> tuple:
         """The arguments of ``motion_kernel.advance_and_place`` after ``rows`` and the time,
         for ``rows`` all on the road of ``plan``, with steps of ``dt`` s; kept while none of
-        these, the lane profile or whether a lateral transition runs changes (its arrays are
-        updated in place), as building them costs more than the pass itself."""
-        prof, lateral = self.lane_profile(odr), self.n_lat > 0
+        these, the lane profile or whether a lateral transition runs changes (the tables'
+        arrays are updated in place; the tables as plain tuples, see kernels.tables)."""
+        lanes, lateral = self.lanes(odr), self.n_lat > 0
         key = self._pass[0] if self._pass is not None else None
         if key is None or not (
-            key[0] is rows and key[1] == dt and key[2] == lateral and key[3] is prof
+            key[0] is rows and key[1] == dt and key[2] == lateral and key[3] is lanes
             and key[4] is plan
         ):  # fmt: skip
-            tail = (
-                dt, self.kappa, self.direction, self.state, self.has_long, self.long_par,
-                self.long_done, self.has_lat, self.lat_par, self.lat_done, lateral,
-                *prof.arrays(), *plan.arrays(),
-            )  # fmt: skip
-            self._pass = ((rows, dt, lateral, prof, plan), tail)
+            road = RoadArrays(*plan.arrays())
+            tail = (dt, lateral, tuple(self.arrays), tuple(lanes), tuple(road))
+            self._pass = ((rows, dt, lateral, lanes, plan), tail)
         return self._pass[1]
 
     def mark_stale(self, k: int) -> None:
@@ -383,14 +401,14 @@ def advance_road_actors(
     rows: np.ndarray,
     now: float,
     dt: float,
-    command: tuple | None = None,
+    command: CommandArrays | None = None,
 ) -> np.ndarray | None:
     """Advance the road actors in table ``rows`` (indices into ``actors``, which share one
     table) by one step to scenario time ``now``: speeds and s, then lateral positions, in one
     compiled pass each; goals that follow other entities are read before each pass.
-    ``command``: the arguments of ``command_kernel.command_step``, run in the same compiled
-    call when the rows are on one road and the pass ends no transition; returns its result
-    (None: not run)."""
+    ``command``: the commands' table, whose ``command_kernel.command_step`` runs in the same
+    compiled call when the rows are on one road and the pass ends no transition; returns its
+    result (None: not run)."""
     if not len(rows):
         return None
     tb = actors[0].table
@@ -410,14 +428,14 @@ def advance_road_actors(
         if command is None:
             ended, missing, lat_ended, placed = MK.advance_and_place(*args)
         else:
-            ended, missing, lat_ended, placed, changed = CK.advance_and_command(*args, *command)
+            ended, missing, lat_ended, placed, changed = CK.advance_and_command(
+                *args, tuple(command)
+            )
             if not ended and placed:
                 return changed
         finish_pass(odr, actors, rows, road, ended, missing, lat_ended, placed)
         return None
-    ended = MK.advance_long(
-        rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_long, tb.long_par, tb.long_done
-    )
+    ended = MK.advance_long(rows, now, dt, tuple(tb.arrays))
     end_long(actors, rows, ended)
     if tb.n_lat:
         _advance_lateral(odr, actors, rows, now, dt)
@@ -495,10 +513,7 @@ def _advance_lateral(
     tb = actors[0].table
     for k, offset in tb.lat_offsets.items():
         tb.lat_par[k, MK.T_OFFSET] = offset()
-    missing, ended = MK.advance_lat(
-        rows, now, dt, tb.kappa, tb.direction, tb.state, tb.has_lat, tb.lat_par, tb.lat_done,
-        *tb.lane_profile(odr).arrays(),
-    )  # fmt: skip
+    missing, ended = MK.advance_lat(rows, now, dt, tuple(tb.arrays), tuple(tb.lanes(odr)))
     _end_lateral(odr, actors, rows, missing, ended)
 
 
@@ -524,10 +539,10 @@ def place_on_road(odr: OpenDriveMap, road: str, table: ActorTable, rows: np.ndar
     tb = table
     rd = odr.road(road)
     if rd.plan_view is not None:
-        MK.place_rows(rows, *rd.plan_view.arrays(), tb.direction, tb.state)
+        MK.place_rows(rows, tuple(RoadArrays(*rd.plan_view.arrays())), tuple(tb.arrays))
         return
     x, y, z, h_ref = odr.road_pose(road, tb.s[rows], tb.t[rows])
-    MK.place_posed(rows, x, y, z, h_ref, tb.direction, tb.state)
+    MK.place_posed(rows, x, y, z, h_ref, tuple(tb.arrays))
 
 
 def place_actor(odr: OpenDriveMap, a: Actor) -> None:

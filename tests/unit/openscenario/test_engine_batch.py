@@ -21,6 +21,12 @@ from hiyari.bridge.openscenario.engine.kernels.snapshot import (
     F_SPEED,
     gather_entities,
 )
+from hiyari.bridge.openscenario.engine.kernels.tables import (
+    EntityFields,
+    GatherArrays,
+    WorldArrays,
+)
+from hiyari.bridge.openscenario.engine.motion import ActorTable
 from hiyari.bridge.openscenario.engine.positions import Pose
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model import (
@@ -170,19 +176,25 @@ def test_batched_evaluation_equals_one_condition_at_a_time() -> None:
 
 
 def _gathered_snapshot(t: float, length: np.ndarray, width: np.ndarray) -> tuple:
-    """A Snapshot on zeroed arrays for gather_entities to fill, and those arrays."""
+    """A Snapshot on zeroed arrays for gather_entities to fill, and those arrays as its
+    EntityFields."""
     present, centre, ref, ent = (
         np.zeros(E, bool),
         np.zeros((E, 2)),
         np.zeros((E, 2)),
         np.zeros((6, E)),
     )
+    on_net, contact_any = np.ones(E, bool), np.zeros(E, bool)
     snap = Snapshot(
         t, present, ref, centre, ent[F_HEADING], length, width, ent[F_SPEED], ent[F_ACCEL],
-        np.ones(E, bool), ent[F_ROAD_S], ent[F_ROAD_T], ent[F_ROAD_DIR], set(),
-        np.zeros(E, bool),
+        on_net, ent[F_ROAD_S], ent[F_ROAD_T], ent[F_ROAD_DIR], set(), contact_any,
     )  # fmt: skip
-    return snap, (present, centre, ref, ent)
+    fields = EntityFields(
+        present, centre, ref, ent[F_HEADING], length, width, ent[F_SPEED], ent[F_ACCEL],
+        on_net, ent[F_ROAD_S], ent[F_ROAD_T], ent[F_ROAD_DIR], np.zeros((E, E), bool),
+        contact_any,
+    )  # fmt: skip
+    return snap, fields
 
 
 def test_gathering_in_the_trigger_call_equals_gathering_first() -> None:
@@ -208,18 +220,22 @@ def test_gathering_in_the_trigger_call_equals_gathering_first() -> None:
             n_world = E + 2
             rows = rng.permutation(n_world)[:E]
             rows[rng.random(E) < 0.25] = -1
-            world = (
-                rows, rng.uniform(-15, 15, (n_world, 3)), rng.uniform(-np.pi, np.pi, n_world),
+            world = WorldArrays(
+                rng.uniform(-15, 15, (n_world, 3)), rng.uniform(-np.pi, np.pi, n_world),
                 rng.uniform(0, 20, n_world), rng.uniform(-5, 3, n_world),
-                rng.uniform(-1, 2, (E, 2)), rng.random(E) < 0.5, rng.integers(-1, 2, E),
-                rng.uniform(0, 60, (len(MK.STATE), E)), rng.choice([-1.0, 1.0], E),
+            )  # fmt: skip
+            where = GatherArrays(rows, rng.uniform(-1, 2, (E, 2)), rng.random(E) < 0.5)
+            actors = ActorTable(E).arrays._replace(
+                road_code=rng.integers(-1, 2, E), state=rng.uniform(0, 60, (len(MK.STATE), E)),
+                direction=rng.choice([-1.0, 1.0], E),
             )  # fmt: skip
             active = rng.random(len(conds)) < 0.7
             (snap0, out0), (snap1, out1) = (_gathered_snapshot(step * DT, length, width)
                                             for _ in range(2))  # fmt: skip
-            gather_entities(*world, *out0)
+            gather = (tuple(world), tuple(where), tuple(actors))  # as the kernels take them
+            gather_entities(*gather, tuple(out0))
             want = banks[0].evaluate(snap0, active, none, none).copy()
-            got = banks[1].evaluate(snap1, active, none, none, (*world, *out1))
+            got = banks[1].evaluate(snap1, active, none, none, gather)
             assert got.tolist() == want.tolist()
             assert banks[1].n_fired == banks[0].n_fired == int(want.sum())
             assert all(

@@ -11,7 +11,13 @@ import pytest
 
 from hiyari.bridge.openscenario.engine.conditions import ConditionBank, Snapshot
 from hiyari.bridge.openscenario.engine.kernels import measures as M
-from hiyari.bridge.openscenario.engine.kernels.snapshot import F_HEADING, gather_entities
+from hiyari.bridge.openscenario.engine.kernels.snapshot import gather_entities
+from hiyari.bridge.openscenario.engine.kernels.tables import (
+    EntityFields,
+    GatherArrays,
+    WorldArrays,
+)
+from hiyari.bridge.openscenario.engine.motion import ActorTable
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model import (
     Condition,
@@ -126,16 +132,15 @@ def test_gathered_reference_points_equal_vehicle_to_world() -> None:
     xyz, h = rng.uniform(-50, 50, (6, 3)), rng.uniform(-np.pi, np.pi, 6)
     offset = rng.uniform(-2, 2, (4, 2))
     rows = np.array([3, -1, 0, 5])
-    present, centre, ref, out = (
-        np.zeros(4, bool),
-        np.zeros((4, 2)),
-        np.zeros((4, 2)),
-        np.zeros((6, 4)),
-    )
-    no = np.zeros(4, bool)
-    gather_entities(rows, xyz, h, h, h, offset, no, np.full(4, -1), np.zeros((12, 4)), np.ones(4),
-                    present, centre, ref, out)  # fmt: skip
-    heading = out[F_HEADING]
+    no, zero = np.zeros(4, bool), np.zeros(4)
+    out = EntityFields(
+        np.zeros(4, bool), np.zeros((4, 2)), np.zeros((4, 2)), zero.copy(), zero, zero,
+        zero.copy(), zero.copy(), no, zero.copy(), zero.copy(), zero.copy(),
+        np.zeros((4, 4), bool), no,
+    )  # fmt: skip
+    tables = WorldArrays(xyz, h, h, h), GatherArrays(rows, offset, no), ActorTable(4).arrays, out
+    gather_entities(*(tuple(t) for t in tables))  # as plain tuples (see kernels.tables)
+    present, centre, ref, heading = out.present, out.centre, out.ref, out.heading
     assert present.tolist() == [True, False, True, True]
     k = rows[present]
     assert np.array_equal(centre[present], xyz[k, :2])

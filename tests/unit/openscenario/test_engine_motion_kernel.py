@@ -19,6 +19,12 @@ from hiyari.bridge.openscenario.engine.kernels.command_kernel import (
     lane_keys,
 )
 from hiyari.bridge.openscenario.engine.kernels.shapes import CUBIC, LINEAR, SINUSOIDAL
+from hiyari.bridge.openscenario.engine.kernels.tables import (
+    ActorArrays,
+    CommandArrays,
+    LaneArrays,
+    RoadArrays,
+)
 from hiyari.kinematics import point_ahead, vehicle_to_world
 from hiyari.net.road.lane_profile import lane_profile
 from hiyari.net.road.opendrive_lanes import LaneSection, LaneSpec, OpenDriveMap, Poly3
@@ -133,6 +139,30 @@ def test_line_and_arc_poses_equal_the_numpy_evaluation() -> None:
     assert OpenDriveMap.from_file(CURVED).road("0").plan_view is None  # spirals: numpy path
 
 
+def _actors(st: np.ndarray, **given: np.ndarray) -> ActorArrays:
+    """The ActorArrays of state matrix ``st`` (a column per actor): off the roads, heading
+    towards increasing s on straight lines, no transition running; but for the ``given``
+    arrays."""
+    n = st.shape[1]
+    no = np.zeros(n, bool)
+    base = {
+        "state": st, "direction": np.ones(n), "kappa": np.zeros(n),
+        "road_code": np.full(n, -1, np.intp), "lane": np.zeros(n, np.int64), "free": no,
+        "has_long": no, "long_par": np.zeros((n, 8)), "long_done": no.copy(), "has_lat": no,
+        "lat_par": np.zeros((n, 9)), "lat_done": no.copy(),
+    }  # fmt: skip
+    return ActorArrays(**(base | given))
+
+
+def _lanes(roads: list) -> LaneArrays:
+    return LaneArrays(*lane_profile(roads).arrays())
+
+
+def _plain(*tables: tuple) -> tuple[tuple, ...]:
+    """The tables as plain tuples, as the kernels take them (see kernels.tables)."""
+    return tuple(tuple(t) for t in tables)
+
+
 def _long_row(v0: float, goal: float, shape: int, span: float, t0: float = 0.0) -> np.ndarray:
     row = np.zeros(8)
     row[[MK.L_V0, MK.L_GOAL, MK.L_SHAPE, MK.L_SPAN, MK.L_T0]] = v0, goal, shape, span, t0
@@ -143,10 +173,9 @@ def _advance(long_par: np.ndarray, now: float, dt: float, v: float) -> tuple[flo
     """(v, s, done) of one row starting at s = 0 after one step."""
     st = np.zeros((len(MK.STATE), 1))
     st[MK.V, 0] = v
-    done = np.zeros(1, dtype=bool)
-    one = np.ones(1, dtype=bool)
-    MK.advance_long(np.array([0]), now, dt, np.zeros(1), np.ones(1), st, one, long_par[None], done)
-    return float(st[MK.V, 0]), float(st[MK.S, 0]), bool(done[0])
+    actors = _actors(st, has_long=np.ones(1, dtype=bool), long_par=long_par[None])
+    MK.advance_long(np.array([0]), now, dt, tuple(actors))
+    return float(st[MK.V, 0]), float(st[MK.S, 0]), bool(actors.long_done[0])
 
 
 def test_speed_transitions_follow_their_shapes() -> None:
@@ -164,17 +193,17 @@ def test_speed_transitions_follow_their_shapes() -> None:
 
 
 def test_lateral_transition_reaches_the_target_lane(curved_road: object) -> None:
-    prof = lane_profile([curved_road]).arrays()
+    lanes = _lanes([curved_road])
     target = curved_road.lane_t(-2, 400.0)
     t0 = curved_road.lane_t(-1, 400.0)
     row = np.zeros(9)
     row[[MK.T_T0, MK.T_SHAPE, MK.T_SPAN, MK.T_LANE, MK.T_OFFSET]] = t0, SINUSOIDAL, 4.0, -2, 0.25
     st = np.zeros((len(MK.STATE), 1))
     st[MK.S, 0], st[MK.T, 0] = 400.0, t0
-    done = np.zeros(1, dtype=bool)
+    actors = _actors(st, has_lat=np.ones(1, dtype=bool), lat_par=row[None, :])
+    done = actors.lat_done
     for now, want_done in ((2.0, False), (4.0, True)):
-        args = (np.zeros(1), np.ones(1), st, np.ones(1, dtype=bool), row[None, :], done, *prof)
-        missing, n_done = MK.advance_lat(np.array([0]), now, 0.05, *args)
+        missing, n_done = MK.advance_lat(np.array([0]), now, 0.05, *_plain(actors, lanes))
         assert missing == -1 and bool(done[0]) == want_done and n_done == int(want_done)
         frac = 0.5 if now == 2.0 else 1.0
         assert st[MK.T, 0] == pytest.approx(t0 + (target + 0.25 - t0) * frac)
@@ -199,7 +228,9 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     st[MK.X], st[MK.Y], st[MK.H], st[MK.V], st[MK.V_LAT] = x, y, h, v, v_lat
     centres, heading, send, sumo = np.zeros((n, 2)), np.zeros(n), np.zeros(n), np.zeros((3, n))
     length = rng.uniform(0.5, 15.0, n)
-    command_rows(rows, st, cx, cy, length, sent.copy(), centres, heading, send, sumo)
+    key = np.zeros((n, 3), np.int64)
+    cmd = CommandArrays(rows, cx, cy, length, sent.copy(), key, centres, heading, send, sumo)
+    command_rows(*_plain(cmd, _actors(st)))
     want = vehicle_to_world(np.stack([cx, cy], 1)[rows], np.stack([x, y], 1)[rows], h[rows])
     assert np.array_equal(centres, want) and np.array_equal(heading, h[rows])
     # what SUMO is told: the front bumper and SUMO angle, as move_vehicle computes them
@@ -214,7 +245,7 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
     h_rel = rng.uniform(-0.1, 0.1, n)
     st[MK.H_REL] = h_rel
     px, py, pz, h_ref = x[rows] + 1.0, y[rows], np.zeros(n), h[rows]
-    MK.place_posed(rows, px, py, pz, h_ref, direction, st)
+    MK.place_posed(rows, px, py, pz, h_ref, tuple(_actors(st, direction=direction)))
     lat = direction * v_lat  # the speed is along the path: the lane's share is the rest
     along = np.copysign(np.sqrt(np.maximum(0.0, v * v - lat * lat)), v)
     slip = np.where(np.abs(v) > 1e-6, np.arctan2(lat, along), 0.0)[rows]
@@ -224,14 +255,18 @@ def test_placement_and_commands_equal_the_numpy_formulas() -> None:
 
 
 def test_lane_keys_flag_road_lane_and_section_changes(curved_road: object) -> None:
-    prof = lane_profile([curved_road])
+    lanes = _lanes([curved_road])
     rows = np.array([0, 1])
-    free, code, lane = np.zeros(2, dtype=bool), np.zeros(2, dtype=np.intp), np.array([-1, -2])
+    st = np.zeros((len(MK.STATE), 2))
+    lane = np.array([-1, -2])
+    actors = _actors(st, road_code=np.zeros(2, dtype=np.intp), lane=lane)
     key = np.full((2, 3), -2, dtype=np.int64)
+    out = (np.zeros((2, 2)), np.zeros(2), np.zeros(2), np.zeros((3, 2)))
+    cmd = CommandArrays(rows, np.zeros(2), np.zeros(2), np.zeros(2), np.zeros(2), key, *out)
 
     def changed(s: list[float]) -> list[int]:
-        args = (prof.sec_first, prof.sec_count, prof.sec_s0, key)
-        return lane_keys(rows, free, code, lane, np.array(s), *args).tolist()
+        st[MK.S] = s
+        return lane_keys(*_plain(cmd, actors, lanes)).tolist()
 
     assert changed([10.0, 20.0]) == [0, 1] and key[:, 2].tolist() == [0, 0]
     assert changed([11.0, 299.0]) == []
@@ -246,7 +281,7 @@ def test_advance_and_place_equals_the_passes_one_by_one() -> None:
     leaves the rows unplaced (the caller updates their lanes first)."""
     rng = np.random.default_rng(11)
     road = OpenDriveMap.from_file(ROADS / "alks_road_left_radius_250m.xodr").road("0")
-    prof, plan = lane_profile([road]).arrays(), road.plan_view
+    lanes, plan = _lanes([road]), RoadArrays(*road.plan_view.arrays())
     n = 8
     rows = np.arange(n)
     st = np.zeros((len(MK.STATE), n))
@@ -261,20 +296,18 @@ def test_advance_and_place_equals_the_passes_one_by_one() -> None:
     lat_par[:, MK.T_SPAN] = rng.uniform(2.0, 5.0, n)
     kappa, direction = rng.uniform(-1e-3, 1e-3, n), np.ones(n)
     for now, want_placed in ((1.0, True), (6.0, False)):
-        one = [st.copy(), long_par.copy(), lat_par.copy(), np.zeros(n, bool), np.zeros(n, bool)]
-        two = [x.copy() for x in one]
-        got = MK.advance_and_place(
-            rows, now, 0.05, kappa, direction, one[0], has_long, one[1], one[3], has_lat,
-            one[2], one[4], True, *prof, *plan.arrays(),
+        one, two = (
+            _actors(
+                st.copy(), kappa=kappa, direction=direction, has_long=has_long,
+                long_par=long_par.copy(), has_lat=has_lat, lat_par=lat_par.copy(),
+            )
+            for _ in range(2)
         )  # fmt: skip
-        n_long = MK.advance_long(
-            rows, now, 0.05, kappa, direction, two[0], has_long, two[1], two[3]
-        )
-        missing, n_lat = MK.advance_lat(
-            rows, now, 0.05, kappa, direction, two[0], has_lat, two[2], two[4], *prof
-        )
+        got = MK.advance_and_place(rows, now, 0.05, True, *_plain(one, lanes, plan))
+        n_long = MK.advance_long(rows, now, 0.05, tuple(two))
+        missing, n_lat = MK.advance_lat(rows, now, 0.05, *_plain(two, lanes))
         if want_placed:
-            MK.place_rows(rows, *plan.arrays(), direction, two[0])
+            MK.place_rows(rows, *_plain(plan, two))
         assert got == (n_long, missing, n_lat, want_placed)
         assert all(np.array_equal(a, b) for a, b in zip(one, two, strict=True))
 
@@ -285,7 +318,7 @@ def test_advance_and_command_commands_only_when_nothing_ended() -> None:
     action first) the commands are left to the caller, their arrays untouched."""
     rng = np.random.default_rng(5)
     road = OpenDriveMap.from_file(ROADS / "alks_road_left_radius_250m.xodr").road("0")
-    profile = lane_profile([road])
+    lanes, plan = _lanes([road]), RoadArrays(*road.plan_view.arrays())
     n = 6
     rows = np.arange(n)[::-1].copy()
     st = np.zeros((len(MK.STATE), n))
@@ -296,55 +329,57 @@ def test_advance_and_command_commands_only_when_nothing_ended() -> None:
     long_par[:, MK.L_V0], long_par[:, MK.L_GOAL] = st[MK.V], rng.uniform(0.0, 30.0, n)
     long_par[:, MK.L_SHAPE], long_par[:, MK.L_SPAN] = LINEAR, 2.0
     cx, cy, length = rng.uniform(0, 2, n), rng.uniform(-0.5, 0.5, n), rng.uniform(3, 6, n)
-    off, none = np.zeros(n, bool), np.zeros(n, bool)
+    off = np.zeros(n, bool)
 
-    def motion(x: list, has_long: np.ndarray, now: float) -> tuple:
-        return (
-            rows, now, 0.05, np.zeros(n), np.ones(n), x[0], has_long, x[1], x[2], none,
-            np.zeros((n, 9)), none, False, *profile.arrays(), *road.plan_view.arrays(),
+    def tables(has_long: np.ndarray) -> tuple[ActorArrays, CommandArrays]:
+        actors = _actors(
+            st.copy(), road_code=np.zeros(n, np.intp), lane=np.full(n, -1, np.int64),
+            has_long=has_long, long_par=long_par.copy(),
         )  # fmt: skip
-
-    def command(x: list) -> tuple:
-        return (
-            rows, x[0], cx, cy, length, *x[3:8], none, np.zeros(n, np.intp),
-            np.full(n, -1, np.int64), profile.sec_first, profile.sec_count,
-            profile.sec_s0, x[8],
+        cmd = CommandArrays(
+            rows, cx, cy, length, np.full(n, np.nan), np.full((n, 3), -2, np.int64),
+            np.zeros((n, 2)), np.zeros(n), np.zeros(n), np.zeros((3, n)),
         )  # fmt: skip
+        return actors, cmd
 
     for has_long, now, commanded in ((off, 1.0, True), (~off, 3.0, False)):
-        one = [st.copy(), long_par.copy(), np.zeros(n, bool), np.full(n, np.nan),
-               np.zeros((n, 2)), np.zeros(n), np.zeros(n), np.zeros((3, n)),
-               np.full((n, 3), -2, np.int64)]  # fmt: skip
-        two = [x.copy() for x in one]
-        *got, changed = advance_and_command(*motion(one, has_long, now), *command(one))
-        assert tuple(got) == MK.advance_and_place(*motion(two, has_long, now))
+        one, two = tables(has_long), tables(has_long)
+        *got, changed = advance_and_command(
+            rows, now, 0.05, False, *_plain(one[0], lanes, plan, one[1])
+        )
+        want = MK.advance_and_place(rows, now, 0.05, False, *_plain(two[0], lanes, plan))
+        assert tuple(got) == want
         if commanded:
-            assert changed.tolist() == command_step(*command(two)).tolist() == rows.tolist()
+            want = command_step(*_plain(two[1], two[0], lanes))
+            assert changed.tolist() == want.tolist() == rows.tolist()
         else:
             assert got[0] == n and not len(changed)
-        assert all(np.array_equal(a, b, equal_nan=True) for a, b in zip(one, two, strict=True))
+        for a, b in zip(one, two, strict=True):
+            assert all(np.array_equal(x, y, equal_nan=True) for x, y in zip(a, b, strict=True))
 
 
 def test_command_step_is_command_rows_and_lane_keys(curved_road: object) -> None:
-    prof = lane_profile([curved_road])
+    lanes = _lanes([curved_road])
     rng = np.random.default_rng(5)
     n = 6
     rows = np.arange(n)
     st = np.zeros((len(MK.STATE), n))
     st[MK.S], st[MK.H], st[MK.V] = rng.uniform(0, 1200, n), rng.uniform(-3, 3, n), 10.0
-    free, code, lane = np.zeros(n, bool), np.zeros(n, np.intp), rng.choice([-1, -2, 1], n)
+    lane = rng.choice([-1, -2, 1], n)
+    actors = _actors(st, road_code=np.zeros(n, np.intp), lane=lane)
     cx, cy, length, sent = rng.uniform(0, 2, n), np.zeros(n), np.full(n, 4.5), np.full(n, 10.0)
-    sec = (prof.sec_first, prof.sec_count, prof.sec_s0)
 
-    def outs() -> list[np.ndarray]:
-        return [np.zeros((n, 2)), np.zeros(n), np.zeros(n), np.zeros((3, n))]
+    def table() -> CommandArrays:
+        return CommandArrays(
+            rows, cx, cy, length, sent.copy(), np.full((n, 3), -2, np.int64), np.zeros((n, 2)),
+            np.zeros(n), np.zeros(n), np.zeros((3, n)),
+        )  # fmt: skip
 
-    one, two = outs(), outs()
-    key1, key2 = np.full((n, 3), -2, np.int64), np.full((n, 3), -2, np.int64)
-    got = command_step(rows, st, cx, cy, length, sent.copy(), *one, free, code, lane, *sec, key1)
-    command_rows(rows, st, cx, cy, length, sent.copy(), *two)
-    want = lane_keys(rows, free, code, lane, st[MK.S], *sec, key2)
-    assert got.tolist() == want.tolist() == list(range(n)) and np.array_equal(key1, key2)
+    one, two = table(), table()
+    got = command_step(*_plain(one, actors, lanes))
+    command_rows(*_plain(two, actors))
+    want = lane_keys(*_plain(two, actors, lanes))
+    assert got.tolist() == want.tolist() == list(range(n))
     assert all(np.array_equal(a, b, equal_nan=True) for a, b in zip(one, two, strict=True))
 
 
@@ -356,7 +391,7 @@ def test_lane_change_keeps_the_speed_along_the_path(shape: int) -> None:
     constant W / T, and s advances by T * sqrt(v^2 - (W / T)^2) (W: the lane width). The
     heading slips by asin(v_lat / v), the direction of the motion."""
     road = OpenDriveMap.from_file(ROADS / "alks_road_straight.xodr").road("0")
-    prof = lane_profile([road]).arrays()
+    lanes = _lanes([road])
     v, big_t, dt, s0 = 10.0, 2.0, 0.05, 100.0
     t0, t1 = road.lane_t(-1, s0), road.lane_t(-2, s0)
     w = abs(t1 - t0)
@@ -364,13 +399,14 @@ def test_lane_change_keeps_the_speed_along_the_path(shape: int) -> None:
     st[MK.S, 0], st[MK.T, 0], st[MK.V, 0] = s0, t0, v
     lat = np.zeros((1, 9))
     lat[0, [MK.T_T0, MK.T_SHAPE, MK.T_SPAN, MK.T_LANE]] = t0, shape, big_t, -2
-    rows, one, zero = np.array([0]), np.ones(1), np.zeros(1)
-    no, yes, done = np.zeros(1, bool), np.ones(1, bool), np.zeros(1, bool)
+    rows = np.array([0])
+    actors = _actors(st, has_lat=np.ones(1, bool), lat_par=lat)
+    done = actors.lat_done
     path = 0.0
     for k in range(1, round(big_t / dt) + 1):
         s_old, t_old = st[MK.S, 0], st[MK.T, 0]
-        MK.advance_long(rows, k * dt, dt, zero, one, st, no, np.zeros((1, 8)), done)
-        MK.advance_lat(rows, k * dt, dt, zero, one, st, yes, lat, done, *prof)
+        MK.advance_long(rows, k * dt, dt, tuple(actors))
+        MK.advance_lat(rows, k * dt, dt, *_plain(actors, lanes))
         step = math.hypot(st[MK.S, 0] - s_old, st[MK.T, 0] - t_old)
         assert step == pytest.approx(v * dt, abs=1e-12)
         path += step
@@ -380,6 +416,6 @@ def test_lane_change_keeps_the_speed_along_the_path(shape: int) -> None:
     assert path == pytest.approx(v * big_t, abs=1e-9)
     if shape == LINEAR:
         assert st[MK.S, 0] - s0 == pytest.approx(big_t * math.sqrt(v**2 - (w / big_t) ** 2))
-        MK.place_rows(rows, *road.plan_view.arrays(), one, st)
+        MK.place_rows(rows, *_plain(RoadArrays(*road.plan_view.arrays()), actors))
         # the reference line heads along x here (h = 0): the heading is the motion's slip
         assert st[MK.H, 0] == pytest.approx(math.asin(st[MK.V_LAT, 0] / v), abs=1e-12)

@@ -21,101 +21,77 @@ from hiyari.bridge.openscenario.engine.kernels.motion_kernel import (
     _remainder,
     advance_and_place,
 )
+from hiyari.bridge.openscenario.engine.kernels.tables import (
+    ActorArrays,
+    CommandArrays,
+    LaneArrays,
+    RoadArrays,
+)
 from hiyari.jit import njit
 from hiyari.net.road.lane_profile import section_of
 
 
 @njit(cache=True)
-def command_rows(
-    rows: np.ndarray,
-    st: np.ndarray,
-    cx: np.ndarray,
-    cy: np.ndarray,
-    length: np.ndarray,
-    sent_speed: np.ndarray,
-    centres: np.ndarray,
-    heading: np.ndarray,
-    send: np.ndarray,
-    sumo: np.ndarray,
-) -> None:
-    """For table ``rows`` (``st``: the ActorTable's state matrix), into the last four arrays:
-    box centres (m, 2) = reference point + (``cx``, ``cy``) in the vehicle frame, headings
-    (m,), speeds to send (m,): the speed along the motion, NaN when equal to ``sent_speed``,
-    which is updated; and what SUMO is told (3, m): the front-bumper point x, y (the centre
-    plus half the ``length`` along the heading, as ``kinematics.point_ahead``) and the SUMO
-    angle (degrees clockwise from north, as ``traffic.commands.heading_to_sumo_angle``)."""
+def command_rows(cmd: CommandArrays, actors: ActorArrays) -> None:
+    """For the rows ``cmd.rows`` of the ActorTable (``actors``), into ``cmd``'s last four
+    arrays: box centres = reference point + (``cx``, ``cy``) in the vehicle frame, headings,
+    speeds to send: the speed along the motion, NaN when equal to ``sent_speed``, which is
+    updated; and what SUMO is told: the front-bumper point x, y (the centre plus half the
+    ``length`` along the heading, as ``kinematics.point_ahead``) and the SUMO angle (degrees
+    clockwise from north, as ``traffic.commands.heading_to_sumo_angle``)."""
+    cmd, actors = CommandArrays(*cmd), ActorArrays(*actors)
+    st, cx, cy, sent_speed = actors.state, cmd.cx, cmd.cy, cmd.sent_speed
+    centres, sumo = cmd.centres, cmd.sumo
+    rows = cmd.rows
     for i in range(len(rows)):
         k = rows[i]
         h, v, v_lat = st[H, k], st[V, k], st[V_LAT, k]
         c, s = math.cos(h), math.sin(h)
         centres[i, 0] = (cx[k] * c - cy[k] * s) + st[X, k]
         centres[i, 1] = (cx[k] * s + cy[k] * c) + st[Y, k]
-        heading[i] = h
-        half = 0.5 * length[k]
+        cmd.heading[i] = h
+        half = 0.5 * cmd.length[k]
         sumo[0, i] = centres[i, 0] + half * c
         sumo[1, i] = centres[i, 1] + half * s
         sumo[2, i] = _remainder(90.0 - h * (180.0 / math.pi), 360.0)
         # the speed is along the path (motion_kernel): a lateral motion adds to it only when
         # it alone is faster (the actor then moves sideways)
         speed = abs(v) if v_lat == 0.0 else max(abs(v), abs(v_lat))
-        send[i] = np.nan if speed == sent_speed[k] else speed
+        cmd.send[i] = np.nan if speed == sent_speed[k] else speed
         sent_speed[k] = speed
 
 
 @njit(cache=True)
-def lane_keys(
-    rows: np.ndarray,
-    free: np.ndarray,
-    road_code: np.ndarray,
-    lane: np.ndarray,
-    s: np.ndarray,
-    sec_first: np.ndarray,
-    sec_count: np.ndarray,
-    sec_s0: np.ndarray,
-    key: np.ndarray,
-) -> np.ndarray:
-    """Rows of ``rows`` whose (road code, lane, lane section index on the road; -1 off the
-    roads) differs from ``key`` (E, 3), which is updated: their SUMO lane is to be looked up
-    again. ``sec_*``: the lane sections of the LaneProfile of the table's roads."""
+def lane_keys(cmd: CommandArrays, actors: ActorArrays, lanes: LaneArrays) -> np.ndarray:
+    """Rows of ``cmd.rows`` whose (road code, lane, lane section index on the road; -1 off
+    the roads) differs from ``cmd.lane_key``, which is updated: their SUMO lane is to be
+    looked up again. ``lanes``: the lane profile of the ActorTable's roads."""
+    cmd, actors, lanes = CommandArrays(*cmd), ActorArrays(*actors), LaneArrays(*lanes)
+    rows, key, s = cmd.rows, cmd.lane_key, actors.state[S]
+    sec_first = lanes.sec_first
     changed = np.empty(len(rows), dtype=np.intp)
     n = 0
     for i in range(len(rows)):
         k = rows[i]
-        rc = road_code[k]
+        rc = actors.road_code[k]
         sec = -1
-        if not free[k] and rc >= 0:
-            sec = section_of(sec_s0, sec_first[rc], sec_count[rc], s[k]) - sec_first[rc]
-        if key[k, 0] != rc or key[k, 1] != lane[k] or key[k, 2] != sec:
-            key[k, 0], key[k, 1], key[k, 2] = rc, lane[k], sec
+        if not actors.free[k] and rc >= 0:
+            sec = section_of(lanes.sec_s0, sec_first[rc], lanes.sec_count[rc], s[k])
+            sec -= sec_first[rc]
+        lane = actors.lane[k]
+        if key[k, 0] != rc or key[k, 1] != lane or key[k, 2] != sec:
+            key[k, 0], key[k, 1], key[k, 2] = rc, lane, sec
             changed[n] = k
             n += 1
     return changed[:n]
 
 
 @njit(cache=True)
-def command_step(
-    rows: np.ndarray,
-    st: np.ndarray,
-    cx: np.ndarray,
-    cy: np.ndarray,
-    length: np.ndarray,
-    sent_speed: np.ndarray,
-    centres: np.ndarray,
-    heading: np.ndarray,
-    send: np.ndarray,
-    sumo: np.ndarray,
-    free: np.ndarray,
-    road_code: np.ndarray,
-    lane: np.ndarray,
-    sec_first: np.ndarray,
-    sec_count: np.ndarray,
-    sec_s0: np.ndarray,
-    key: np.ndarray,
-) -> np.ndarray:
-    """:func:`command_rows` and :func:`lane_keys` (the rows' s from ``st``) in one call:
-    returns the rows whose SUMO lane is to be looked up again."""
-    command_rows(rows, st, cx, cy, length, sent_speed, centres, heading, send, sumo)
-    return lane_keys(rows, free, road_code, lane, st[S], sec_first, sec_count, sec_s0, key)
+def command_step(cmd: CommandArrays, actors: ActorArrays, lanes: LaneArrays) -> np.ndarray:
+    """:func:`command_rows` and :func:`lane_keys` in one call: returns the rows whose SUMO
+    lane is to be looked up again."""
+    command_rows(cmd, actors)
+    return lane_keys(cmd, actors, lanes)
 
 
 @njit(cache=True)
@@ -123,62 +99,18 @@ def advance_and_command(
     rows: np.ndarray,
     now: float,
     dt: float,
-    kappa: np.ndarray,
-    direction: np.ndarray,
-    st: np.ndarray,
-    has_long: np.ndarray,
-    long_par: np.ndarray,
-    long_done: np.ndarray,
-    has_lat: np.ndarray,
-    lat_par: np.ndarray,
-    lat_done: np.ndarray,
     lateral: bool,
-    rec_s0: np.ndarray,
-    rec_c: np.ndarray,
-    off_first: np.ndarray,
-    off_count: np.ndarray,
-    sec_first: np.ndarray,
-    sec_count: np.ndarray,
-    sec_s0: np.ndarray,
-    w_first: np.ndarray,
-    w_count: np.ndarray,
-    max_lane: int,
-    length: float,
-    geom: np.ndarray,
-    elev_s0: np.ndarray,
-    elev_c: np.ndarray,
-    c_rows: np.ndarray,
-    c_st: np.ndarray,
-    cx: np.ndarray,
-    cy: np.ndarray,
-    box_length: np.ndarray,
-    sent_speed: np.ndarray,
-    centres: np.ndarray,
-    heading: np.ndarray,
-    send: np.ndarray,
-    sumo: np.ndarray,
-    free: np.ndarray,
-    road_code: np.ndarray,
-    lane: np.ndarray,
-    c_sec_first: np.ndarray,
-    c_sec_count: np.ndarray,
-    c_sec_s0: np.ndarray,
-    key: np.ndarray,
+    actors: ActorArrays,
+    lanes: LaneArrays,
+    road: RoadArrays,
+    cmd: CommandArrays,
 ) -> tuple[int, int, int, bool, np.ndarray]:
     """``motion_kernel.advance_and_place`` (its arguments first) and, when it ended no
     transition and placed every row (nothing for the storyboard to end in between), then
-    :func:`command_step` (its arguments after, ``c_``: its own) in the same call. Returns
-    advance_and_place's result and command_step's (empty when it did not run, as an ended
-    transition or ``placed`` False tell: the caller ends them first, then commands)."""
-    n_long, missing, n_lat, placed = advance_and_place(
-        rows, now, dt, kappa, direction, st, has_long, long_par, long_done, has_lat, lat_par,
-        lat_done, lateral, rec_s0, rec_c, off_first, off_count, sec_first, sec_count, sec_s0,
-        w_first, w_count, max_lane, length, geom, elev_s0, elev_c,
-    )  # fmt: skip
+    :func:`command_step` of ``cmd`` in the same call. Returns advance_and_place's result and
+    command_step's (empty when it did not run, as an ended transition or ``placed`` False
+    tell: the caller ends them first, then commands)."""
+    n_long, missing, n_lat, placed = advance_and_place(rows, now, dt, lateral, actors, lanes, road)
     if n_long > 0 or not placed:
         return n_long, missing, n_lat, placed, np.empty(0, dtype=np.intp)
-    changed = command_step(
-        c_rows, c_st, cx, cy, box_length, sent_speed, centres, heading, send, sumo, free,
-        road_code, lane, c_sec_first, c_sec_count, c_sec_s0, key,
-    )  # fmt: skip
-    return n_long, missing, n_lat, placed, changed
+    return n_long, missing, n_lat, placed, command_step(cmd, actors, lanes)

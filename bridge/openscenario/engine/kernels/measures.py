@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hiyari.bridge.openscenario.engine.kernels.tables import EntityFields
 from hiyari.bridge.openscenario.model.positions import LanePosition, RoadPosition, WorldPosition
 from hiyari.jit import njit
 
@@ -173,33 +174,22 @@ N_FIELDS = 14
 
 
 @njit(cache=True)
-def pack_entities(
-    centre: np.ndarray,
-    ref: np.ndarray,
-    heading: np.ndarray,
-    length: np.ndarray,
-    width: np.ndarray,
-    speed: np.ndarray,
-    accel: np.ndarray,
-    road_s: np.ndarray,
-    road_t: np.ndarray,
-    road_dir: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """Into ``out`` (E, N_FIELDS): each entity's fields (columns ``E_X`` ...), cos and sin of the
-    heading computed here. The measures read their scalars from it: a compiled function that
-    is handed many arrays per row pays a reference count per array and call (about 0.1
+def pack_entities(ent: EntityFields, out: np.ndarray) -> None:
+    """Into ``out`` (E, N_FIELDS): each entity's fields (columns ``E_X`` ...), cos and sin of
+    the heading computed here. The measures read their scalars from it: a compiled function
+    that is handed many arrays per row pays a reference count per array and call (about 0.1
     microseconds each, more than the measure itself)."""
-    for k in range(len(heading)):
-        h = heading[k]
+    centre, ref = ent.centre, ent.ref
+    for k in range(len(ent.heading)):
+        h = ent.heading[k]
         out[k, E_X], out[k, E_Y], out[k, E_RX], out[k, E_RY] = (
             centre[k, 0], centre[k, 1], ref[k, 0], ref[k, 1]
         )  # fmt: skip
         out[k, E_H], out[k, E_COS], out[k, E_SIN] = h, math.cos(h), math.sin(h)
         out[k, E_LEN], out[k, E_WID], out[k, E_V], out[k, E_ACC] = (
-            length[k], width[k], speed[k], accel[k]
+            ent.length[k], ent.width[k], ent.speed[k], ent.accel[k]
         )  # fmt: skip
-        out[k, E_S], out[k, E_T], out[k, E_DIR] = road_s[k], road_t[k], road_dir[k]
+        out[k, E_S], out[k, E_T], out[k, E_DIR] = ent.road_s[k], ent.road_t[k], ent.road_dir[k]
 
 
 @njit(cache=True, inline="always")

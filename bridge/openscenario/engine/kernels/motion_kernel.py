@@ -27,6 +27,11 @@ import math
 import numpy as np
 
 from hiyari.bridge.openscenario.engine.kernels.shapes import shape_progress
+from hiyari.bridge.openscenario.engine.kernels.tables import (
+    ActorArrays,
+    LaneArrays,
+    RoadArrays,
+)
 from hiyari.jit import njit
 from hiyari.net.road.lane_profile import lane_centre_at
 from hiyari.net.road.plan_view import road_pose_at
@@ -81,21 +86,13 @@ def _lateral(p: np.ndarray, goal: float, now: float, travelled: float) -> tuple[
 
 
 @njit(cache=True)
-def advance_long(
-    rows: np.ndarray,
-    now: float,
-    dt: float,
-    kappa: np.ndarray,
-    direction: np.ndarray,
-    st: np.ndarray,
-    has_long: np.ndarray,
-    long_par: np.ndarray,
-    long_done: np.ndarray,
-) -> int:
-    """Speeds and s of table ``rows`` one step on, at scenario time ``now`` (``kappa``:
-    reference-line curvature at each row's s before the step, 1/m, per table row); lateral
+def advance_long(rows: np.ndarray, now: float, dt: float, actors: ActorArrays) -> int:
+    """Speeds and s of table ``rows`` one step of ``dt`` s on, at scenario time ``now``
+    (``actors.kappa``: reference-line curvature at each row's s before the step); lateral
     speeds reset to 0. Marks ``long_done`` for the transitions that ended and returns their
     number."""
+    actors = ActorArrays(*actors)
+    st, kappa, direction, long_done = actors.state, actors.kappa, actors.direction, actors.long_done
     n_done = 0
     for i in range(len(rows)):
         k = rows[i]
@@ -103,8 +100,8 @@ def advance_long(
         v_new = v_old
         ramp = dt  # s of this step spent ramping from v_old to v_new
         long_done[k] = False
-        if has_long[k]:
-            p = long_par[k]
+        if actors.has_long[k]:
+            p = actors.long_par[k]
             v_new, done = _speed(p, now, st[LONG_TRAV, k] + v_old * dt)
             if done:
                 long_done[k] = True
@@ -124,43 +121,27 @@ def advance_long(
 
 @njit(cache=True)
 def advance_lat(
-    rows: np.ndarray,
-    now: float,
-    dt: float,
-    kappa: np.ndarray,
-    direction: np.ndarray,
-    st: np.ndarray,
-    has_lat: np.ndarray,
-    lat_par: np.ndarray,
-    lat_done: np.ndarray,
-    rec_s0: np.ndarray,
-    rec_c: np.ndarray,
-    off_first: np.ndarray,
-    off_count: np.ndarray,
-    sec_first: np.ndarray,
-    sec_count: np.ndarray,
-    sec_s0: np.ndarray,
-    w_first: np.ndarray,
-    w_count: np.ndarray,
-    max_lane: int,
+    rows: np.ndarray, now: float, dt: float, actors: ActorArrays, lanes: LaneArrays
 ) -> tuple[int, int]:
     """Lateral positions (and speeds) of table ``rows`` with a running lateral transition at
     scenario time ``now``, towards their target lane's centre at their (new) s plus the
-    offset (the last arguments: the LaneProfile's arrays, passed one by one as numba
-    dispatches a tuple of mixed arrays slowly); s takes the lateral share of the step's
-    distance back (see the module: the speed is along the path; ``kappa`` and ``direction`` as
-    :func:`advance_long`'s). Marks ``lat_done`` for the transitions that ended. Returns (the
-    first row whose target lane is missing at its s or -1, the number ended)."""
+    offset (``lanes``: the lane profile of the table's roads); s takes the lateral share of
+    the step's distance back (see the module: the speed is along the path; curvature and
+    direction as :func:`advance_long`'s). Marks ``lat_done`` for the transitions that ended.
+    Returns (the first row whose target lane is missing at its s or -1, the number ended)."""
+    actors, lanes = ActorArrays(*actors), LaneArrays(*lanes)
+    st, kappa, direction, lat_done = actors.state, actors.kappa, actors.direction, actors.lat_done
     missing, n_done = -1, 0
     for i in range(len(rows)):
         k = rows[i]
         lat_done[k] = False
-        if not has_lat[k]:
+        if not actors.has_lat[k]:
             continue
-        p = lat_par[k]
+        p = actors.lat_par[k]
         centre, _, bad = lane_centre_at(
-            rec_s0, rec_c, off_first, off_count, sec_first, sec_count, sec_s0, w_first,
-            w_count, max_lane, int(p[T_ROAD]), int(p[T_LANE]), st[S, k],
+            lanes.rec_s0, lanes.rec_c, lanes.off_first, lanes.off_count, lanes.sec_first,
+            lanes.sec_count, lanes.sec_s0, lanes.w_first, lanes.w_count, lanes.max_lane,
+            int(p[T_ROAD]), int(p[T_LANE]), st[S, k],
         )  # fmt: skip
         if bad >= 0:
             if missing < 0:
@@ -184,47 +165,23 @@ def advance_and_place(
     rows: np.ndarray,
     now: float,
     dt: float,
-    kappa: np.ndarray,
-    direction: np.ndarray,
-    st: np.ndarray,
-    has_long: np.ndarray,
-    long_par: np.ndarray,
-    long_done: np.ndarray,
-    has_lat: np.ndarray,
-    lat_par: np.ndarray,
-    lat_done: np.ndarray,
     lateral: bool,
-    rec_s0: np.ndarray,
-    rec_c: np.ndarray,
-    off_first: np.ndarray,
-    off_count: np.ndarray,
-    sec_first: np.ndarray,
-    sec_count: np.ndarray,
-    sec_s0: np.ndarray,
-    w_first: np.ndarray,
-    w_count: np.ndarray,
-    max_lane: int,
-    length: float,
-    geom: np.ndarray,
-    elev_s0: np.ndarray,
-    elev_c: np.ndarray,
+    actors: ActorArrays,
+    lanes: LaneArrays,
+    road: RoadArrays,
 ) -> tuple[int, int, int, bool]:
-    """One call for a step of table ``rows`` all on one road: :func:`advance_long`, then
+    """One call for a step of table ``rows`` all on ``road``: :func:`advance_long`, then
     (``lateral``: some row has a lateral transition) :func:`advance_lat`, then
-    :func:`place_rows` on the road of PlanView arrays ``length`` ... ``elev_c``, unless a
-    lateral transition ended or missed its lane (the caller then puts the rows on their lanes
-    and places them). Returns (longitudinal transitions ended, first row whose target lane is
-    missing or -1, lateral transitions ended, placed)."""
-    n_long = advance_long(rows, now, dt, kappa, direction, st, has_long, long_par, long_done)
+    :func:`place_rows`, unless a lateral transition ended or missed its lane (the caller then
+    puts the rows on their lanes and places them). Returns (longitudinal transitions ended,
+    first row whose target lane is missing or -1, lateral transitions ended, placed)."""
+    n_long = advance_long(rows, now, dt, actors)
     missing, n_lat = -1, 0
     if lateral:
-        missing, n_lat = advance_lat(
-            rows, now, dt, kappa, direction, st, has_lat, lat_par, lat_done, rec_s0, rec_c, off_first,
-            off_count, sec_first, sec_count, sec_s0, w_first, w_count, max_lane,
-        )  # fmt: skip
+        missing, n_lat = advance_lat(rows, now, dt, actors, lanes)
     if missing >= 0 or n_lat > 0:
         return n_long, missing, n_lat, False
-    place_rows(rows, length, geom, elev_s0, elev_c, direction, st)
+    place_rows(rows, road, actors)
     return n_long, missing, n_lat, True
 
 
@@ -269,21 +226,17 @@ def _set_pose(
 
 
 @njit(cache=True)
-def place_rows(
-    rows: np.ndarray,
-    length: float,
-    geom: np.ndarray,
-    elev_s0: np.ndarray,
-    elev_c: np.ndarray,
-    direction: np.ndarray,
-    st: np.ndarray,
-) -> None:
-    """World poses (x, y, z, heading) of table ``rows`` from their road coordinates on the
-    road of PlanView arrays ``length``, ``geom``, ``elev_s0``, ``elev_c``."""
+def place_rows(rows: np.ndarray, road: RoadArrays, actors: ActorArrays) -> None:
+    """World poses (x, y, z, heading) of table ``rows`` from their road coordinates on
+    ``road``."""
+    road, actors = RoadArrays(*road), ActorArrays(*actors)
+    st = actors.state
     for i in range(len(rows)):
         k = rows[i]
-        px, py, pz, h_ref = road_pose_at(length, geom, elev_s0, elev_c, st[S, k], st[T, k])
-        _set_pose(k, px, py, pz, h_ref, direction, st)
+        px, py, pz, h_ref = road_pose_at(
+            road.length, road.geom, road.elev_s0, road.elev_c, st[S, k], st[T, k]
+        )
+        _set_pose(k, px, py, pz, h_ref, actors.direction, st)
 
 
 @njit(cache=True)
@@ -293,10 +246,10 @@ def place_posed(
     py: np.ndarray,
     pz: np.ndarray,
     h_ref: np.ndarray,
-    direction: np.ndarray,
-    st: np.ndarray,
+    actors: ActorArrays,
 ) -> None:
     """As :func:`place_rows` from road points and reference headings already evaluated (one
     per row of ``rows``)."""
+    actors = ActorArrays(*actors)
     for i in range(len(rows)):
-        _set_pose(rows[i], px[i], py[i], pz[i], h_ref[i], direction, st)
+        _set_pose(rows[i], px[i], py[i], pz[i], h_ref[i], actors.direction, actors.state)

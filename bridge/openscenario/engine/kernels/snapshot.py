@@ -14,6 +14,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from hiyari.bridge.openscenario.engine.kernels.motion_kernel import S, T
+from hiyari.bridge.openscenario.engine.kernels.tables import (
+    ActorArrays,
+    EntityFields,
+    GatherArrays,
+    WorldArrays,
+)
 from hiyari.jit import njit
 
 
@@ -40,73 +46,56 @@ class Snapshot:
     contact_any: np.ndarray  # (E,) bool
 
 
-#: Rows of the per-entity float matrix the snapshot kernel fills: heading (rad), speed (m/s),
-#: acceleration (m/s^2), road s of the box centre, road t (m) and driving direction (+1 / -1).
+#: Rows of the engine's per-entity float matrix (one allocation; its EntityFields and
+#: Snapshot hold the rows): heading (rad), speed (m/s), acceleration (m/s^2), road s of the
+#: box centre, road t (m) and driving direction (+1 / -1).
 F_HEADING, F_SPEED, F_ACCEL, F_ROAD_S, F_ROAD_T, F_ROAD_DIR = range(6)
 
 
 @njit(cache=True)
 def gather_entities(
-    rows: np.ndarray,
-    xyz: np.ndarray,
-    heading: np.ndarray,
-    speed: np.ndarray,
-    accel: np.ndarray,
-    centre_offset: np.ndarray,
-    own: np.ndarray,
-    road_code: np.ndarray,
-    table: np.ndarray,
-    direction: np.ndarray,
-    present: np.ndarray,
-    centre: np.ndarray,
-    ref: np.ndarray,
-    out: np.ndarray,
+    world: WorldArrays, ent: GatherArrays, actors: ActorArrays, out: EntityFields
 ) -> None:
-    """Per entity (``rows``: its row in the WorldState arrays, -1 absent), into the last four
-    arrays (reused from step to step: no allocation): present (E,), box centre (E, 2),
-    reference point (E, 2) = centre - ``centre_offset`` in the vehicle frame, and the rows
-    ``F_*`` of ``out`` (6, E). Absent entities read WorldState row 0 (or zeros when empty), as
-    their measures are discarded. Road coordinates: those of the ``own`` and present rows of
-    the actor table on a road (``road_code`` >= 0; ``table``: its state matrix, s and t in
-    rows ``motion_kernel.S`` / ``T``) with the centre ``centre_offset[:, 0]`` ahead of the
+    """Per entity (``ent.rows``: its row in the ``world`` arrays, -1 absent), into ``out``
+    (its arrays reused from step to step: no allocation): present, box centre, reference
+    point = centre - ``centre_offset`` in the vehicle frame, heading, speed, acceleration and
+    road coordinates. Absent entities read WorldState row 0 (or zeros when empty), as their
+    measures are discarded. Road coordinates: those of the ``own`` and present rows of the
+    ActorTable (``actors``) on a road, with the centre ``centre_offset[:, 0]`` ahead of the
     reference point along the driving direction; NaN, NaN, 1 for the others."""
-    n = len(rows)
-    for i in range(n):
+    world, ent, actors = WorldArrays(*world), GatherArrays(*ent), ActorArrays(*actors)
+    out = EntityFields(*out)
+    rows, offset = ent.rows, ent.centre_offset
+    present, centre, ref = out.present, out.centre, out.ref
+    heading = world.heading
+    for i in range(len(rows)):
         r = rows[i]
         present[i] = r >= 0
         if r < 0:
             if len(heading) == 0:
                 centre[i, 0] = centre[i, 1] = ref[i, 0] = ref[i, 1] = 0.0
-                out[F_HEADING, i] = out[F_SPEED, i] = out[F_ACCEL, i] = 0.0
-                _road_coords(i, own, present, road_code, table, direction, centre_offset, out)
+                out.heading[i] = out.speed[i] = out.accel[i] = 0.0
+                _road_coords(i, ent, actors, out)
                 continue
             r = 0
-        centre[i, 0], centre[i, 1] = xyz[r, 0], xyz[r, 1]
+        centre[i, 0], centre[i, 1] = world.xyz[r, 0], world.xyz[r, 1]
         h = heading[r]
-        out[F_HEADING, i], out[F_SPEED, i], out[F_ACCEL, i] = h, speed[r], accel[r]
+        out.heading[i], out.speed[i], out.accel[i] = h, world.speed[r], world.accel[r]
         c, s = math.cos(h), math.sin(h)
-        px, py = -centre_offset[i, 0], -centre_offset[i, 1]  # vehicle_to_world(-offset, ...)
+        px, py = -offset[i, 0], -offset[i, 1]  # vehicle_to_world(-offset, ...)
         ref[i, 0] = (px * c - py * s) + centre[i, 0]
         ref[i, 1] = (px * s + py * c) + centre[i, 1]
-        _road_coords(i, own, present, road_code, table, direction, centre_offset, out)
+        _road_coords(i, ent, actors, out)
 
 
 @njit(cache=True, inline="always")
-def _road_coords(
-    k: int,
-    own: np.ndarray,
-    present: np.ndarray,
-    road_code: np.ndarray,
-    table: np.ndarray,
-    direction: np.ndarray,
-    centre_offset: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """Road s of entity ``k``'s box centre, t and direction from the actor table (see
+def _road_coords(k: int, ent: GatherArrays, actors: ActorArrays, out: EntityFields) -> None:
+    """Road s of entity ``k``'s box centre, t and direction from the ActorTable (see
     :func:`gather_entities`)."""
-    if own[k] and present[k] and road_code[k] >= 0:
-        out[F_ROAD_DIR, k] = direction[k]
-        out[F_ROAD_S, k] = table[S, k] + direction[k] * centre_offset[k, 0]
-        out[F_ROAD_T, k] = table[T, k]
+    if ent.own[k] and out.present[k] and actors.road_code[k] >= 0:
+        d = actors.direction[k]
+        out.road_dir[k] = d
+        out.road_s[k] = actors.state[S, k] + d * ent.centre_offset[k, 0]
+        out.road_t[k] = actors.state[T, k]
     else:
-        out[F_ROAD_S, k], out[F_ROAD_T, k], out[F_ROAD_DIR, k] = np.nan, np.nan, 1.0
+        out.road_s[k], out.road_t[k], out.road_dir[k] = np.nan, np.nan, 1.0

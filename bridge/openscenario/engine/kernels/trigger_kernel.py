@@ -38,14 +38,14 @@ from hiyari.bridge.openscenario.engine.kernels.measures import (
     traveled_measure,
     ttc_above,
 )
-from hiyari.bridge.openscenario.engine.kernels.snapshot import (
-    F_ACCEL,
-    F_HEADING,
-    F_ROAD_DIR,
-    F_ROAD_S,
-    F_ROAD_T,
-    F_SPEED,
-    gather_entities,
+from hiyari.bridge.openscenario.engine.kernels.snapshot import gather_entities
+from hiyari.bridge.openscenario.engine.kernels.tables import (
+    ActorArrays,
+    ElementArrays,
+    EntityFields,
+    GatherArrays,
+    TriggerArrays,
+    WorldArrays,
 )
 from hiyari.jit import njit
 
@@ -114,44 +114,17 @@ def _row_holds(
 
 @njit(cache=True)
 def _condition_values(
-    now: float,
-    active: np.ndarray,
-    cond: np.ndarray,
-    time_value: np.ndarray,
-    static: np.ndarray,
-    rows: np.ndarray,
-    row_value: np.ndarray,
-    points: np.ndarray,
-    since: np.ndarray,
-    present: np.ndarray,
-    centre: np.ndarray,
-    ref: np.ndarray,
-    heading: np.ndarray,
-    length: np.ndarray,
-    width: np.ndarray,
-    speed: np.ndarray,
-    accel: np.ndarray,
-    on_net: np.ndarray,
-    road_s: np.ndarray,
-    road_t: np.ndarray,
-    road_dir: np.ndarray,
-    contact: np.ndarray,
-    contact_any: np.ndarray,
-    states: np.ndarray,
-    transitions: np.ndarray,
-    work: np.ndarray,
-    counts: np.ndarray,
-    raw: np.ndarray,
+    now: float, trig: TriggerArrays, ent: EntityFields, el: ElementArrays, raw: np.ndarray
 ) -> None:
     """Into ``raw`` (C,): whether each condition holds now, before edges and delays
     (conditions of inactive triggers: False; their duration rows are still tracked).
-    ``work`` (E, N_FIELDS) and ``counts`` (2, C): work arrays (the entities' fields packed, see
+    ``trig.work`` and ``trig.counts``: work arrays (the entities' fields packed, see
     measures.pack_entities; rows holding and rows evaluated per condition)."""
-    pack_entities(
-        centre, ref, heading, length, width, speed, accel, road_s, road_t, road_dir, work
-    )  # fmt: skip
+    work, cond, rows, since, points = trig.work, trig.cond, trig.rows, trig.since, trig.points
+    active, present = el.active, ent.present
+    pack_entities(ent, work)
     n = len(cond)
-    hits, count = counts[0], counts[1]
+    hits, count = trig.counts[0], trig.counts[1]
     hits[:] = 0
     count[:] = 0
     for r in range(len(rows)):
@@ -161,13 +134,13 @@ def _condition_values(
             continue
         if rows[r, R_KIND] == COLLISION:
             a, b = rows[r, R_A], rows[r, R_B]
-            res = contact[a, b] if b >= 0 else contact_any[a]
+            res = ent.contact[a, b] if b >= 0 else ent.contact_any[a]
         else:
             a, b = rows[r, R_A], rows[r, R_B]
             res, since[r, 0], since[r, 1] = _row_holds(
-                rows[r, R_KIND], rows[r, R_RULE], row_value[r], now, rows[r, R_FS] != 0,
+                rows[r, R_KIND], rows[r, R_RULE], trig.row_value[r], now, rows[r, R_FS] != 0,
                 rows[r, R_DTYPE], rows[r, R_ROAD] != 0, present[a], b >= 0 and present[b],
-                entity_scalars(a, work), entity_scalars(max(b, 0), work), on_net[a],
+                entity_scalars(a, work), entity_scalars(max(b, 0), work), ent.on_net[a],
                 since[r, 0], since[r, 1], points[r, 0], points[r, 1],
             )  # fmt: skip
         if on:
@@ -177,12 +150,12 @@ def _condition_values(
         raw[c] = False
         kind = cond[c, C_KIND]
         if kind == STATIC:
-            raw[c] = static[c]
+            raw[c] = trig.static[c]
         elif kind == TIME:
-            raw[c] = holds(now, time_value[c], cond[c, C_RULE])
+            raw[c] = holds(now, trig.time_value[c], cond[c, C_RULE])
         elif kind == STATE:
-            el, code = cond[c, C_ELEMENT], cond[c, C_CODE]
-            raw[c] = (states[el] if code < FIRST_TRANSITION else transitions[el]) == code
+            e, code = cond[c, C_ELEMENT], cond[c, C_CODE]
+            raw[c] = (el.states[e] if code < FIRST_TRANSITION else el.transitions[e]) == code
         elif count[c] > 0:
             raw[c] = hits[c] > 0 if cond[c, C_RULE] == 1 else hits[c] == count[c]
 
@@ -223,54 +196,18 @@ def _edges_and_delays(
 
 @njit(cache=True)
 def evaluate_triggers(
-    now: float,
-    step_no: int,
-    active: np.ndarray,
-    cond: np.ndarray,
-    time_value: np.ndarray,
-    static: np.ndarray,
-    group_start: np.ndarray,
-    trigger_group: np.ndarray,
-    prev: np.ndarray,
-    history: np.ndarray,
-    rows: np.ndarray,
-    row_value: np.ndarray,
-    points: np.ndarray,
-    since: np.ndarray,
-    present: np.ndarray,
-    centre: np.ndarray,
-    ref: np.ndarray,
-    heading: np.ndarray,
-    length: np.ndarray,
-    width: np.ndarray,
-    speed: np.ndarray,
-    accel: np.ndarray,
-    on_net: np.ndarray,
-    road_s: np.ndarray,
-    road_t: np.ndarray,
-    road_dir: np.ndarray,
-    contact: np.ndarray,
-    contact_any: np.ndarray,
-    states: np.ndarray,
-    transitions: np.ndarray,
-    work: np.ndarray,
-    counts: np.ndarray,
-    flags: np.ndarray,
-    fired: np.ndarray,
+    now: float, step_no: int, trig: TriggerArrays, ent: EntityFields, el: ElementArrays
 ) -> int:
-    """Into ``fired`` (T,), returning how many: the fired triggers at scenario time ``now``
-    (s), step ``step_no`` since the bank was built, given which triggers are ``active``. ``group_start`` (G + 1,):
-    first condition of each AND group (last: C); ``trigger_group`` (T + 1,): first group of
-    each trigger (last: G). Entity arrays are per entity (see measures.Snapshot);
-    ``contact`` (E, E) bool. Work arrays (reused, so a step allocates nothing): ``work``
-    (E, 14) float, ``counts`` (2, C) int64, ``flags`` (2, C) bool."""
-    raw, value = flags[0], flags[1]
-    _condition_values(
-        now, active, cond, time_value, static, rows, row_value, points, since, present,
-        centre, ref, heading, length, width, speed, accel, on_net, road_s, road_t, road_dir,
-        contact, contact_any, states, transitions, work, counts, raw,
+    """Into ``trig.fired`` (T,), returning how many: the fired triggers at scenario time
+    ``now`` (s), step ``step_no`` since the bank was built, given which triggers are active
+    (``el``) and what the entities are (``ent``)."""
+    trig, ent, el = TriggerArrays(*trig), EntityFields(*ent), ElementArrays(*el)
+    active, trigger_group, group_start, fired = (
+        el.active, trig.trigger_group, trig.group_start, trig.fired
     )  # fmt: skip
-    _edges_and_delays(raw, active, cond, prev, history, step_no, value)
+    raw, value = trig.flags[0], trig.flags[1]
+    _condition_values(now, trig, ent, el, raw)
+    _edges_and_delays(raw, active, trig.cond, trig.prev, trig.history, step_no, value)
     n_trig, n_fired = len(trigger_group) - 1, 0
     for t in range(n_trig):
         fired[t] = False
@@ -289,59 +226,20 @@ def evaluate_triggers(
 
 @njit(cache=True)
 def gather_and_evaluate(
-    rows: np.ndarray,
-    xyz: np.ndarray,
-    w_heading: np.ndarray,
-    w_speed: np.ndarray,
-    w_accel: np.ndarray,
-    centre_offset: np.ndarray,
-    own: np.ndarray,
-    road_code: np.ndarray,
-    table: np.ndarray,
-    direction: np.ndarray,
-    present: np.ndarray,
-    centre: np.ndarray,
-    ref: np.ndarray,
-    ent: np.ndarray,
     now: float,
     step_no: int,
-    active: np.ndarray,
-    cond: np.ndarray,
-    time_value: np.ndarray,
-    static: np.ndarray,
-    group_start: np.ndarray,
-    trigger_group: np.ndarray,
-    prev: np.ndarray,
-    history: np.ndarray,
-    row_table: np.ndarray,
-    row_value: np.ndarray,
-    points: np.ndarray,
-    since: np.ndarray,
-    length: np.ndarray,
-    width: np.ndarray,
-    on_net: np.ndarray,
-    contact: np.ndarray,
-    contact_any: np.ndarray,
-    states: np.ndarray,
-    transitions: np.ndarray,
-    work: np.ndarray,
-    counts: np.ndarray,
-    flags: np.ndarray,
-    fired: np.ndarray,
+    world: WorldArrays,
+    gather: GatherArrays,
+    actors: ActorArrays,
+    trig: TriggerArrays,
+    ent: EntityFields,
+    el: ElementArrays,
 ) -> int:
-    """:func:`snapshot.gather_entities` (its arguments first; ``ent``: its ``out``) and then
-    :func:`evaluate_triggers` on what it gathered, in one call (a step's snapshot and
-    triggers when no entity's road coordinates are located in Python)."""
-    gather_entities(
-        rows, xyz, w_heading, w_speed, w_accel, centre_offset, own, road_code, table,
-        direction, present, centre, ref, ent,
-    )  # fmt: skip
-    return evaluate_triggers(
-        now, step_no, active, cond, time_value, static, group_start, trigger_group, prev,
-        history, row_table, row_value, points, since, present, centre, ref, ent[F_HEADING],
-        length, width, ent[F_SPEED], ent[F_ACCEL], on_net, ent[F_ROAD_S], ent[F_ROAD_T],
-        ent[F_ROAD_DIR], contact, contact_any, states, transitions, work, counts, flags, fired,
-    )  # fmt: skip
+    """:func:`snapshot.gather_entities` into ``ent`` and then :func:`evaluate_triggers` on
+    what it gathered, in one call (a step's snapshot and triggers when no entity's road
+    coordinates are located in Python)."""
+    gather_entities(world, gather, actors, ent)
+    return evaluate_triggers(now, step_no, trig, ent, el)
 
 
 @njit(cache=True)
