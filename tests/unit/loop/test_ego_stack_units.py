@@ -14,9 +14,10 @@ from hiyari.bridge.loop.stack.aeb import (
     time_to_collision,
     track_extent,
 )
-from hiyari.bridge.loop.stack.fusion import KalmanFusion
+from hiyari.bridge.loop.stack.fusion import FusionConfig, KalmanFusion
 from hiyari.kinematics import Pose
 from hiyari.sensors.outputs import ObjectList
+from hiyari.traffic.actor_class import ActorClass
 
 EGO = Pose(0.0, 0.0, 0.0, 0.0, 20.0, 0.0, 4.8, 1.9)
 
@@ -127,7 +128,8 @@ def test_kalman_fusion_tracks_constant_velocity_target():
 
 
 def test_camera_bearing_fused_with_radar_range():
-    """Camera gives class and bearing, radar gives range: the fused object takes both."""
+    """Camera gives class and bearing, radar gives range: the fused object takes both, its
+    centre behind the radar's point on the visible face (FusionConfig.radar_face_depth)."""
     fusion = KalmanFusion()
     ego = Pose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 4.8, 1.9)
     bearing = math.radians(2.0)
@@ -147,6 +149,9 @@ def test_camera_bearing_fused_with_radar_range():
         out = fusion.update([cam, radar], ego, t)
     assert len(out) == 1
     assert out.cls[0] == 5  # from the camera
-    r = math.hypot(40.0, 1.9)
+    # a pedestrian at rest, seen 2 deg off its axis: its half depth along the line of sight
+    length, width, _ = ActorClass.PEDESTRIAN.size.as_tuple()
+    depth = 0.5 * (length * math.cos(bearing) + width * math.sin(bearing))
+    r = math.hypot(40.0, 1.9) + FusionConfig().radar_face_depth[0] * depth
     assert out.position[0, 0] == pytest.approx(r * math.cos(bearing), abs=0.05)
     assert out.position[0, 1] == pytest.approx(r * math.sin(bearing), abs=0.05)
