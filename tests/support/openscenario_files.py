@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
@@ -84,11 +85,15 @@ NETS: dict[Path, Path] = {}
 
 
 def net_for(xodr: Path, workdir: Path) -> Path:
-    """The SUMO net imported from ``xodr`` (once per test session)."""
+    """The SUMO net imported from ``xodr``, once per test process. The nets are kept in a
+    folder of this process's own in the session's temporary folder (removed with it), not in
+    ``workdir``: a passed test's tmp_path is removed when the test ends, and the next test
+    would find its cached net gone."""
     from hiyari.net.sumo.opendrive import import_opendrive
 
     if xodr not in NETS:
-        NETS[xodr] = import_opendrive(xodr, workdir / f"{xodr.stem}.net.xml")
+        folder = Path(tempfile.mkdtemp(prefix="osc-nets-"))
+        NETS[xodr] = import_opendrive(xodr, folder / f"{xodr.stem}.net.xml")
     return NETS[xodr]
 
 
