@@ -28,11 +28,24 @@ def points():
 
 
 def test_perfect_perception_passes_every_preventable_point(points, tmp_path):
-    """Every Preventable cut-in and cut-out point passes with perfect perception. The 4 decel
-    points are judged with the same options by test_cli_judge below (through the command
-    line), and the Unpreventable points have no verdict to check here: neither is run twice."""
-    judged = [p for p in points if p.expected == "preventable" and p.scenario != "decel"]
+    """Every Preventable cut-out point, and every Preventable cut-in point within 2 m of the
+    C&C boundary (the hard ones: 10 m and 30 m beyond it the ego has more room, and
+    test_judge_warm judges such a point), passes with perfect perception.
+    The 4 decel points are judged with the same options by test_cli_judge below (through the
+    command line), and the Unpreventable points have no verdict to check here: neither is run
+    twice."""
+    judged = [
+        p
+        for p in points
+        if p.expected == "preventable"
+        and (p.scenario == "cut-out" or (p.scenario == "cut-in" and not p.id.endswith("0m")))
+    ]
     assert {p.scenario for p in judged} == {"cut-in", "cut-out"}
+    assert {p.id.rsplit("/", 1)[1] for p in judged if p.scenario == "cut-in"} == {
+        "boundary",
+        "boundary+1m",
+        "boundary+2m",
+    }
     report = judge(judged, JudgeOptions(perception="perfect", workers=2), progress=False)
     s = report.summary()["perfect"]
     assert s["preventable"] == len(judged) >= 20

@@ -17,8 +17,8 @@ from hiyari.risk.metrics.incidents import write_encounters_csv
 
 pytestmark = pytest.mark.timeout(300)
 
-# 10 simulated minutes of the unsignalised variant, both arms
-CONFIG = StudyConfig(days=600 / 86400, runs=1, variants=("unsignalised",), seed=3)
+# 5 simulated minutes of the unsignalised variant, both arms
+CONFIG = StudyConfig(days=300 / 86400, runs=1, variants=("unsignalised",), seed=3)
 
 
 @pytest.fixture(scope="module")
@@ -40,7 +40,7 @@ def test_same_seed_same_encounters(runs, tmp_path):
         assert np.array_equal(a.travel_time, b.travel_time)
         assert np.array_equal(a.incident_flags, b.incident_flags)
     base, sct = first
-    assert len(base.encounters) > 0 and len(base.travel_time) > 15  # ~33 cars in 10 min
+    assert len(base.encounters) > 0 and len(base.travel_time) > 12  # 17 cars in 5 min
     assert sct.interventions > 0 and base.interventions == 0
     # the SCT drivers give way more than SUMO's own: they lose more time
     assert sct.time_loss.mean() > base.time_loss.mean()

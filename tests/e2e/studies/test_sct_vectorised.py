@@ -96,7 +96,7 @@ def test_batched_controller_and_metrics_match_the_per_vehicle_reference(
     model = SCTModel(geometry)
     ctrl = SCTController(model)
     commands = planned = finite_sct = pairs = 0
-    for _ in range(200):
+    for _ in range(100):
         state = random_scene(rng, geometry, model)
         view = model.prepare(state, rng.random(len(geometry.crossings)) > 0.3)
         rows = view.veh_rows
