@@ -189,3 +189,40 @@ def stochastic_violating(n: int, seed: int) -> str:
 <StochasticDistribution parameterName="Offset"><UniformDistribution><Range lowerLimit="-3" upperLimit="3"/></UniformDistribution></StochasticDistribution>
 <StochasticDistribution parameterName="LaneId"><ProbabilityDistributionSet><Element value="-1" weight="1"/><Element value="-3" weight="1"/></ProbabilityDistributionSet></StochasticDistribution>
 </Stochastic>"""
+
+
+def element_seeds(folder: Path) -> list[Path]:
+    """Scenarios using elements that the ALKS and Euro NCAP sets do not (SpeedProfileAction
+    with DynamicConstraints, a continuous LateralDistanceAction, RandomRouteAction through a
+    junction), written into ``folder``: seeds for the fuzz suite."""
+    profile = """<LongitudinalAction><SpeedProfileAction followingMode="position">
+<DynamicConstraints maxAcceleration="2" maxDeceleration="4"/>
+<SpeedProfileEntry speed="14" time="2"/><SpeedProfileEntry speed="6"/></SpeedProfileAction></LongitudinalAction>"""
+    keep = """<LateralAction><LateralDistanceAction entityRef="Ref" distance="1.0" freespace="true"
+continuous="true" displacement="leftToReferencedEntity" coordinateSystem="entity"/></LateralAction>"""
+    cars = {"Ego": "", "Car": ""}
+    stop = f"<ConditionGroup>{time_condition(4.0, 'end')}</ConditionGroup>"
+    go = time_condition(0.5, "go", "none")
+    texts = {
+        "speed_profile.xosc": scenario_xml(
+            cars,
+            teleport_speed("Ego", -5, 20, 10) + teleport_speed("Car", -4, 50, 10),
+            story("Car", profile, go, "P"),
+            stop,
+        ),
+        "lateral_distance.xosc": scenario_xml(
+            {"Ego": "", "Ref": "", "Car": ""},
+            teleport_speed("Ego", -5, 20, 10) + teleport_speed("Ref", -4, 80, 10)
+            + teleport_speed("Car", -3, 80, 10),
+            story("Car", keep, go, "K"),
+            stop,
+        ),
+        "random_route.xosc": scenario_xml(
+            cars,
+            teleport_speed("Ego", -1, 20, 5) + teleport_speed("Car", -1, 200, 10),
+            story("Car", "<RoutingAction><RandomRouteAction/></RoutingAction>", go, "R"),
+            stop,
+            road=SHARED / "ncap" / "OpenDRIVE" / "NCAP" / "X-Intersection_NCAP.xodr",
+        ),
+    }  # fmt: skip
+    return [write(folder / name, text) for name, text in texts.items()]

@@ -8,7 +8,7 @@ negative, a huge or a malformed value, truncate the file, flip bytes in an MCAP 
 Why not hypothesis: the inputs are whole files whose interesting defects are structural, each
 case costs milliseconds to seconds of real SUMO / netconvert work so shrinking would dominate
 the time budget, and a (kind, seed) pair already names a failing mutant exactly and
-reproducibly (``python tests/e2e/cli/test_fuzz.py --kind sumo-net --replay 17``).
+reproducibly (``PYTHONPATH=tests/support python tests/e2e/cli/test_fuzz.py --kind sumo-net --replay 17``).
 
 Every mutant runs ``hiyari.bridge.cli.main.main(argv)`` in a forked child process (cheap: all
 modules are imported once; isolated: a SUMO crash or a leaked libsumo session cannot take the
@@ -21,7 +21,7 @@ engineer owns for issue 17 (``OWNED_ELSEWHERE``) is listed in the summary but do
 this suite.
 
 ``make test`` runs about 100 mutants (seeded: every kind, 0.3 of its budget);
-``python tests/e2e/cli/test_fuzz.py --scale 10`` runs about 33 times as many with other seeds.
+``PYTHONPATH=tests/support python tests/e2e/cli/test_fuzz.py --scale 10`` runs about 33 times as many with other seeds.
 """
 
 from __future__ import annotations
@@ -45,6 +45,7 @@ from pathlib import Path
 
 import pytest
 from lxml import etree
+from openscenario_files import element_seeds
 from paths import REPO_ROOT
 
 REPO = REPO_ROOT
@@ -91,6 +92,7 @@ class Corpus:
     recording: Path
     xodr: list[Path]
     xosc: list[Path]
+    elements: list[Path]  # .xosc seeds of elements the sets above do not use
 
 
 TOMLS = {
@@ -187,7 +189,10 @@ def build_corpus(root: Path) -> Corpus:
     if ncap_dir.is_dir():
         shutil.copytree(ncap_dir, root / "ncap", dirs_exist_ok=True)
         xosc += sorted((root / "ncap" / "OpenSCENARIO" / "NCAP").glob("AEB_*_2023/*.xosc"))
-    return Corpus(root, net, routes, config, tomls, recording, xodr, xosc)
+    # elements neither set uses (speed profiles, lateral distance, random routes)
+    (root / "elements").mkdir()
+    elements = element_seeds(root / "elements") if xosc else []
+    return Corpus(root, net, routes, config, tomls, recording, xodr, xosc + elements, elements)
 
 
 # ---------------------------------------------------------------------------- mutators
@@ -480,14 +485,23 @@ def _number_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -> 
     return [Case("cli-numbers", seed, argv, names, out, f"{option} {value!r}")]
 
 
-def _xosc_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -> list[Case]:
-    source = rng.choice(corpus.xosc)
+def _xosc_cases(
+    corpus: Corpus, rng: random.Random, seed: int, work: Path, elements: bool = False
+) -> list[Case]:
+    source = rng.choice(corpus.elements if elements else corpus.xosc)
     data, what = mutate_xml(source.read_bytes(), rng)
     target = source.with_name(f"mutant_{seed}_{source.name}")  # beside its catalogs and roads
     target.write_bytes(data)
     out = work / "out"
     out.mkdir(exist_ok=True)
-    return [Case("openscenario", seed, ["run", str(target), "-o", str(out), "--dry-run", "-q"], (str(target),), out, f"{source.name}: {what}")]  # fmt: skip
+    kind = "openscenario-elements" if elements else "openscenario"
+    return [Case(kind, seed, ["run", str(target), "-o", str(out), "--dry-run", "-q"], (str(target),), out, f"{source.name}: {what}")]  # fmt: skip
+
+
+def _element_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -> list[Case]:
+    """Mutants of the element seeds (openscenario_files.element_seeds) only: drawn from all
+    the .xosc seeds, three files among thirty would seldom come up."""
+    return _xosc_cases(corpus, rng, seed, work, elements=True)
 
 
 def _xosc_run_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -> list[Case]:
@@ -532,6 +546,7 @@ KINDS = [
     Kind("mcap", 48, _mcap_cases),
     Kind("cli-numbers", 80, _number_cases),
     Kind("openscenario", 20, _xosc_cases, _xosc_skip),
+    Kind("openscenario-elements", 7, _element_cases, _xosc_skip),
     Kind("openscenario-run", 2, _xosc_run_cases, _xosc_skip),
 ]
 
@@ -797,7 +812,7 @@ def test_harness_catches_a_bad_command(corpus, tmp_path):
 
 
 def main() -> int:
-    """``make fuzz``: the larger run, outside pytest."""
+    """The larger run, outside pytest (tests/support on PYTHONPATH, as pytest sets it)."""
     ap = argparse.ArgumentParser(description="hiyari's CLI fuzz harness")
     ap.add_argument(
         "--scale", type=float, default=10.0, help="mutants per kind, x its budget (make test: 0.3)"
