@@ -202,7 +202,8 @@ def cut_out_figure(
         ax.plot(ve, np.where(np.isfinite(b), b, np.nan), color="k", lw=1.6)
         ax.plot(ve, np.minimum(clear, y_top), color=EXCLUDED, lw=1, ls="--")
         ax.set_title(f"Vy = {target:.1f} m/s")
-        ax.set_xlim(float(ve_all.min()), float(ve_all.max()))
+        if ve_all.max() > ve_all.min():  # one ego speed: matplotlib picks the span
+            ax.set_xlim(float(ve_all.min()), float(ve_all.max()))
         ax.set_ylim(0, y_top)
         ax.grid(alpha=0.3)
     for ax in axes.flat[len(vy_panels_mps) :]:

@@ -31,7 +31,8 @@ def plot_sweep(name: str, varied: list[str], rows: list[dict], out: Path) -> Pat
     ax.set_xlabel(xk)
     ax.set_ylabel(yk)
     ax.grid(alpha=0.3)
-    ax.legend()
+    if ax.collections:  # no run had both values: nothing to label
+        ax.legend()
     ax.set_title(
         f"{name}: {len(ok)} runs, {sum(r['collision'] == 'True' for r in ok)} "
         f"collisions, {len(failed)} failed" + f", {len(crashed)} crashed" * bool(crashed)
