@@ -8,10 +8,16 @@ OUT ?= out
 
 .PHONY: demo test test-unit test-baseline-dispatch docs lint bench install clean browser
 
+# The editable install's finder comes after Python's path finder, so a folder named hiyari
+# beside a script (the clone itself, for a script in its parent) would shadow the package as a
+# namespace package. This .pth runs after setuptools' and puts hiyari's finder first.
+EDITABLE_FIRST := 'import sys; sys.meta_path.sort(key=lambda f: not getattr(f, "__module__", "").startswith("__editable___hiyari_"))'
+
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
 	$(BIN)/python -m pip install -q -e '.[test]'
+	printf '%s\n' $(EDITABLE_FIRST) > "$$($(BIN)/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/hiyari_editable_first.pth"
 	touch $(STAMP)
 
 install: $(STAMP)
