@@ -305,7 +305,11 @@ def _walk_pairs(net: _Net) -> list[tuple[str, str]]:
     walkable = [e for e in net.function if _open_to(net, e, "pedestrian")]
     index = {e: k for k, e in enumerate(walkable)}
     has_areas = any(net.function[e] == "walkingarea" for e in walkable)
-    links = [(f, t) for f, _, t, _, _ in net.connections if f in index and t in index]
+    # lane to lane: a street's car lanes lead on across a junction where its sidewalks may not
+    # (no crossing over a fast road), and persons only walk the lanes that allow them
+    links = [(f, t) for f, fl, t, tl, _ in net.connections
+             if f in index and t in index and _allows(net, f, fl, "pedestrian")
+             and _allows(net, t, tl, "pedestrian")]  # fmt: skip
     if not has_areas:  # no walking areas: pedestrians change edges at shared nodes
         links = _shared_node_links(net, walkable)
     n = len(walkable)

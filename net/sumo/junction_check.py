@@ -51,7 +51,8 @@ class JunctionReport:
 def _paths(
     root: etree._Element,
 ) -> tuple[dict[str, shapely.LineString], dict[str, str], dict[str, str]]:
-    """Per first internal lane of a link: the whole internal path, its target and source lane."""
+    """Per internal lane that starts a link, or is listed for it after an internal junction:
+    the link's whole internal path, its target and source lane."""
     shapes = {
         ln.get("id"): [tuple(map(float, p.split(",")[:2])) for p in ln.get("shape", "").split()]
         for e in root.iter("edge")
@@ -83,6 +84,12 @@ def _paths(
             trimmed = shapely.ops.substring(line, END_TRIM, max(line.length - END_TRIM, END_TRIM))
             paths[first] = trimmed
             targets[first] = target.get(lane, lane)
+    # a link that waits at an internal junction is listed in its junction's intLanes by the
+    # lane after that internal junction: it stands for the whole path from the first lane
+    for first, second in nxt.items():
+        if first in source and first in paths:
+            paths[second], targets[second] = paths[first], targets[first]
+            source[second] = source[first]
     return paths, targets, source
 
 

@@ -561,6 +561,7 @@ def _city(p: City, b: _Build) -> PresetRun:
 
     def on(edge: object, s: float) -> LanePosition:
         lane = next(ln for ln in edge.getLanes() if ln.allows("passenger"))
+        s = min(s, lane.getLength() / 2)  # an imported map has edges shorter than s
         return LanePosition(edge.getID(), sumo_lane_id(edge.getLaneNumber(), lane.getIndex()), s)
 
     route = AssignRouteAction("across the city", tuple(on(e, 1.0) for e in edges[1:]))
