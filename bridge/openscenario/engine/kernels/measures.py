@@ -275,19 +275,58 @@ def traveled_measure(
 
 
 @njit(cache=True, inline="always")
-def point_measure(kind: int, ea: tuple, px: float, py: float, fs: bool) -> float:
-    """Distance (m), reach distance (m) or TTC (s) of A to the point (``px``, ``py``) (NaN:
-    no point, i.e. A absent)."""
+def point_measure(kind: int, fs: bool, dtype: int, road: bool, ea: tuple, point: tuple) -> float:
+    """Distance (m), reach distance (m) or TTC (s) of A to a point: ``point`` its world x, y
+    and road s, t (m; x NaN: no point, i.e. A absent; s NaN: off the roads).
+
+    Measured by distance type ``dtype`` (0 euclidean, 1 longitudinal, 2 lateral) in A's frame
+    or, with ``road``, in road coordinates (s, t differences; A's reference point's taken as
+    its box centre's less the centre's offset along and across A's heading), between A's
+    reference point and the point or, with ``fs``, A's box and the point (a point has no
+    extent). The reach distance is always euclidean between the reference point and the
+    point. The TTC is the distance over the closing speed along the measuring direction."""
+    px, py, ps, pt = point
     if px != px:
         return math.nan
     dx, dy = px - ea[E_RX], py - ea[E_RY]
-    dist = math.hypot(dx, dy)
-    if fs and kind != REACH:
-        dist = rectangle_point_distance(
-            ea[E_X], ea[E_Y], ea[E_COS], ea[E_SIN], 0.5 * ea[E_LEN], 0.5 * ea[E_WID], px, py
-        )
-    if kind == TTC_POINT:
+    fs = fs and kind != REACH
+    if kind == REACH or (dtype == 0 and not road):
+        dist = math.hypot(dx, dy)
+        if fs:
+            dist = rectangle_point_distance(
+                ea[E_X], ea[E_Y], ea[E_COS], ea[E_SIN], 0.5 * ea[E_LEN], 0.5 * ea[E_WID], px, py
+            )
+        if kind != TTC_POINT:
+            return dist
         n = max(math.hypot(dx, dy), 1e-9)
         closing = ea[E_V] * (ea[E_COS] * dx + ea[E_SIN] * dy) / n
         return dist / max(closing, 1e-9) if closing > 1e-9 else math.inf
-    return dist
+    if road:  # as _road_distance, the point with no extent
+        s, t = ea[E_S], ea[E_T]  # of the box centre; the reference point's without freespace
+        if not fs:
+            along, left = unrotate(ea[E_X] - ea[E_RX], ea[E_Y] - ea[E_RY], ea[E_COS], ea[E_SIN])
+            s, t = s - ea[E_DIR] * along, t - ea[E_DIR] * left
+        lon, lat = abs((ps - s) * ea[E_DIR]), abs(pt - t)
+    elif fs:
+        lon, lat = unrotate(px - ea[E_X], py - ea[E_Y], ea[E_COS], ea[E_SIN])
+        lon, lat = abs(lon), abs(lat)
+    else:
+        lon, lat = unrotate(dx, dy, ea[E_COS], ea[E_SIN])
+        lon, lat = abs(lon), abs(lat)
+    if fs:
+        lon, lat = max0(lon - 0.5 * ea[E_LEN]), max0(lat - 0.5 * ea[E_WID])
+    dist = lon if dtype == 1 else (lat if dtype == 2 else math.hypot(lon, lat))
+    if kind != TTC_POINT:
+        return dist
+    # closing speed along A's axis (longitudinal, lateral) or towards the point (euclidean),
+    # as _closing with the point standing still
+    ca, sa, v = ea[E_COS], ea[E_SIN], ea[E_V]
+    if dtype == 1:
+        ux, uy = ca, sa
+    elif dtype == 2:
+        ux, uy = -sa, ca
+    else:
+        n = max(math.hypot(dx, dy), 1e-9)
+        ux, uy = dx / n, dy / n
+    closing = v * (ca * ux + sa * uy) * _sign(dx * ux + dy * uy)
+    return dist / max(closing, 1e-9) if closing > 1e-9 else math.inf
