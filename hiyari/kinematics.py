@@ -1,6 +1,9 @@
 """The kinematics kernel: poses, frame transforms, footprints, time to overlap and gaps.
 
 One definition of each, over numpy arrays, for every package (traffic, sensors, risk, bridge).
+The gaps and extents (footprint distance and extent, point-to-box distances) are loops over
+the compiled scalar functions of :mod:`hiyari.kinematics_scalar`, which compiled kernels call
+one row at a time (the OpenSCENARIO trigger kernel): one piece of code for each.
 
 Frames and units. World: network coordinates in metres (x east, y north, z up). Vehicle frame:
 origin at the centre of the actor's ground rectangle, x forward along its heading, y to its
@@ -27,8 +30,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hiyari import kinematics_scalar as _scalar
+
 #: Relative speed (m/s) along an axis below which the projections are taken as not moving.
 STILL_SPEED = 1e-9
+
+
+def _flat(*arrays: float | np.ndarray) -> tuple[tuple[int, ...], list[np.ndarray]]:
+    """The broadcast shape of ``arrays`` and each of them broadcast to it, as a flat
+    contiguous float64 array: the rows the compiled loops of kinematics_scalar take."""
+    b = np.broadcast_arrays(*(np.asarray(a, float) for a in arrays))
+    return b[0].shape, [np.ascontiguousarray(x).reshape(-1) for x in b]
 
 
 # ---------------------------------------------------------------------------------- rotations
@@ -231,10 +243,11 @@ def footprint_extent(
     length: np.ndarray, width: np.ndarray, heading: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """Half extents (m) along a frame's x and y of rectangles at ``heading`` (rad, relative to
-    that frame): the half sizes of their axis-aligned bounding boxes."""
-    c, s = np.abs(np.cos(heading)), np.abs(np.sin(heading))
-    length, width = np.asarray(length, float), np.asarray(width, float)
-    return (length * c + width * s) / 2, (length * s + width * c) / 2
+    that frame): the half sizes of their axis-aligned bounding boxes. Broadcasts."""
+    shape, (length, width, heading) = _flat(length, width, heading)
+    ex, ey = np.empty(len(length)), np.empty(len(length))
+    _scalar.footprint_extent_rows(length, width, heading, ex, ey)
+    return ex.reshape(shape), ey.reshape(shape)
 
 
 def overlap_depth(corners_a: np.ndarray, corners_b: np.ndarray) -> np.ndarray:
@@ -359,13 +372,10 @@ def box_distance(p: np.ndarray, half_x: np.ndarray, half_y: np.ndarray) -> np.nd
     """Distance (m) from points ``p`` (..., 2, box frame) to the box |x| <= ``half_x``,
     |y| <= ``half_y``; 0 inside."""
     p = np.asarray(p, float)
-    return _outside(p[..., 0], p[..., 1], half_x, half_y)
-
-
-def _outside(x: np.ndarray, y: np.ndarray, half_x: np.ndarray, half_y: np.ndarray) -> np.ndarray:
-    lx = np.abs(x) - half_x
-    ly = np.abs(y) - half_y
-    return np.hypot(np.maximum(lx, 0.0), np.maximum(ly, 0.0))
+    shape, (x, y, hx, hy) = _flat(p[..., 0], p[..., 1], half_x, half_y)
+    out = np.empty(len(x))
+    _scalar.box_distance_rows(x, y, hx, hy, out)
+    return out.reshape(shape)
 
 
 def rectangle_point_distance(
@@ -377,9 +387,11 @@ def rectangle_point_distance(
 ) -> np.ndarray:
     """Distance (m) from world ``points`` (..., 2) to oriented rectangles (centre (..., 2) m,
     ``heading`` rad, half length / width m) in the world; 0 inside. Broadcasts."""
-    d = np.asarray(points, float) - centre
-    x, y = unrotate_xy(d[..., 0], d[..., 1], heading)
-    return _outside(x, y, half_x, half_y)
+    c, p = np.asarray(centre, float), np.asarray(points, float)
+    shape, rows = _flat(c[..., 0], c[..., 1], heading, half_x, half_y, p[..., 0], p[..., 1])
+    out = np.empty(len(rows[0]))
+    _scalar.rectangle_point_distance_rows(*rows, out)
+    return out.reshape(shape)
 
 
 def bumper_gap(
@@ -416,25 +428,13 @@ def footprint_distance(
 
     Centres (..., 2) world m, headings (...) rad, lengths / widths (...) m; broadcasts. Two
     disjoint convex shapes are closest at a corner of one of them, so the distance is the least
-    corner-to-rectangle distance both ways, each rectangle's corners taken in the other's frame;
-    they overlap when no axis of either separates them.
+    corner-to-rectangle distance both ways (:func:`hiyari.kinematics_scalar.footprint_distance`).
     """
-    d = np.asarray(centre_b, float) - np.asarray(centre_a, float)
-    ha, hb = np.asarray(heading_a, float), np.asarray(heading_b, float)
-    la, wa = 0.5 * np.asarray(length_a, float), 0.5 * np.asarray(width_a, float)
-    lb, wb = 0.5 * np.asarray(length_b, float), 0.5 * np.asarray(width_b, float)
-    c, s = np.cos(hb - ha), np.sin(hb - ha)  # B's axes in A's frame
-    bx, by = unrotate_xy(d[..., 0], d[..., 1], ha)  # B's centre in A's frame
-    ax, ay = unrotate_xy(-d[..., 0], -d[..., 1], hb)  # A's centre in B's frame
-    # corners: centre + sx * half length axis + sy * half width axis, (..., 4)
-    sx, sy = np.array([1.0, -1.0, -1.0, 1.0]), np.array([1.0, 1.0, -1.0, -1.0])
-    lbc, lbs, wbc, wbs = (v[..., None] for v in (lb * c, lb * s, wb * c, wb * s))
-    lac, las, wac, was = (v[..., None] for v in (la * c, la * s, wa * c, wa * s))
-    xb, yb = bx[..., None] + sx * lbc - sy * wbs, by[..., None] + sx * lbs + sy * wbc
-    xa, ya = ax[..., None] + sx * lac + sy * was, ay[..., None] - sx * las + sy * wac
-    b_in_a = _outside(xb, yb, la[..., None], wa[..., None])
-    a_in_b = _outside(xa, ya, lb[..., None], wb[..., None])
-    ac, as_ = np.abs(c), np.abs(s)
-    apart = (np.abs(bx) > la + lb * ac + wb * as_) | (np.abs(by) > wa + lb * as_ + wb * ac)
-    apart |= (np.abs(ax) > lb + la * ac + wa * as_) | (np.abs(ay) > wb + la * as_ + wa * ac)
-    return np.where(apart, np.minimum(b_in_a.min(axis=-1), a_in_b.min(axis=-1)), 0.0)
+    ca, cb = np.asarray(centre_a, float), np.asarray(centre_b, float)
+    shape, rows = _flat(
+        ca[..., 0], ca[..., 1], heading_a, length_a, width_a,
+        cb[..., 0], cb[..., 1], heading_b, length_b, width_b,
+    )  # fmt: skip
+    out = np.empty(len(rows[0]))
+    _scalar.footprint_distance_rows(*rows, out)
+    return out.reshape(shape)

@@ -32,17 +32,20 @@ def scenario_xml(
     road: Path = STRAIGHT,
     catalogs: str = "",
     rev: int = 3,
+    variables: str = "",
 ) -> str:
-    """An OpenSCENARIO document: ``entities`` name -> object XML (CAR when empty)."""
+    """An OpenSCENARIO document: ``entities`` name -> object XML (CAR when empty);
+    ``variables``: VariableDeclaration elements (none: no VariableDeclarations)."""
     objs = "\n".join(
         f'<ScenarioObject name="{n}">{body or CAR.format(name=n)}</ScenarioObject>'
         for n, body in entities.items()
     )
     stop_xml = f"<StopTrigger>{stop}</StopTrigger>" if stop else ""
+    var_xml = f"<VariableDeclarations>{variables}</VariableDeclarations>" if variables else ""
     return f"""<?xml version="1.0" encoding="utf-8"?>
 <OpenSCENARIO>
 <FileHeader revMajor="1" revMinor="{rev}" date="2026-01-01T00:00:00" description="test" author="hiyari"/>
-<ParameterDeclarations>{params}</ParameterDeclarations>
+<ParameterDeclarations>{params}</ParameterDeclarations>{var_xml}
 <CatalogLocations>{catalogs}</CatalogLocations>
 <RoadNetwork><LogicFile filepath="{road}"/></RoadNetwork>
 <Entities>{objs}</Entities>
@@ -194,7 +197,10 @@ def stochastic_violating(n: int, seed: int) -> str:
 def element_seeds(folder: Path) -> list[Path]:
     """Scenarios using elements that the ALKS and Euro NCAP sets do not (SpeedProfileAction
     with DynamicConstraints, a continuous LateralDistanceAction, RandomRouteAction through a
-    junction), written into ``folder``: seeds for the fuzz suite."""
+    junction, a timed NURBS followed with FollowTrajectoryAction, GeoPositions on a road with a
+    geoReference, variables and the deprecated ParameterAction), written into ``folder``:
+    seeds for the fuzz suite. Each runs to its stop trigger unmutated
+    (tests/e2e/openscenario/test_element_seeds.py)."""
     profile = """<LongitudinalAction><SpeedProfileAction followingMode="position">
 <DynamicConstraints maxAcceleration="2" maxDeceleration="4"/>
 <SpeedProfileEntry speed="14" time="2"/><SpeedProfileEntry speed="6"/></SpeedProfileAction></LongitudinalAction>"""
@@ -224,5 +230,151 @@ continuous="true" displacement="leftToReferencedEntity" coordinateSystem="entity
             stop,
             road=SHARED / "ncap" / "OpenDRIVE" / "NCAP" / "X-Intersection_NCAP.xodr",
         ),
+        "nurbs_trajectory.xosc": scenario_xml(
+            cars,
+            teleport_speed("Ego", -5, 20, 10) + teleport_speed("Car", -4, 50, 10),
+            story("Car", NURBS_FOLLOW, go, "N"),
+            f"<ConditionGroup>{action_state('NAction', 'completeState')}</ConditionGroup>",
+        ),
+        "geo_position.xosc": scenario_xml(
+            cars,
+            teleport_speed("Ego", -5, 20, 10) + GEO_INIT,
+            story("Car", GEO_ACQUIRE, go, "G"),
+            f"<ConditionGroup>{GEO_REACHED}</ConditionGroup>",
+            road=write(folder / "geo_straight.xodr", geo_straight()),
+        ),
+        "variables.xosc": scenario_xml(
+            cars,
+            teleport_speed("Ego", -5, 20, 10) + teleport_speed("Car", -4, 50, 10),
+            _variable_story(),
+            VARIABLES_DONE,
+            params='<ParameterDeclaration name="Gain" parameterType="double" value="1"/>',
+            variables=VARIABLES,
+        ),
     }  # fmt: skip
     return [write(folder / name, text) for name, text in texts.items()]
+
+
+def action_state(action: str, state: str) -> str:
+    """A StoryboardElementStateCondition on action ``action`` reaching ``state``."""
+    return f"""<Condition name="{action}{state}" delay="0" conditionEdge="none"><ByValueCondition>
+<StoryboardElementStateCondition storyboardElementType="action" storyboardElementRef="{action}" state="{state}"/>
+</ByValueCondition></Condition>"""
+
+
+#: A quadratic NURBS (order 3: four control points, 4 + 3 clamped knots) from lane -4 into
+#: lane -3 of the straight road (its centres at y = -8 and -4.5), 60 m long, timed relative
+#: to the action's start (control point times 0 .. 6 s), followed by position.
+NURBS_FOLLOW = """<RoutingAction><FollowTrajectoryAction initialDistanceOffset="0">
+<TrajectoryRef><Trajectory name="Swerve" closed="false"><Shape><Nurbs order="3">
+<ControlPoint time="0" weight="1"><Position><WorldPosition x="55" y="-8" h="0"/></Position></ControlPoint>
+<ControlPoint time="2"><Position><WorldPosition x="75" y="-8"/></Position></ControlPoint>
+<ControlPoint time="4" weight="2"><Position><WorldPosition x="95" y="-4.5"/></Position></ControlPoint>
+<ControlPoint time="6"><Position><WorldPosition x="115" y="-4.5"/></Position></ControlPoint>
+<Knot value="0"/><Knot value="0"/><Knot value="0"/><Knot value="1"/><Knot value="2"/><Knot value="2"/><Knot value="2"/>
+</Nurbs></Shape></Trajectory></TrajectoryRef>
+<TimeReference><Timing domainAbsoluteRelative="relative" scale="1" offset="0"/></TimeReference>
+<TrajectoryFollowingMode followingMode="position"/>
+</FollowTrajectoryAction></RoutingAction>"""
+
+#: Transverse Mercator about 48 N 11 E, the map's origin 100 m west and 5 m north of the
+#: projection's (OpenDRIVE header offset).
+GEO_PROJ = "+proj=tmerc +lat_0=48 +lon_0=11 +k=1 +x_0=0 +y_0=0 +ellps=WGS84"
+
+
+def geo_straight() -> str:
+    """The ALKS straight road with a geoReference (GEO_PROJ) and a header offset."""
+    header = (
+        f'<geoReference><![CDATA[{GEO_PROJ}]]></geoReference><offset x="-100" y="5" z="0" hdg="0"/>'
+    )
+    return STRAIGHT.read_text().replace("</header>", header + "</header>", 1)
+
+
+#: The car placed by latitude and longitude at map (60, -8), lane -4, heading east; 10 m/s.
+GEO_INIT = """<Private entityRef="Car">
+<PrivateAction><TeleportAction><Position><GeoPosition latitudeDeg="47.999973018" longitudeDeg="10.999463989" altitude="0" verticalRoadSelection="0">
+<Orientation type="absolute" h="0" p="0" r="0"/></GeoPosition></Position></TeleportAction></PrivateAction>
+<PrivateAction><LongitudinalAction><SpeedAction><SpeedActionDynamics dynamicsShape="step" dynamicsDimension="time" value="0"/>
+<SpeedActionTarget><AbsoluteTargetSpeed value="10"/></SpeedActionTarget></SpeedAction></LongitudinalAction></PrivateAction>
+</Private>"""
+#: Map (200, -8), 140 m down lane -4 from the car's start.
+GEO_TARGET = '<GeoPosition latitudeDeg="47.999973011" longitudeDeg="11.001340026"/>'
+GEO_ACQUIRE = (
+    f"<RoutingAction><AcquirePositionAction><Position>{GEO_TARGET}</Position>"
+    "</AcquirePositionAction></RoutingAction>"
+)
+#: The car within 97.75 m (along the road, reference points) of GEO_TARGET: at x > 102.25 m,
+#: after 4.225 s.
+GEO_REACHED = f"""<Condition name="near" delay="0" conditionEdge="rising"><ByEntityCondition>
+<TriggeringEntities triggeringEntitiesRule="any"><EntityRef entityRef="Car"/></TriggeringEntities>
+<EntityCondition><DistanceCondition value="97.75" freespace="false" rule="lessThan" coordinateSystem="road"
+relativeDistanceType="longitudinal"><Position>{GEO_TARGET}</Position></DistanceCondition></EntityCondition>
+</ByEntityCondition></Condition>"""
+
+#: One variable of each kind the seeds change.
+VARIABLES = """<VariableDeclaration name="Armed" variableType="boolean" value="false"/>
+<VariableDeclaration name="Count" variableType="double" value="0"/>
+<VariableDeclaration name="Label" variableType="string" value="idle"/>"""
+
+
+def _value_condition(name: str, ref: str, rule: str, value: str, tag: str = "Variable") -> str:
+    """A Variable- (or Parameter-) Condition named ``name`` on ``ref``."""
+    attr = "variableRef" if tag == "Variable" else "parameterRef"
+    return f"""<Condition name="{name}" delay="0" conditionEdge="none"><ByValueCondition>
+<{tag}Condition {attr}="{ref}" rule="{rule}" value="{value}"/></ByValueCondition></Condition>"""
+
+
+def _event(name: str, actions: str, condition: str, count: int = 1) -> str:
+    return f"""<Event name="{name}" priority="parallel" maximumExecutionCount="{count}">{actions}
+<StartTrigger><ConditionGroup>{condition}</ConditionGroup></StartTrigger></Event>"""
+
+
+def _variable_action(ref: str, body: str, tag: str = "Variable") -> str:
+    attr = "variableRef" if tag == "Variable" else "parameterRef"
+    return f'<GlobalAction><{tag}Action {attr}="{ref}">{body}</{tag}Action></GlobalAction>'
+
+
+def _modify(rule: str, value: str) -> str:
+    return f'<ModifyAction><Rule><{rule} value="{value}"/></Rule></ModifyAction>'
+
+
+SLOW = """<PrivateAction><LongitudinalAction><SpeedAction>
+<SpeedActionDynamics dynamicsShape="linear" dynamicsDimension="rate" value="4"/>
+<SpeedActionTarget><AbsoluteTargetSpeed value="6"/></SpeedActionTarget></SpeedAction></LongitudinalAction></PrivateAction>"""
+
+
+def _action(name: str, body: str) -> str:
+    return f'<Action name="{name}">{body}</Action>'
+
+
+def _set(value: str) -> str:
+    return f'<SetAction value="{value}"/>'
+
+
+def _variable_story() -> str:
+    """At 0.5 s Armed := true and Label := armed; while Armed, Count += 1 (three executions);
+    when Count >= 3: Count *= 2, the car slows to 6 m/s, and the deprecated ParameterAction
+    sets Gain := 2 and multiplies it by 1.5 (two actions of one event, in document order)."""
+    arm = _action("SetArmed", _variable_action("Armed", _set("true")))
+    arm += _action("SetLabel", _variable_action("Label", _set("armed")))
+    tick = _action("AddOne", _variable_action("Count", _modify("AddValue", "1")))
+    double = _action("Times2", _variable_action("Count", _modify("MultiplyByValue", "2")))
+    double += _action("Slow", SLOW)
+    double += _action("SetGain", _variable_action("Gain", _set("2"), "Parameter"))
+    scale = _modify("MultiplyByValue", "1.5")
+    double += _action("ScaleGain", _variable_action("Gain", scale, "Parameter"))
+    events = _event("Arm", arm, time_condition(0.5, "arm", "none"))
+    events += _event("Tick", tick, _value_condition("armed", "Armed", "equalTo", "true"), 3)
+    events += _event("Double", double, _value_condition("three", "Count", "greaterOrEqual", "3"))
+    return f"""<Story name="V"><Act name="VAct"><ManeuverGroup maximumExecutionCount="1" name="VG">
+<Actors selectTriggeringEntities="false"><EntityRef entityRef="Car"/></Actors><Maneuver name="VM">{events}
+</Maneuver></ManeuverGroup>
+<StartTrigger><ConditionGroup>{time_condition(0, "Vstart", "none")}</ConditionGroup></StartTrigger></Act></Story>"""
+
+
+#: Stops once every change is seen: Count = 6, Label = armed, Gain = 3 (a ParameterCondition).
+VARIABLES_DONE = (
+    f"<ConditionGroup>{_value_condition('six', 'Count', 'equalTo', '6')}"
+    f"{_value_condition('labelled', 'Label', 'equalTo', 'armed')}"
+    f"{_value_condition('gain', 'Gain', 'equalTo', '3', 'Parameter')}</ConditionGroup>"
+)

@@ -12,6 +12,7 @@ point conditions, and the contact matrix when there are contacts.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -166,7 +167,7 @@ class ConditionBank:
         self.needs_contacts = bool((self.rows.kind == M.COLLISION).any())
         self.row_trigger = self.cond_trigger[self.rows.owner]
         self.since = np.full((len(self.rows), 2), np.nan)  # tracked state per row
-        self.points = np.full((len(self.rows), 2), np.nan)
+        self.points = np.full((len(self.rows), 4), np.nan)
         self.fixed: dict[int, tuple[float, float]] = {}
         self.point_rows = np.flatnonzero(np.isin(self.rows.kind, M.POINT_KINDS))
         self._no_contact = np.zeros((len(self.entity_index),) * 2, dtype=bool)
@@ -281,21 +282,22 @@ class ConditionBank:
         return self._fired
 
     def _resolve_points(self, snap: Snapshot, active: np.ndarray) -> None:
-        """World x, y of the positions of the point rows evaluated now (NaN for absent
-        entities); positions that do not move with the entities resolved once."""
+        """World x, y and road s, t (NaN off the roads) of the positions of the point rows
+        evaluated now (NaN for absent entities); positions that do not move with the entities
+        resolved once."""
         sel = self.point_rows[active[self.row_trigger[self.point_rows]]]
         self.points[:] = np.nan
         for row in sel.tolist():
             if not snap.present[self.rows.a[row]]:
                 continue
-            xy = self.fixed.get(row)
-            if xy is None:
+            point = self.fixed.get(row)
+            if point is None:
                 pos = self.rows.body[row].position
                 p = self.resolve(pos)
-                xy = (p.x, p.y)
+                point = (p.x, p.y, p.s, p.t) if p.road else (p.x, p.y, math.nan, math.nan)
                 if isinstance(pos, M.FIXED_POSITIONS):
-                    self.fixed[row] = xy
-            self.points[row] = xy
+                    self.fixed[row] = point
+            self.points[row] = point
 
 
 _STATE_CODES = {

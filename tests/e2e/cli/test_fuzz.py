@@ -504,12 +504,14 @@ def _element_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) ->
     return _xosc_cases(corpus, rng, seed, work, elements=True)
 
 
-def _xosc_run_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -> list[Case]:
+def _xosc_run_cases(
+    corpus: Corpus, rng: random.Random, seed: int, work: Path, elements: bool = False
+) -> list[Case]:
     """ALKS mutants that pass the reader, run on SUMO for 3 s of scenario time."""
     from hiyari.bridge.loop.xosc_runs import load_plan
 
     for attempt in range(50):
-        source = rng.choice(corpus.xosc)
+        source = rng.choice(corpus.elements if elements else corpus.xosc)
         data, what = mutate_xml(source.read_bytes(), rng)
         target = source.with_name(f"mutant_run_{seed}_{attempt}_{source.name}")
         target.write_bytes(data)
@@ -523,7 +525,14 @@ def _xosc_run_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -
         return []
     out = work / "out"
     argv = ["run", str(target), "-o", str(out), "-q", "--no-record", "--max-duration", "3"]
-    return [Case("openscenario-run", seed, argv, (str(target),), out, f"{source.name}: {what}")]
+    kind = "openscenario-elements-run" if elements else "openscenario-run"
+    return [Case(kind, seed, argv, (str(target),), out, f"{source.name}: {what}")]
+
+
+def _element_run_cases(corpus: Corpus, rng: random.Random, seed: int, work: Path) -> list[Case]:
+    """Mutants of the element seeds that pass the reader, run on SUMO for 3 s: the engine
+    executes the mutated elements, not only the reader."""
+    return _xosc_run_cases(corpus, rng, seed, work, elements=True)
 
 
 def _xosc_skip(corpus: Corpus) -> str | None:
@@ -548,6 +557,7 @@ KINDS = [
     Kind("openscenario", 20, _xosc_cases, _xosc_skip),
     Kind("openscenario-elements", 7, _element_cases, _xosc_skip),
     Kind("openscenario-run", 2, _xosc_run_cases, _xosc_skip),
+    Kind("openscenario-elements-run", 2, _element_run_cases, _xosc_skip),
 ]
 
 

@@ -1,4 +1,4 @@
-"""The compiled condition kernel: its geometry equals the kinematics kernel bit for bit, its
+"""The compiled condition kernel: its distances are the kinematics kernel's bit for bit, its
 measures the reference formulas on hand-computed cases, and a trigger with an edge and a delay
 fires on the step the OpenSCENARIO semantics give."""
 
@@ -90,20 +90,18 @@ def test_pair_measures_by_hand() -> None:
     assert _pair(hw, True, 1, False, e) == math.inf
 
 
-def test_compiled_geometry_equals_the_kinematics_kernel_bit_for_bit() -> None:
+def test_pair_distances_are_the_kinematics_kernels() -> None:
+    """The freespace distances pair_measure gives (euclidean, longitudinal, lateral) equal
+    kinematics' array functions bit for bit: the box gap is kinematics_scalar's footprint
+    distance, the axis gaps its unrotate and footprint_extent, with each entity's cos and sin
+    computed once (pack_entities) instead of per call."""
     rng = np.random.default_rng(7)
     n = 500
     ca, cb = rng.uniform(-8, 8, (n, 2)), rng.uniform(-8, 8, (n, 2))
     ha, hb = rng.uniform(-np.pi, np.pi, n), rng.uniform(-np.pi, np.pi, n)
     la, lb, wa, wb = (rng.uniform(0.5, 6, n) for _ in range(4))
     want = footprint_distance(ca, ha, la, wa, cb, hb, lb, wb)
-    got = np.array(
-        [
-            M.footprint_distance(*ca[k], ha[k], la[k], wa[k], *cb[k], hb[k], lb[k], wb[k])
-            for k in range(n)
-        ]
-    )
-    assert np.array_equal(got, want) and (want == 0).sum() > 20
+    assert (want == 0).sum() > 20
     # freespace longitudinal / lateral distances in A's frame (kinematics: unrotate_xy and
     # footprint_extent), entity by entity through pair_measure
     bx, by = unrotate_xy(cb[:, 0] - ca[:, 0], cb[:, 1] - ca[:, 1], ha)

@@ -5,8 +5,8 @@ A row is one (condition, triggering entity) pair. Rows are compiled into one tab
 the scalar functions here: pair measures (relative distance, headway, TTC to an entity),
 single-entity measures (speed, acceleration, relative speed), durations (standstill, end of
 road) and point measures (distance, reach, TTC to a position). The geometry is the
-kinematics kernel's (:mod:`hiyari.kinematics`), written out per scalar with the same operations
-in the same order, so the values are the kernel's bit for bit (tests/unit/openscenario/test_engine_kernel.py).
+kinematics kernel's own scalar functions (:mod:`hiyari.kinematics_scalar`), which
+:mod:`hiyari.kinematics`' array functions loop over too.
 Rows whose entities are absent measure NaN, which no rule holds for.
 
 Frames and units: world x, y in metres, headings in radians from world +x, speeds m/s, times
@@ -23,6 +23,13 @@ import numpy as np
 from hiyari.bridge.openscenario.engine.kernels.tables import EntityFields
 from hiyari.bridge.openscenario.model.positions import LanePosition, RoadPosition, WorldPosition
 from hiyari.jit import njit
+from hiyari.kinematics_scalar import (
+    footprint_distance_cs,
+    footprint_extent,
+    max0,
+    rectangle_point_distance,
+    unrotate,
+)
 
 #: Speed below which an actor stands still, m/s.
 STANDSTILL_SPEED = 0.01
@@ -81,90 +88,6 @@ class EntityRows:
         return len(self.owner)
 
 
-# ---------------------------------------------------------------------------------- geometry
-@njit(cache=True, inline="always")
-def _unrotate(x: float, y: float, c: float, s: float) -> tuple[float, float]:
-    """kinematics.unrotate_xy for one vector, with the cos ``c`` and sin ``s`` of the
-    heading."""
-    return x * c + y * s, -x * s + y * c
-
-
-@njit(cache=True, inline="always")
-def _max0(x: float) -> float:
-    """np.maximum(0.0, x): NaN stays NaN."""
-    return x if (x > 0.0 or x != x) else 0.0
-
-
-@njit(cache=True, inline="always")
-def _outside(x: float, y: float, half_x: float, half_y: float) -> float:
-    """kinematics._outside for one point."""
-    lx, ly = _max0(abs(x) - half_x), _max0(abs(y) - half_y)
-    if ly == 0.0:  # C99 F.9.4.3: hypot(x, 0) is fabs(x), exactly; saves the call
-        return lx
-    if lx == 0.0:
-        return ly
-    return math.hypot(lx, ly)
-
-
-@njit(cache=True, inline="always")
-def footprint_distance(
-    ax_: float,
-    ay_: float,
-    ha: float,
-    length_a: float,
-    width_a: float,
-    bx_: float,
-    by_: float,
-    hb: float,
-    length_b: float,
-    width_b: float,
-) -> float:
-    """kinematics.footprint_distance for one pair of rectangles (centres m, headings rad)."""
-    return _footprint_distance(
-        ax_, ay_, ha, math.cos(ha), math.sin(ha), length_a, width_a,
-        bx_, by_, hb, math.cos(hb), math.sin(hb), length_b, width_b,
-    )  # fmt: skip
-
-
-@njit(cache=True, inline="always")
-def _footprint_distance(
-    ax_: float,
-    ay_: float,
-    ha: float,
-    cha: float,
-    sha: float,
-    length_a: float,
-    width_a: float,
-    bx_: float,
-    by_: float,
-    hb: float,
-    chb: float,
-    shb: float,
-    length_b: float,
-    width_b: float,
-) -> float:
-    """footprint_distance with the cos and sin of both headings given."""
-    dx, dy = bx_ - ax_, by_ - ay_
-    la, wa, lb, wb = 0.5 * length_a, 0.5 * width_a, 0.5 * length_b, 0.5 * width_b
-    c, s = math.cos(hb - ha), math.sin(hb - ha)
-    bx, by = _unrotate(dx, dy, cha, sha)
-    ax, ay = _unrotate(-dx, -dy, chb, shb)
-    lbc, lbs, wbc, wbs = lb * c, lb * s, wb * c, wb * s
-    lac, las, wac, was = la * c, la * s, wa * c, wa * s
-    ac, as_ = abs(c), abs(s)
-    apart = (abs(bx) > la + lb * ac + wb * as_) or (abs(by) > wa + lb * as_ + wb * ac)
-    apart = apart or (abs(ax) > lb + la * ac + wa * as_) or (abs(ay) > wb + la * as_ + wa * ac)
-    if not apart:
-        return 0.0
-    b_in_a, a_in_b = math.inf, math.inf
-    for sx, sy in ((1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)):
-        xb, yb = bx + sx * lbc - sy * wbs, by + sx * lbs + sy * wbc
-        xa, ya = ax + sx * lac + sy * was, ay - sx * las + sy * wac
-        b_in_a = min(b_in_a, _outside(xb, yb, la, wa))
-        a_in_b = min(a_in_b, _outside(xa, ya, lb, wb))
-    return min(b_in_a, a_in_b)
-
-
 # ---------------------------------------------------------------------------------- entities
 #: Fields of an entity's scalars (the tuple :func:`entity_scalars` returns): box centre x, y
 #: and reference point x, y (m), heading (rad) with its cos and sin, length and width (m),
@@ -210,19 +133,18 @@ def _entity_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
     or the boxes' gap with ``fs`` (freespace)."""
     ha, la, wa, ca, sa = ea[E_H], ea[E_LEN], ea[E_WID], ea[E_COS], ea[E_SIN]
     if dtype == 0 and fs:
-        return _footprint_distance(
+        return footprint_distance_cs(
             ea[E_X], ea[E_Y], ha, ca, sa, la, wa,
             eb[E_X], eb[E_Y], eb[E_H], eb[E_COS], eb[E_SIN], eb[E_LEN], eb[E_WID],
         )  # fmt: skip
     if not fs:
-        rx, ry = _unrotate(eb[E_RX] - ea[E_RX], eb[E_RY] - ea[E_RY], ca, sa)
+        rx, ry = unrotate(eb[E_RX] - ea[E_RX], eb[E_RY] - ea[E_RY], ca, sa)
         return math.hypot(rx, ry) if dtype == 0 else (abs(rx) if dtype == 1 else abs(ry))
-    bx, by = _unrotate(eb[E_X] - ea[E_X], eb[E_Y] - ea[E_Y], ca, sa)
-    # footprint_extent of B in A's frame
-    c, s = abs(math.cos(eb[E_H] - ha)), abs(math.sin(eb[E_H] - ha))
+    bx, by = unrotate(eb[E_X] - ea[E_X], eb[E_Y] - ea[E_Y], ca, sa)
+    ext_x, ext_y = footprint_extent(eb[E_LEN], eb[E_WID], eb[E_H] - ha)  # B in A's frame
     if dtype == 1:
-        return _max0(abs(bx) - 0.5 * la - (eb[E_LEN] * c + eb[E_WID] * s) / 2)
-    return _max0(abs(by) - 0.5 * wa - (eb[E_LEN] * s + eb[E_WID] * c) / 2)
+        return max0(abs(bx) - 0.5 * la - ext_x)
+    return max0(abs(by) - 0.5 * wa - ext_y)
 
 
 @njit(cache=True, inline="always")
@@ -232,8 +154,8 @@ def _road_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
     dt = eb[E_T] - ea[E_T]
     lon, lat = abs(ds), abs(dt)
     if fs:
-        lon = _max0(abs(ds) - 0.5 * (ea[E_LEN] + eb[E_LEN]))
-        lat = _max0(abs(dt) - 0.5 * (ea[E_WID] + eb[E_WID]))
+        lon = max0(abs(ds) - 0.5 * (ea[E_LEN] + eb[E_LEN]))
+        lat = max0(abs(dt) - 0.5 * (ea[E_WID] + eb[E_WID]))
     if dtype == 1:
         return lon
     if dtype == 2:
@@ -276,7 +198,7 @@ def pair_measure(kind: int, fs: bool, dtype: int, road: bool, ea: tuple, eb: tup
     if kind == HEADWAY:
         if road:
             ahead = (eb[E_S] - ea[E_S]) * ea[E_DIR]
-        else:  # B's centre along A's axis, as _unrotate
+        else:  # B's centre along A's axis, as unrotate
             ahead = (eb[E_X] - ea[E_X]) * ea[E_COS] + (eb[E_Y] - ea[E_Y]) * ea[E_SIN]
         if not (ahead > 0 and ea[E_V] > 1e-6):
             return math.inf
@@ -353,18 +275,58 @@ def traveled_measure(
 
 
 @njit(cache=True, inline="always")
-def point_measure(kind: int, ea: tuple, px: float, py: float, fs: bool) -> float:
-    """Distance (m), reach distance (m) or TTC (s) of A to the point (``px``, ``py``) (NaN:
-    no point, i.e. A absent)."""
+def point_measure(kind: int, fs: bool, dtype: int, road: bool, ea: tuple, point: tuple) -> float:
+    """Distance (m), reach distance (m) or TTC (s) of A to a point: ``point`` its world x, y
+    and road s, t (m; x NaN: no point, i.e. A absent; s NaN: off the roads).
+
+    Measured by distance type ``dtype`` (0 euclidean, 1 longitudinal, 2 lateral) in A's frame
+    or, with ``road``, in road coordinates (s, t differences; A's reference point's taken as
+    its box centre's less the centre's offset along and across A's heading), between A's
+    reference point and the point or, with ``fs``, A's box and the point (a point has no
+    extent). The reach distance is always euclidean between the reference point and the
+    point. The TTC is the distance over the closing speed along the measuring direction."""
+    px, py, ps, pt = point
     if px != px:
         return math.nan
     dx, dy = px - ea[E_RX], py - ea[E_RY]
-    dist = math.hypot(dx, dy)
-    if fs and kind != REACH:  # kinematics.rectangle_point_distance
-        x, y = _unrotate(px - ea[E_X], py - ea[E_Y], ea[E_COS], ea[E_SIN])
-        dist = _outside(x, y, 0.5 * ea[E_LEN], 0.5 * ea[E_WID])
-    if kind == TTC_POINT:
+    fs = fs and kind != REACH
+    if kind == REACH or (dtype == 0 and not road):
+        dist = math.hypot(dx, dy)
+        if fs:
+            dist = rectangle_point_distance(
+                ea[E_X], ea[E_Y], ea[E_COS], ea[E_SIN], 0.5 * ea[E_LEN], 0.5 * ea[E_WID], px, py
+            )
+        if kind != TTC_POINT:
+            return dist
         n = max(math.hypot(dx, dy), 1e-9)
         closing = ea[E_V] * (ea[E_COS] * dx + ea[E_SIN] * dy) / n
         return dist / max(closing, 1e-9) if closing > 1e-9 else math.inf
-    return dist
+    if road:  # as _road_distance, the point with no extent
+        s, t = ea[E_S], ea[E_T]  # of the box centre; the reference point's without freespace
+        if not fs:
+            along, left = unrotate(ea[E_X] - ea[E_RX], ea[E_Y] - ea[E_RY], ea[E_COS], ea[E_SIN])
+            s, t = s - ea[E_DIR] * along, t - ea[E_DIR] * left
+        lon, lat = abs((ps - s) * ea[E_DIR]), abs(pt - t)
+    elif fs:
+        lon, lat = unrotate(px - ea[E_X], py - ea[E_Y], ea[E_COS], ea[E_SIN])
+        lon, lat = abs(lon), abs(lat)
+    else:
+        lon, lat = unrotate(dx, dy, ea[E_COS], ea[E_SIN])
+        lon, lat = abs(lon), abs(lat)
+    if fs:
+        lon, lat = max0(lon - 0.5 * ea[E_LEN]), max0(lat - 0.5 * ea[E_WID])
+    dist = lon if dtype == 1 else (lat if dtype == 2 else math.hypot(lon, lat))
+    if kind != TTC_POINT:
+        return dist
+    # closing speed along A's axis (longitudinal, lateral) or towards the point (euclidean),
+    # as _closing with the point standing still
+    ca, sa, v = ea[E_COS], ea[E_SIN], ea[E_V]
+    if dtype == 1:
+        ux, uy = ca, sa
+    elif dtype == 2:
+        ux, uy = -sa, ca
+    else:
+        n = max(math.hypot(dx, dy), 1e-9)
+        ux, uy = dx / n, dy / n
+    closing = v * (ca * ux + sa * uy) * _sign(dx * ux + dy * uy)
+    return dist / max(closing, 1e-9) if closing > 1e-9 else math.inf

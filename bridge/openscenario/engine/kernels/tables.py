@@ -123,7 +123,7 @@ class TriggerArrays(NamedTuple):
     history: np.ndarray  # (C, H) bool ring buffer of edged values (delays)
     rows: np.ndarray  # (R, 9) int64 entity rows: columns trigger_kernel.R_*
     row_value: np.ndarray  # (R,) the rows' values
-    points: np.ndarray  # (R, 2) world x, y of point rows' positions, m (NaN: none)
+    points: np.ndarray  # (R, 4) world x, y and road s, t of point rows' positions, m (NaN: none)
     since: np.ndarray  # (R, 2) tracked state per row (durations, distance travelled)
     work: np.ndarray  # (E, measures.N_FIELDS) the entities' fields packed
     counts: np.ndarray  # (2, C) int64: rows holding and rows evaluated per condition

@@ -75,17 +75,16 @@ def _row_holds(
     on_net_a: bool,
     since: float,
     last: float,
-    px: float,
-    py: float,
+    point: tuple,
 ) -> tuple[bool, float, float]:
     """Whether an entity row (not a collision row) of ``kind`` holds against ``value`` now,
     and its tracked state to keep (``since``, ``last``: a duration state's start time, see
     measures.duration_measure, or the distance travelled and the time it was measured at,
     see measures.traveled_measure), given its entities' presence and fields (``ea``, ``eb``:
     measures.entity_scalars; ``eb`` is any entity's when the row has none) and its point
-    (``px``, ``py``). An absent entity measures NaN, which no rule holds for. Scalars only: a
-    compiled helper inlined with array arguments pays a reference count per array and
-    row."""
+    (world x, y and road s, t: measures.point_measure). An absent entity measures NaN,
+    which no rule holds for. Scalars only: a compiled helper inlined with array arguments
+    pays a reference count per array and row."""
     if STANDSTILL <= kind <= END_OF_ROAD:
         m, since = duration_measure(kind, now, present_a, ea[E_V], on_net_a, since)
         return holds(m, value, rule), since, last
@@ -108,7 +107,7 @@ def _row_holds(
     if kind <= REL_SPEED:
         return holds(single_measure(kind, ea, eb[E_V]), value, rule), since, last
     if DISTANCE <= kind <= TTC_POINT:
-        return holds(point_measure(kind, ea, px, py, fs), value, rule), since, last
+        return holds(point_measure(kind, fs, dtype, road, ea, point), value, rule), since, last
     return False, since, last
 
 
@@ -141,7 +140,8 @@ def _condition_values(
                 rows[r, R_KIND], rows[r, R_RULE], trig.row_value[r], now, rows[r, R_FS] != 0,
                 rows[r, R_DTYPE], rows[r, R_ROAD] != 0, present[a], b >= 0 and present[b],
                 entity_scalars(a, work), entity_scalars(max(b, 0), work), ent.on_net[a],
-                since[r, 0], since[r, 1], points[r, 0], points[r, 1],
+                since[r, 0], since[r, 1],
+                (points[r, 0], points[r, 1], points[r, 2], points[r, 3]),
             )  # fmt: skip
         if on:
             count[owner] += 1
