@@ -60,9 +60,12 @@ def main(argv: list[str]) -> int:
         return 0
     t0 = time.monotonic()
     procs = [subprocess.Popen([sys.executable, __file__, part]) for part in PARTS]
-    codes = [p.wait() for p in procs]
-    print(f"kernels warm ({', '.join(PARTS)}) in {time.monotonic() - t0:.0f} s", flush=True)
-    return max(codes)
+    failed = [part for part, p in zip(PARTS, procs, strict=True) if p.wait() != 0]
+    # a part that fails leaves its kernels to the tests, which compile them on first use and
+    # report the failure where it belongs: the suite runs either way
+    note = f"; {', '.join(failed)} failed (the tests compile those)" if failed else ""
+    print(f"kernels warm in {time.monotonic() - t0:.0f} s{note}", flush=True)
+    return 0
 
 
 if __name__ == "__main__":
