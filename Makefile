@@ -41,8 +41,11 @@ endif
 # The suite runs on TEST_WORKERS pytest-xdist workers (the two cores of a developer machine
 # and CI); `make test TEST_WORKERS=0` runs it in one process, for debugging.
 TEST_WORKERS ?= 2
+# The kernels are compiled once, one process per core, before the workers start: on a fresh
+# clone the workers and the runs they start would otherwise all compile the same kernels at once.
 test: $(STAMP) browser
 	$(BIN)/ruff check .
+	$(BIN)/python tests/support/warm_kernels.py
 	$(BIN)/python -m pytest -q -n $(TEST_WORKERS)
 
 # The unit tests alone (tests/unit: no SUMO run), for a quick check while editing.

@@ -31,8 +31,9 @@ def pytest_configure(config: pytest.Config) -> None:
 
     Under pytest-xdist the controller makes that folder before it starts the workers, which
     inherit it (TMPDIR), and checks it once they have all finished. The workers share the
-    compiled kernels' cache with every other hiyari process (hiyari/jit.py makes it safe), so a
-    kernel compiles once, not once per worker.
+    compiled kernels' cache with every other hiyari process (hiyari/jit.py makes it safe);
+    ``make test`` fills it before they start (tests/support/warm_kernels.py), so a kernel
+    compiles once, not once per worker and per run the tests start.
 
     No core files: several tests crash processes on purpose (the pool's SIGSEGV hook, an
     aborted xdist worker), and each core of a process with hiyari loaded is about 300 MB in the
