@@ -3,17 +3,26 @@
 Files declaring revision 1.0 - 1.3 are read. All are validated against the standard (not the
 "strict") 1.3 schema shipped in ``schema/``: it keeps the artifacts deprecated since 1.0, so
 older files validate wherever 1.3 is compatible with them, and a file that is not gets a one-line
-error naming the file, the line and the schema's complaint.
+error naming the file, the line and the schema's complaint. Known deviations other tools write
+(``repairs``) are repaired in the parsed tree first, one warning line each.
 """
 
 from __future__ import annotations
 
+import logging
+from collections.abc import Callable
 from functools import cache
 from pathlib import Path
 
 from lxml import etree
 
+from hiyari.bridge.openscenario.xosc.repairs import repair
 from hiyari.errors import HiyariError
+
+_log = logging.getLogger(__name__)
+#: Repair warnings already given: a file is loaded several times by one command (plan,
+#: constraints, read), its repairs are said once.
+_said: set[str] = set()
 
 SCHEMA = Path(__file__).resolve().parent / "schema" / "OpenSCENARIO_1_3.xsd"
 #: The OpenSCENARIO revisions this reader accepts (major, minor).
@@ -25,9 +34,20 @@ def _schema() -> etree.XMLSchema:
     return etree.XMLSchema(etree.parse(str(SCHEMA)))
 
 
-def load(path: str | Path, what: str = "OpenSCENARIO file") -> etree._Element:
-    """Parse and validate ``path``; return its root element. HiyariError (one line) for a
-    missing, malformed, schema-invalid or unsupported-revision file."""
+def _warn_once(line: str) -> None:
+    if line not in _said:
+        _said.add(line)
+        _log.warning(line)
+
+
+def load(
+    path: str | Path,
+    what: str = "OpenSCENARIO file",
+    warn: Callable[[str], None] | None = None,
+) -> etree._Element:
+    """Parse, repair (``repairs``) and validate ``path``; return its root element. ``warn``
+    receives one line per repair (default: a logging warning, once per process). HiyariError
+    (one line) for a missing, malformed, schema-invalid or unsupported-revision file."""
     path = Path(path)
     if not path.is_file():
         raise HiyariError(f"{path}: {what} not found")
@@ -38,6 +58,8 @@ def load(path: str | Path, what: str = "OpenSCENARIO file") -> etree._Element:
     root = tree.getroot()
     if root.tag != "OpenSCENARIO":
         raise HiyariError(f"{path}: not an OpenSCENARIO file (root element <{root.tag}>)")
+    for r in repair(root):
+        (warn or _warn_once)(r.message(path))
     header = root.find("FileHeader")
     if header is not None:
         try:
