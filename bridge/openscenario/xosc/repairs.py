@@ -12,8 +12,10 @@ lists the same table).
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from dataclasses import dataclass
+from datetime import datetime
 from pathlib import Path
 
 from lxml import etree
@@ -169,6 +171,47 @@ def _header_text(root: etree._Element) -> list[Repair]:
     return out
 
 
+_DATE_TIME = re.compile(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d(\.\d+)?(Z|[+-]\d\d:\d\d)?")
+#: What a FileHeader date that is no xsd:dateTime is read as (nothing reads the date).
+NO_DATE = "1970-01-01T00:00:00"
+
+
+def _is_date_time(text: str) -> bool:
+    if not _DATE_TIME.fullmatch(text):
+        return False
+    try:
+        datetime.fromisoformat(text[:19])
+    except ValueError:
+        return False
+    return True
+
+
+def _header_date(root: etree._Element) -> list[Repair]:
+    out: list[Repair] = []
+    header = root.find("FileHeader")
+    date = None if header is None else header.get("date")
+    if header is not None and date is not None and not _is_date_time(date):
+        _note(out, header, _tag(header, "date"), f"not a date and time: read as {NO_DATE} "
+              "(the header's date is not used)")  # fmt: skip
+        header.set("date", NO_DATE)
+    return out
+
+
+def _property_in_declarations(root: etree._Element) -> list[Repair]:
+    out: list[Repair] = []
+    for decls in root.iter("ParameterDeclarations"):
+        owner = decls.getparent()
+        for prop in decls.findall("Property"):
+            props = owner.find("Properties") if owner is not None else None
+            if props is None:  # only elements with Properties are repaired
+                continue
+            _note(out, prop, f'<{owner.tag} name="{owner.get("name")}"> ' + _tag(prop, "name"),
+                  "inside ParameterDeclarations: moved to the Properties")  # fmt: skip
+            decls.remove(prop)
+            props.insert(0, prop)
+    return out
+
+
 @dataclass(frozen=True)
 class Deviation:
     """One known deviation: what the file says, how it is read, who writes it."""
@@ -200,6 +243,11 @@ DEVIATIONS = (
               "dropped: the trailer is ignored", "esmini catalogs", _trailer_entity_ref),
     Deviation("FileHeader without `author` / `description`", "the empty text",
               "esmini catalogs", _header_text),
+    Deviation("FileHeader `date` that is no xsd:dateTime (`2020-10-204T10:00:00`)",
+              f"`{NO_DATE}` (nothing reads the date)", "esmini catalogs", _header_date),
+    Deviation("`<Property>` inside an element's ParameterDeclarations",
+              "moved to the element's Properties", "esmini catalogs",
+              _property_in_declarations),
 )  # fmt: skip
 
 

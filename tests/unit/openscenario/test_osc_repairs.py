@@ -220,3 +220,22 @@ def test_a_valid_file_has_no_repairs(tmp_path: Path, caplog: pytest.LogCaptureFi
     with caplog.at_level(logging.WARNING):
         read_scenario(path)
     assert not [r for r in caplog.records if r.name.endswith("xosc.document")]
+
+
+def test_catalog_header_date_and_property_among_declarations(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    text, catalog = _with_catalog(tmp_path)
+    odd = CATALOG.replace("2026-01-01T00:00:00", "2020-10-204T10:00:00").replace(
+        "<ParameterDeclarations>", '<ParameterDeclarations><Property name="p" value="1"/>'
+    )
+    write(catalog, odd)
+    assert _schema_refuses(catalog)
+    sc, path, lines = _read(tmp_path, text, caplog)
+    assert lines[-2:] == [
+        f'{catalog}:3: <FileHeader date="2020-10-204T10:00:00">: not a date and time: read as '
+        "1970-01-01T00:00:00 (the header's date is not used)",
+        f'{catalog}:{_line(odd, "<Property ")}: <Vehicle name="car"> <Property name="p">: '
+        "inside ParameterDeclarations: moved to the Properties",
+    ]
+    assert sc.entity("Ego").properties == {"p": "1"}
