@@ -20,6 +20,7 @@ from hiyari.traffic.simulation import Simulation
 from hiyari.traffic.world_state import WorldState
 
 _log = logging.getLogger(__name__)
+_said: set[str] = set()  # dropped-action warnings already given in this process
 
 
 class EngineHooks(ScenarioHooks):
@@ -44,7 +45,9 @@ class EngineHooks(ScenarioHooks):
         self._log_seen = 0  # entries of the element log already looked at
         self.report: StepReport = engine.start(sim)
         for line in dropped_ego_actions(engine):
-            _log.warning(line)
+            if line not in _said:  # the runs of a grid share their file: said once
+                _said.add(line)
+                _log.warning(line)
         self.ego_requests: list[tuple[float, str]] = []
         self._stopped_at = math.nan
 

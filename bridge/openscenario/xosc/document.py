@@ -10,7 +10,6 @@ error naming the file, the line and the schema's complaint. Known deviations oth
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
 from functools import cache
 from pathlib import Path
 
@@ -20,9 +19,9 @@ from hiyari.bridge.openscenario.xosc.repairs import repair
 from hiyari.errors import HiyariError
 
 _log = logging.getLogger(__name__)
-#: Repair warnings already given: a file is loaded several times by one command (plan,
-#: constraints, read), its repairs are said once.
-_said: set[str] = set()
+#: Repairs already said, by file (resolved) and repair: a file is loaded several times by one
+#: command (plan, constraints, read; as given and resolved), its repairs are said once.
+_said: set[tuple[Path, str]] = set()
 
 SCHEMA = Path(__file__).resolve().parent / "schema" / "OpenSCENARIO_1_3.xsd"
 #: The OpenSCENARIO revisions this reader accepts (major, minor).
@@ -34,20 +33,10 @@ def _schema() -> etree.XMLSchema:
     return etree.XMLSchema(etree.parse(str(SCHEMA)))
 
 
-def _warn_once(line: str) -> None:
-    if line not in _said:
-        _said.add(line)
-        _log.warning(line)
-
-
-def load(
-    path: str | Path,
-    what: str = "OpenSCENARIO file",
-    warn: Callable[[str], None] | None = None,
-) -> etree._Element:
-    """Parse, repair (``repairs``) and validate ``path``; return its root element. ``warn``
-    receives one line per repair (default: a logging warning, once per process). HiyariError
-    (one line) for a missing, malformed, schema-invalid or unsupported-revision file."""
+def load(path: str | Path, what: str = "OpenSCENARIO file") -> etree._Element:
+    """Parse, repair (``repairs``: one logging warning per repair, once per process) and
+    validate ``path``; return its root element. HiyariError (one line) for a missing,
+    malformed, schema-invalid or unsupported-revision file."""
     path = Path(path)
     if not path.is_file():
         raise HiyariError(f"{path}: {what} not found")
@@ -59,7 +48,10 @@ def load(
     if root.tag != "OpenSCENARIO":
         raise HiyariError(f"{path}: not an OpenSCENARIO file (root element <{root.tag}>)")
     for r in repair(root):
-        (warn or _warn_once)(r.message(path))
+        key = (path.resolve(), r.message(""))
+        if key not in _said:
+            _said.add(key)
+            _log.warning(r.message(path))
     header = root.find("FileHeader")
     if header is not None:
         try:
