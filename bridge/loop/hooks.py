@@ -4,6 +4,7 @@ run's Scoring."""
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Callable
 
@@ -12,10 +13,14 @@ import numpy as np
 from hiyari.bridge.loop.closed_loop import ScenarioHooks
 from hiyari.bridge.openscenario.engine import ScenarioEngine, StepReport
 from hiyari.bridge.openscenario.engine.global_actions import is_global
+from hiyari.bridge.openscenario.model import actions as m
 from hiyari.bridge.openscenario.model.scoring import Scoring
 from hiyari.kinematics import Pose, bumper_gap, unrotate
 from hiyari.traffic.simulation import Simulation
 from hiyari.traffic.world_state import WorldState
+
+_log = logging.getLogger(__name__)
+_said: set[str] = set()  # dropped-action warnings already given in this process
 
 
 class EngineHooks(ScenarioHooks):
@@ -39,6 +44,10 @@ class EngineHooks(ScenarioHooks):
         self._disturbed = False
         self._log_seen = 0  # entries of the element log already looked at
         self.report: StepReport = engine.start(sim)
+        for line in dropped_ego_actions(engine):
+            if line not in _said:  # the runs of a grid share their file: said once
+                _said.add(line)
+                _log.warning(line)
         self.ego_requests: list[tuple[float, str]] = []
         self._stopped_at = math.nan
 
@@ -100,6 +109,45 @@ class EngineHooks(ScenarioHooks):
         if not ahead.any():
             return -1
         return int(np.flatnonzero(ahead)[np.argmin(along[ahead])])
+
+
+#: Storyboard actions a stack-driven ego does not apply (a FollowTrajectoryAction is steered
+#: by the stack; controller, visibility and light actions apply to any ego).
+_EGO_DROPPED = (
+    m.SpeedAction, m.RandomRouteAction, m.SpeedProfileAction, m.LateralDistanceAction,
+    m.SynchronizeAction, m.LongitudinalDistanceAction, m.LaneChangeAction, m.LaneOffsetAction,
+    m.TeleportAction, m.AssignRouteAction, m.AcquirePositionAction,
+)  # fmt: skip
+
+
+def dropped_ego_actions(engine: ScenarioEngine) -> list[str]:
+    """One warning line per kind of Event action addressed to the ego that the stack-driven
+    ego will not apply (none when the storyboard drives the ego, or when the ego's controller
+    asks for it with ``hiyari:driver = storyboard``, possibly activated later)."""
+    sc, ego = engine.scenario, engine.ego
+    if ego is None or engine.storyboard_drives(ego):
+        return []
+    entity = next((e for e in sc.entities if e.name == ego), None)
+    if entity is not None and any(c.drives == "storyboard" for c in entity.controllers.values()):
+        return []
+    kinds: dict[str, list[str]] = {}
+    for story in sc.storyboard.stories:
+        for act in story.acts:
+            for group in act.groups:
+                if ego not in group.actors:
+                    continue
+                for man in group.maneuvers:
+                    for ev in man.events:
+                        for a in ev.actions:
+                            if isinstance(a.body, _EGO_DROPPED):
+                                kinds.setdefault(type(a.body).__name__, []).append(a.name)
+    where = sc.source or sc.name
+    return [
+        f"{where}: {len(names)} {kind}(s) on the ego {ego!r} not applied ({', '.join(names)}): "
+        "the ego is driven by hiyari's stack (give its controller the property "
+        "hiyari:driver=storyboard to have the storyboard drive it)"
+        for kind, names in kinds.items()
+    ]
 
 
 def disturbance_events(engine: ScenarioEngine) -> np.ndarray:

@@ -32,7 +32,7 @@ from hiyari.bridge.openscenario.model.storyboard import Scenario
 from hiyari.bridge.openscenario.xosc import document
 from hiyari.bridge.openscenario.xosc.context import INT_TYPES, ConstraintViolation, Ctx, Scope
 from hiyari.bridge.openscenario.xosc.distributions import read_distribution
-from hiyari.bridge.openscenario.xosc.reader import read_scenario
+from hiyari.bridge.openscenario.xosc.reader import no_ego, read_scenario
 from hiyari.errors import HiyariError
 from hiyari.traffic.sumocfg import SumoScenario
 
@@ -54,6 +54,7 @@ class XoscRun:
     type: str = "openscenario"
     sumo: SumoScenario | None = None
     warmup: float = 0.0
+    ego: str | None = None  # the ego entity's name (None: the reader picks it)
 
     @property
     def seed(self) -> int:
@@ -67,7 +68,7 @@ class XoscRun:
 
     def load(self) -> Scenario:
         """The scenario with this run's parameter values."""
-        return read_scenario(self.scenario, self.params)
+        return read_scenario(self.scenario, self.params, self.ego)
 
     @contextlib.contextmanager
     def spec(self) -> Iterator[RunSpec]:
@@ -103,6 +104,7 @@ class XoscPlan:
     skipped: tuple[SkippedRun, ...] = ()
     sumo: SumoScenario | None = None  # the user's SUMO scenario every run drives inside
     warmup: float = 0.0  # s the SUMO scenario's demand runs before the storyboard starts
+    ego: str | None = None  # the ego entity's name (None: the reader picks it)
 
     @property
     def parameter_names(self) -> list[str]:
@@ -139,6 +141,7 @@ class XoscPlan:
                 self.road_net,
                 sumo=self.sumo,
                 warmup=self.warmup,
+                ego=self.ego,
             )
             for k, p in zip(indices, self.param_sets, strict=True)
         ]
@@ -146,7 +149,7 @@ class XoscPlan:
     def with_roads(self, folder: Path) -> XoscPlan:
         """This plan with its road imported once into ``folder`` for every run (sweeps); a
         SUMO scenario the runs drive inside is checked against it here, before any run."""
-        sc = read_scenario(self.scenario, self.param_sets[0])
+        sc = read_scenario(self.scenario, self.param_sets[0], self.ego)
         net = import_road(sc, folder)
         if self.sumo is not None:
             sumo_road(sc, self.sumo, net, self.warmup, self.setup.max_duration)
@@ -172,6 +175,7 @@ def load_plan(
     params: Mapping[str, str] | None = None,
     sumo: SumoScenario | None = None,
     warmup: float = 0.0,
+    ego: str | None = None,
 ) -> XoscPlan:
     """The runs of the scenario or distribution file ``path``, checked (see module).
 
@@ -179,7 +183,8 @@ def load_plan(
     esmini's ``--param``), checked like the file's own: a declared name, its type and its
     ValueConstraints; a distribution may not set them too. ``sumo``: run inside this SUMO
     scenario (its net must be the conversion of the scenario's road: ``sumo_road``), its
-    demand running ``warmup`` s before the storyboard starts."""
+    demand running ``warmup`` s before the storyboard starts. ``ego``: the entity the ego stack
+    drives (None: the reader's choice; a scenario with none is refused)."""
     setup = setup or EgoSetup()
     params = dict(params or {})
     root = document.load(path)
@@ -207,7 +212,9 @@ def load_plan(
             f"({len(sets)} runs, {len(sets)} skipped: constraint; run #{first.index}: "
             f"{first.reason})"
         )
-    first = read_scenario(scenario, sets[kept[0]])
+    first = read_scenario(scenario, sets[kept[0]], ego)
+    if first.ego is None:
+        raise HiyariError(no_ego(first))
     if first.road_network is None:
         raise HiyariError(f"{scenario}: <RoadNetwork> names no <LogicFile> (OpenDRIVE road)")
     return XoscPlan(
@@ -221,6 +228,7 @@ def load_plan(
         skipped=tuple(s for s, _ in skipped),
         sumo=sumo,
         warmup=warmup,
+        ego=ego,
     )
 
 

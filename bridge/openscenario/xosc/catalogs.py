@@ -13,11 +13,14 @@ from hiyari.errors import HiyariError
 
 
 class Catalogs:
-    """The catalog directories of one scenario file; catalog files are loaded on first use."""
+    """The catalog directories of one scenario file; a catalog file is read and validated when
+    an entry of it is first referenced."""
 
     def __init__(self, directories: list[Path]) -> None:
         self.directories = directories
-        self._catalogs: dict[str, tuple[Path, etree._Element]] | None = None
+        self._files: dict[str, Path] | None = None  # catalog name -> the file declaring it
+        self._unreadable: list[str] = []  # files whose catalog name could not be read
+        self._loaded: dict[Path, etree._Element] = {}
 
     @staticmethod
     def from_locations(ctx: Ctx, locations: etree._Element | None) -> Catalogs:
@@ -30,17 +33,29 @@ class Catalogs:
                     dirs.append(p if p.is_absolute() else (ctx.file.parent / p).resolve())
         return Catalogs(dirs)
 
-    def _index(self) -> dict[str, tuple[Path, etree._Element]]:
-        if self._catalogs is None:
-            self._catalogs = {}
+    def _index(self) -> dict[str, Path]:
+        """Catalog name -> file, from each file's ``<Catalog name>`` only: a file is validated
+        when an entry of it is referenced, so a bad file nobody uses blocks nothing."""
+        if self._files is None:
+            self._files = {}
             for d in dict.fromkeys(self.directories):
                 if not d.is_dir():
                     continue
                 for f in sorted(d.glob("*.xosc")):
-                    cat = document.load(f, "catalog file").find("Catalog")
-                    if cat is not None:
-                        self._catalogs.setdefault(cat.get("name", ""), (f, cat))
-        return self._catalogs
+                    name = _catalog_name(f)
+                    if name is None:
+                        self._unreadable.append(f.name)
+                    else:
+                        self._files.setdefault(name, f)
+        return self._files
+
+    def _catalog(self, file: Path) -> etree._Element:
+        if file not in self._loaded:
+            cat = document.load(file, "catalog file").find("Catalog")
+            if cat is None:
+                raise HiyariError(f"{file}: catalog file holds no <Catalog>")
+            self._loaded[file] = cat
+        return self._loaded[file]
 
     def resolve(self, ctx: Ctx, ref: etree._Element) -> tuple[etree._Element, Ctx]:
         """The catalog entry a CatalogReference names, and the context to read it in: the
@@ -51,11 +66,14 @@ class Catalogs:
         if found is None:
             missing = [str(d) for d in self.directories if not d.is_dir()]
             hint = f"; missing directories: {', '.join(missing)}" if missing else ""
+            if self._unreadable:
+                hint += f"; not readable as catalogs: {', '.join(self._unreadable)}"
             raise HiyariError(
                 f"{ctx.where(ref)}: catalog {cat_name!r} not found in the scenario's catalog "
                 f"locations ({', '.join(str(d) for d in self.directories) or 'none'}{hint})"
             )
-        file, cat = found
+        file = found
+        cat = self._catalog(file)
         entry = next((e for e in cat if e.get("name") == entry_name), None)
         if entry is None:
             raise HiyariError(
@@ -67,3 +85,17 @@ class Catalogs:
             assigned[ctx.text(a, "parameterRef")] = ctx.text(a, "value")
         entry_ctx = Ctx(file, Scope(), self).enter(entry, assigned)
         return entry, entry_ctx
+
+
+def _catalog_name(file: Path) -> str | None:
+    """The name of the ``<Catalog>`` in ``file`` (None: no catalog, or not well-formed before
+    it), read without loading the rest of the file."""
+    try:
+        for _, el in etree.iterparse(str(file), events=("start",)):
+            if el.tag == "Catalog":
+                return el.get("name", "")
+            if el.tag not in ("OpenSCENARIO", "FileHeader", "License", "Properties", "Property"):
+                return None
+    except etree.XMLSyntaxError:
+        return None
+    return None

@@ -3,17 +3,25 @@
 Files declaring revision 1.0 - 1.3 are read. All are validated against the standard (not the
 "strict") 1.3 schema shipped in ``schema/``: it keeps the artifacts deprecated since 1.0, so
 older files validate wherever 1.3 is compatible with them, and a file that is not gets a one-line
-error naming the file, the line and the schema's complaint.
+error naming the file, the line and the schema's complaint. Known deviations other tools write
+(``repairs``) are repaired in the parsed tree first, one warning line each.
 """
 
 from __future__ import annotations
 
+import logging
 from functools import cache
 from pathlib import Path
 
 from lxml import etree
 
+from hiyari.bridge.openscenario.xosc.repairs import repair
 from hiyari.errors import HiyariError
+
+_log = logging.getLogger(__name__)
+#: Repairs already said, by file (resolved) and repair: a file is loaded several times by one
+#: command (plan, constraints, read; as given and resolved), its repairs are said once.
+_said: set[tuple[Path, str]] = set()
 
 SCHEMA = Path(__file__).resolve().parent / "schema" / "OpenSCENARIO_1_3.xsd"
 #: The OpenSCENARIO revisions this reader accepts (major, minor).
@@ -26,8 +34,9 @@ def _schema() -> etree.XMLSchema:
 
 
 def load(path: str | Path, what: str = "OpenSCENARIO file") -> etree._Element:
-    """Parse and validate ``path``; return its root element. HiyariError (one line) for a
-    missing, malformed, schema-invalid or unsupported-revision file."""
+    """Parse, repair (``repairs``: one logging warning per repair, once per process) and
+    validate ``path``; return its root element. HiyariError (one line) for a missing,
+    malformed, schema-invalid or unsupported-revision file."""
     path = Path(path)
     if not path.is_file():
         raise HiyariError(f"{path}: {what} not found")
@@ -38,6 +47,11 @@ def load(path: str | Path, what: str = "OpenSCENARIO file") -> etree._Element:
     root = tree.getroot()
     if root.tag != "OpenSCENARIO":
         raise HiyariError(f"{path}: not an OpenSCENARIO file (root element <{root.tag}>)")
+    for r in repair(root):
+        key = (path.resolve(), r.message(""))
+        if key not in _said:
+            _said.add(key)
+            _log.warning(r.message(path))
     header = root.find("FileHeader")
     if header is not None:
         try:

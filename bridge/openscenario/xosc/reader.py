@@ -168,14 +168,23 @@ def _pick_ego(entities: tuple[Entity, ...], ego: str | None, path: Path) -> str 
     names = [e.name for e in entities]
     if ego is not None:
         if ego not in names:
-            raise HiyariError(
-                f"{path}: no entity {ego!r} for the ego (entities: {', '.join(names)})"
-            )
+            raise HiyariError(f"{path}: --ego {ego}: no such entity (entities: {', '.join(names)})")
         return ego
     for e in entities:
         if e.properties.get("type") == "ego_vehicle":
             return e.name
     return next((n for n in names if n.lower() in EGO_NAMES), None)
+
+
+def no_ego(sc: Scenario) -> str:
+    """The one-line error for a scenario without an ego: its entities, and the option that
+    names one."""
+    names = ", ".join(e.name for e in sc.entities) or "none"
+    return (
+        f"{sc.source or sc.name}: the scenario has no ego: no entity has the property "
+        f"type=ego_vehicle or is named {' / '.join(EGO_NAMES)} (entities: {names}); name the "
+        "ego with --ego NAME"
+    )
 
 
 # ---------------------------------------------------------------------------- entities

@@ -54,7 +54,10 @@ def load_plan(args: argparse.Namespace) -> Plan:
         world = _world(args) if world_given else None  # --sumocfg: --map is refused above
         sumo = world.sumo if world is not None else None
         setup, params = ego_setup(args), xosc_params(args)
-        return load_xosc(args.scenario, setup, params, sumo, warmup or 0.0)
+        ego = getattr(args, "ego", None)
+        return load_xosc(args.scenario, setup, params, sumo, warmup or 0.0, ego=ego)
+    if getattr(args, "ego", None) is not None:
+        raise HiyariError(f"{args.scenario}: --ego names the ego of an OpenSCENARIO file")
     if warmup is not None:
         raise HiyariError("--warmup: a city scenario's warm-up is its warmup_s parameter")
     world = _world(args) if world_given else None  # named before the scenario expands
@@ -315,6 +318,13 @@ def add_xosc_options(p: argparse.ArgumentParser) -> None:
         metavar="NAME=VALUE",
         help=".xosc: set a top-level ParameterDeclaration, checked against its type and "
         "ValueConstraints (repeatable; as esmini's --param)",
+    )
+    p.add_argument(
+        "--ego",
+        default=None,
+        metavar="NAME",
+        help=".xosc: the entity the ego stack drives (default: the one with the property "
+        "type=ego_vehicle, else the one named Ego or hero, any case)",
     )
     p.add_argument("--step-length", type=numbers.seconds(), default=0.05, help=".xosc: step, s")
     p.add_argument("--seed", type=numbers.seed(), default=1, help=".xosc: base seed")
