@@ -462,6 +462,11 @@ class RoadLanes:
         """Every SUMO lane that carries an OpenDRIVE lane."""
         return list(self._lanes.values())
 
+    def connects(self, edge: str, next_edge: str) -> bool:
+        """Whether SUMO's net leads from the end of ``edge`` straight onto ``next_edge``
+        (through a junction or on to the road's next lane section)."""
+        return next_edge in self._next.get(edge, ())
+
     def route_from(self, edge: str, max_edges: int = 64) -> list[str]:
         """Edges a vehicle can follow from ``edge``: the next lane section of the same road
         where there is one, else the first connected edge (SUMO's connection order)."""

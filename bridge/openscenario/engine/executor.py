@@ -543,6 +543,12 @@ class ScenarioEngine:
                     p = self.resolver.resolve(w)
                     ln = self.roads.sumo_lane(p.road, p.lane, p.s) if p.road else None
                     if ln is not None and ln.edge != route[-1]:
+                        if not self.roads.connects(route[-1], ln.edge):
+                            raise HiyariError(
+                                f"{self.scenario.source}: {name} cannot drive its route "
+                                f"{ia.action.body.name!r} in SUMO: no connection from edge "
+                                f"{route[-1]!r} to edge {ln.edge!r}"
+                            )
                         route.append(ln.edge)
                 return route
         return self.roads.route_from(edge)
