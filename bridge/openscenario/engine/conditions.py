@@ -281,6 +281,15 @@ class ConditionBank:
         self.step_no += 1
         return self._fired
 
+    def resolve_fixed(self) -> None:
+        """Resolve now the positions of the point rows that do not move with the entities:
+        an error in one is met before the first step (and by ``hiyari run --dry-run``)."""
+        for row in self.point_rows.tolist():
+            pos = self.rows.body[row].position
+            if row not in self.fixed and isinstance(pos, M.FIXED_POSITIONS):
+                p = self.resolve(pos)
+                self.fixed[row] = (p.x, p.y, p.s, p.t) if p.road else (p.x, p.y, math.nan, math.nan)
+
     def _resolve_points(self, snap: Snapshot, active: np.ndarray) -> None:
         """World x, y and road s, t (NaN off the roads) of the positions of the point rows
         evaluated now (NaN for absent entities); positions that do not move with the entities

@@ -488,6 +488,7 @@ class ScenarioEngine:
                 raise HiyariError(f"{self.scenario.source}: entity {name!r} has no Init position")
         # an action the Init state already dooms fails now, before anything runs
         check_decided_actions(self)
+        self.bank.resolve_fixed()
         for name in self.names:
             self._insert(sim, name)
         if self.ego_path is not None and not self.storyboard_drives(self.ego):
