@@ -162,7 +162,7 @@ class ConditionBank:
         self.cond = cond
         self.rows = _table(rows)
         self.row_table = _row_table(self.rows)
-        self.needs_road = bool(self.rows.road.any())
+        self.needs_road = bool((self.rows.road == M.ROAD_FRAME).any())
         self.needs_on_net = bool((self.rows.kind == M.END_OF_ROAD).any())
         self.needs_contacts = bool((self.rows.kind == M.COLLISION).any())
         self.row_trigger = self.cond_trigger[self.rows.owner]
@@ -367,14 +367,20 @@ def _table(rows: list[tuple]) -> EntityRows:
             dtype=np.int8,
         ),
         road=np.array(
-            [
-                getattr(x, "coordinate_system", CoordinateSystem.ENTITY) != CoordinateSystem.ENTITY
-                for x in bodies
-            ],
-            dtype=bool,
+            [_FRAME[getattr(x, "coordinate_system", CoordinateSystem.ENTITY)] for x in bodies],
+            dtype=np.int8,
         ),
         body=list(bodies),
     )
+
+
+#: The kernels' frame of each coordinateSystem (lane coordinates measure as road ones).
+_FRAME = {
+    CoordinateSystem.ENTITY: M.ENTITY_FRAME,
+    CoordinateSystem.ROAD: M.ROAD_FRAME,
+    CoordinateSystem.LANE: M.ROAD_FRAME,
+    CoordinateSystem.WORLD: M.WORLD_FRAME,
+}
 
 
 def _row_table(rows: EntityRows) -> np.ndarray:
