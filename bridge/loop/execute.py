@@ -100,8 +100,8 @@ def start(spec: RunSpec, work: Path) -> Iterator[Started]:
         engine = ScenarioEngine(sc, lanes, ego.step_length)
         hooks = (spec.hooks or EngineHooks)(engine, sim, spec.scoring)
         set_speed = ego.set_speed
-        if set_speed is None:  # a backing ego's speed is negative: the stack holds |v|
-            set_speed = abs(engine.actors[sc.ego].v)
+        if set_speed is None:
+            set_speed = engine.ego_set_speed()
         ctx = StackContext(network, ego, sc.ego, set_speed, sc, spec.warm, engine.environment)
         yield Started(sim, hooks, (ego.stack or default_stack)(ctx), network)
 
@@ -187,10 +187,12 @@ def recording(spec: RunSpec, run: Started, options: RunOptions) -> Iterator[OnSt
 
 def _decided_end(spec: RunSpec, run: Started) -> DecidedEnd | None:
     """The decided-end test of a run of vehicles on a road without SUMO traffic, the ego
-    driven by the default planner (None for anything else)."""
+    driven by the default planner (None for anything else, and for an ego on its Init ramp)."""
+    engine: ScenarioEngine = run.hooks.engine
     if spec.road.has_demand() or not isinstance(run.stack.planner, AEBPlanner):
         return None
-    engine: ScenarioEngine = run.hooks.engine
+    if engine.ego_ramp is not None:  # the Init ramp accelerates beyond the ACC's law
+        return None
     return DecidedEnd.of(engine, run.stack.planner.acc, spec.ego.step_length, spec.scoring.target)
 
 

@@ -203,6 +203,8 @@ class Road:
 
     def lane_t(self, lane_id: int, s: float) -> float:
         """t of lane ``lane_id``'s centre line at road ``s`` (scalar ``lane_centre_t``)."""
+        if lane_id == 0:  # the centre lane: the lane offset's line, no width
+            return _piecewise_at(self.lane_offset, float(s))
         t, _, missing = lane_centre_at(*self.profile.arrays(), 0, int(lane_id), float(s))
         if missing >= 0:
             self._no_lane(lane_id, missing)
@@ -214,8 +216,12 @@ class Road:
         return np.clip(np.searchsorted(starts, s, side="right") - 1, 0, len(starts) - 1)
 
     def lane_centre_t(self, lane_id: int, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(t of the lane's centre line, lane width) at road ``s``, metres."""
+        """(t of the lane's centre line, lane width) at road ``s``, metres. Lane 0 (the
+        centre lane, OpenDRIVE's reference for the lane ids) is the road's reference line
+        moved by the lane offset, 0 m wide."""
         s = np.atleast_1d(np.asarray(s, dtype=float))
+        if lane_id == 0:
+            return _piecewise(self.lane_offset, s), np.zeros_like(s)
         t, width, missing = lane_centres(*self.profile.arrays(), 0, int(lane_id), s)
         if missing >= 0:
             self._no_lane(lane_id, missing)
@@ -461,6 +467,11 @@ class RoadLanes:
     def lanes(self) -> list[SumoLane]:
         """Every SUMO lane that carries an OpenDRIVE lane."""
         return list(self._lanes.values())
+
+    def connects(self, edge: str, next_edge: str) -> bool:
+        """Whether SUMO's net leads from the end of ``edge`` straight onto ``next_edge``
+        (through a junction or on to the road's next lane section)."""
+        return next_edge in self._next.get(edge, ())
 
     def route_from(self, edge: str, max_edges: int = 64) -> list[str]:
         """Edges a vehicle can follow from ``edge``: the next lane section of the same road

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from hiyari.bridge.openscenario.engine.ego_ramp import EgoRamp
 from hiyari.bridge.openscenario.engine.followers.lateral_distance import lateral_goal
 from hiyari.bridge.openscenario.engine.followers.speed_profile import speed_profile
 from hiyari.bridge.openscenario.engine.followers.synchronize import Synchronizer
@@ -128,6 +129,10 @@ class ActionStarter:
         if isinstance(body, FollowTrajectoryAction) and not eng.storyboard_drives(actor):
             return self._ego_trajectory(element, eng.actors[actor], body, now)
         initial_pose = init and isinstance(body, TeleportAction | SpeedAction) and _instant(body)
+        if init and isinstance(body, SpeedAction) and not eng.storyboard_drives(actor):
+            if not initial_pose:  # the ego ramps to the target, the stack then keeps it
+                eng.ego_ramp = self._ego_ramp(eng.actors[actor], body, action)
+                return Instance(element, actor, (), finished=True)
         if isinstance(body, _MOTION) and not eng.storyboard_drives(actor) and not initial_pose:
             eng._ego_requests.append(action.name)
             return Instance(element, actor, (), finished=True)
@@ -272,15 +277,30 @@ class ActionStarter:
         h = float(odr.road(a.road).reference(np.array([a.s]))[2][0])
         return h if forward(odr, a.road, a.lane) > 0 else h + math.pi
 
+    def _ego_ramp(self, a: Actor, body: SpeedAction, action: Action) -> EgoRamp:
+        """The Init ramp of the stack-driven ego ``a``: to the target as resolved now."""
+        dyn = body.dynamics
+        goal = self._speed_goal(body)
+        where = action.source or action.name
+        length = span(dyn.shape, dyn.dimension, dyn.value, goal - a.v, where)
+        # the stack drives forwards: a backing ego (negative speed) ramps its magnitude
+        v0, goal = abs(a.v), abs(goal)
+        return EgoRamp(v0, goal, dyn.shape, length, dyn.dimension == Dimension.DISTANCE)
+
+    def _speed_goal(self, body: SpeedAction) -> float:
+        """The target speed of ``body`` now (m/s): absolute, or relative to its entity."""
+        tgt = body.target
+        if isinstance(tgt, AbsoluteSpeed):
+            return tgt.value
+        at_start = self.e.speed_of(tgt.entity)
+        return at_start * tgt.value if tgt.kind == "factor" else at_start + tgt.value
+
     def _speed(self, element: int, a: Actor, body: SpeedAction, now: float) -> Instance:
         tgt = body.target
         follow: Callable[[], float] | None = None
-        if isinstance(tgt, AbsoluteSpeed):
-            goal = tgt.value
-        else:
+        goal = self._speed_goal(body)
+        if not isinstance(tgt, AbsoluteSpeed):
             ref, value, factor = tgt.entity, tgt.value, tgt.kind == "factor"
-            at_start = self.e.speed_of(ref)
-            goal = at_start * value if factor else at_start + value
             if tgt.continuous:
 
                 def follow() -> float:

@@ -162,7 +162,7 @@ class ConditionBank:
         self.cond = cond
         self.rows = _table(rows)
         self.row_table = _row_table(self.rows)
-        self.needs_road = bool(self.rows.road.any())
+        self.needs_road = bool((self.rows.road == M.ROAD_FRAME).any())
         self.needs_on_net = bool((self.rows.kind == M.END_OF_ROAD).any())
         self.needs_contacts = bool((self.rows.kind == M.COLLISION).any())
         self.row_trigger = self.cond_trigger[self.rows.owner]
@@ -281,6 +281,15 @@ class ConditionBank:
         self.step_no += 1
         return self._fired
 
+    def resolve_fixed(self) -> None:
+        """Resolve now the positions of the point rows that do not move with the entities:
+        an error in one is met before the first step (and by ``hiyari run --dry-run``)."""
+        for row in self.point_rows.tolist():
+            pos = self.rows.body[row].position
+            if row not in self.fixed and isinstance(pos, M.FIXED_POSITIONS):
+                p = self.resolve(pos)
+                self.fixed[row] = (p.x, p.y, p.s, p.t) if p.road else (p.x, p.y, math.nan, math.nan)
+
     def _resolve_points(self, snap: Snapshot, active: np.ndarray) -> None:
         """World x, y and road s, t (NaN off the roads) of the positions of the point rows
         evaluated now (NaN for absent entities); positions that do not move with the entities
@@ -358,14 +367,20 @@ def _table(rows: list[tuple]) -> EntityRows:
             dtype=np.int8,
         ),
         road=np.array(
-            [
-                getattr(x, "coordinate_system", CoordinateSystem.ENTITY) != CoordinateSystem.ENTITY
-                for x in bodies
-            ],
-            dtype=bool,
+            [_FRAME[getattr(x, "coordinate_system", CoordinateSystem.ENTITY)] for x in bodies],
+            dtype=np.int8,
         ),
         body=list(bodies),
     )
+
+
+#: The kernels' frame of each coordinateSystem (lane coordinates measure as road ones).
+_FRAME = {
+    CoordinateSystem.ENTITY: M.ENTITY_FRAME,
+    CoordinateSystem.ROAD: M.ROAD_FRAME,
+    CoordinateSystem.LANE: M.ROAD_FRAME,
+    CoordinateSystem.WORLD: M.WORLD_FRAME,
+}
 
 
 def _row_table(rows: EntityRows) -> np.ndarray:

@@ -28,6 +28,7 @@ import numpy as np
 
 from hiyari.bridge.openscenario.engine.actions import ActionStarter, Instance
 from hiyari.bridge.openscenario.engine.conditions import ConditionBank
+from hiyari.bridge.openscenario.engine.ego_ramp import EgoRamp
 from hiyari.bridge.openscenario.engine.elements import (
     NO_TRANSITION,
     RUNNING,
@@ -204,6 +205,9 @@ class ScenarioEngine:
         #: The path the storyboard gives a stack-driven ego to steer along (its speed stays
         #: the stack's), None when it steers on its SUMO route.
         self.ego_path: PathMotion | None = None
+        #: A stack-driven ego's Init SpeedAction with a transition: its ramp to the target,
+        #: which is the stack's set speed (None: the Init speed is reached at once).
+        self.ego_ramp: EgoRamp | None = None
         self.t0 = 0.0
         self.now = 0.0
         self.finished = False
@@ -393,7 +397,10 @@ class ScenarioEngine:
         it on its route, or, when the storyboard gave it a path, it is moved that far along
         the path (backwards when its Init speed was negative: SUMO then carries its box
         turned round, so the stack sees the scene it backs into ahead of it). ``move``: False
-        places it where it is on its path (at the start)."""
+        places it where it is on its path (at the start). While the Init ramp runs
+        (``ego_ramp``) the ramp's speed is commanded unless ``speed`` brakes."""
+        if self.ego_ramp is not None and move:
+            speed = self.ego_ramp.command(speed, self.speed_of(self.ego), self.dt)
         m = self.ego_path
         if m is None:
             sim.set_speed(self.ego, speed)
@@ -409,6 +416,13 @@ class ScenarioEngine:
         cy = y + e.centre[0] * s + e.centre[1] * c
         h_sumo = h + math.pi if m.reverse else h
         sim.move_vehicle(self.ego, cx, cy, h_sumo, e.length, speed=speed)
+
+    def ego_set_speed(self) -> float:
+        """The speed a stack-driven ego's stack keeps (m/s, >= 0): the target of its Init
+        SpeedAction (as resolved at Init), else its speed after the Init actions."""
+        if self.ego_ramp is not None:
+            return self.ego_ramp.goal
+        return abs(self.actors[self.ego].v)  # a backing ego's speed is negative
 
     def _driven(self) -> np.ndarray:
         """(E,) whether the storyboard moves each entity (all but a stack-driven ego)."""
@@ -474,6 +488,7 @@ class ScenarioEngine:
                 raise HiyariError(f"{self.scenario.source}: entity {name!r} has no Init position")
         # an action the Init state already dooms fails now, before anything runs
         check_decided_actions(self)
+        self.bank.resolve_fixed()
         for name in self.names:
             self._insert(sim, name)
         if self.ego_path is not None and not self.storyboard_drives(self.ego):
@@ -529,6 +544,12 @@ class ScenarioEngine:
                     p = self.resolver.resolve(w)
                     ln = self.roads.sumo_lane(p.road, p.lane, p.s) if p.road else None
                     if ln is not None and ln.edge != route[-1]:
+                        if not self.roads.connects(route[-1], ln.edge):
+                            raise HiyariError(
+                                f"{self.scenario.source}: {name} cannot drive its route "
+                                f"{ia.action.body.name!r} in SUMO: no connection from edge "
+                                f"{route[-1]!r} to edge {ln.edge!r}"
+                            )
                         route.append(ln.edge)
                 return route
         return self.roads.route_from(edge)

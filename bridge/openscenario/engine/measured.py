@@ -88,7 +88,11 @@ def _angle_of(engine: ScenarioEngine, name: str, kind: str) -> float:
 
 def _angle(engine: ScenarioEngine, name: str, b: AngleCondition) -> bool:
     a = _angle_of(engine, name, b.angle_type)
-    if b.angle_type == "heading" and b.coordinate_system != CoordinateSystem.ENTITY:
+    # road and lane frames measure against the road's direction; entity and world: absolute
+    if b.angle_type == "heading" and b.coordinate_system in (
+        CoordinateSystem.ROAD,
+        CoordinateSystem.LANE,
+    ):
         p = engine.road_pose(name)
         if not p.road:
             return False

@@ -167,6 +167,9 @@ class ActorTable:
         self.road_code = np.full(n, -1, dtype=np.intp)
         self.direction = np.ones(n)
         self.stale = np.zeros(n, dtype=bool)
+        #: Stale rows whose lane alone changed (a lane change on their road): they keep their
+        #: direction of travel, and drive against a lane of the other driving direction.
+        self.keep = np.zeros(n, dtype=bool)
         self.any_stale = False
         self.long_par = np.zeros((n, 8))  # running transitions' parameters (motion_kernel)
         self.lat_par = np.zeros((n, 9))
@@ -244,28 +247,36 @@ class ActorTable:
             self._pass = ((rows, dt, lateral, lanes, plan), tail)
         return self._pass[1]
 
-    def mark_stale(self, k: int) -> None:
-        """Row ``k``'s road or lane changed: its direction is recomputed at the next refresh."""
+    def mark_stale(self, k: int, lane_only: bool = False) -> None:
+        """Row ``k``'s road, lane or ``against`` changed (``lane_only``: its lane alone): its
+        direction is recomputed at the next refresh."""
+        self.keep[k] = lane_only and (self.keep[k] or not self.stale[k])
         self.stale[k] = True
         self.any_stale = True
 
     def refresh(self, odr: OpenDriveMap) -> None:
-        """Driving directions of rows whose road or lane changed."""
+        """Driving directions of rows whose road or lane changed. A row that changed lanes
+        on its road goes on the way it went (OpenSCENARIO's LaneChangeAction moves an entity
+        sideways, it does not turn it round): ``against`` is set anew for its lane."""
         if not self.any_stale:
             return
         for k in np.flatnonzero(self.stale).tolist():
             road = self.road[k]
             d = forward(odr, road, int(self.lane[k])) if road else 1.0
-            self.direction[k] = -d if self.against[k] else d
+            if self.keep[k] and road:
+                self.against[k] = d != self.direction[k]
+            else:
+                self.direction[k] = -d if self.against[k] else d
         self.stale[:] = False
+        self.keep[:] = False
         self.any_stale = False
 
 
 class _Column:
     """An Actor attribute stored in its row of the ActorTable column of the same name."""
 
-    def __init__(self, cast: type, marks_stale: bool = False) -> None:
-        self.cast, self.marks_stale = cast, marks_stale
+    def __init__(self, cast: type, marks_stale: bool = False, lane_only: bool = False) -> None:
+        self.cast, self.marks_stale, self.lane_only = cast, marks_stale, lane_only
 
     def __set_name__(self, owner: type, name: str) -> None:
         self.name = name
@@ -278,7 +289,7 @@ class _Column:
     def __set__(self, obj: Actor, value: object) -> None:
         getattr(obj.table, self.name)[obj.k] = value
         if self.marks_stale:
-            obj.table.mark_stale(obj.k)
+            obj.table.mark_stale(obj.k, self.lane_only)
 
 
 class Actor:
@@ -299,7 +310,7 @@ class Actor:
     h = _Column(float)
     long_travelled = _Column(float)
     lat_travelled = _Column(float)
-    lane = _Column(int, marks_stale=True)
+    lane = _Column(int, marks_stale=True, lane_only=True)
     against = _Column(bool, marks_stale=True)
     free = _Column(bool)
     inserted = _Column(bool)

@@ -126,7 +126,8 @@ class PoseResolver:
         rd = self.odr.road(road)
         if lane is None:
             lane = self.odr.locate(x, y, road)[0].lane
-        heading = float(h[0]) + (0.0 if rd.drives_forward(lane) else math.pi)
+        # the centre lane (0) has no driving direction: along s
+        heading = float(h[0]) + (0.0 if lane == 0 or rd.drives_forward(lane) else math.pi)
         return Pose(float(x[0]), float(y[0]), float(z[0]), _wrap(heading + h_rel), road, lane, s, t)
 
     def at_xy(self, x: float, y: float, h: float, z: float = 0.0) -> Pose:

@@ -75,12 +75,13 @@ class DistanceType(StrEnum):
 
 
 class CoordinateSystem(StrEnum):
-    """The frame a distance is measured in: the reference entity's axes, or road / lane
-    coordinates (s along the road, t across it)."""
+    """The frame a distance is measured in: the reference entity's axes, road / lane
+    coordinates (s along the road, t across it), or the world's x and y axes."""
 
     ENTITY = "entity"
     ROAD = "road"
     LANE = "lane"
+    WORLD = "world"
 
 
 @dataclass(frozen=True)

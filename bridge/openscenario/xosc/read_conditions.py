@@ -121,7 +121,7 @@ def _coordinate_system(ctx: Ctx, el: etree._Element) -> CoordinateSystem:
     if el.get("coordinateSystem") is None and el.get("alongRoute") is not None:
         return CoordinateSystem.ROAD if ctx.flag(el, "alongRoute") else CoordinateSystem.ENTITY
     text = ctx.text(el, "coordinateSystem", "entity")
-    if text in ("trajectory", "world"):  # 1.3's world frame is not modelled (a traceback before)
+    if text == "trajectory":  # the trajectory frame is not modelled
         raise ctx.unsupported(el, f"coordinateSystem {text}")
     return CoordinateSystem(text)
 

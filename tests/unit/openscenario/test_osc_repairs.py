@@ -14,6 +14,7 @@ from openscenario_files import CAR, scenario_xml, story, teleport_speed, time_co
 
 from hiyari.bridge.loop.xosc_runs import load_plan
 from hiyari.bridge.openscenario.model import SpeedAction
+from hiyari.bridge.openscenario.model.conditions import CoordinateSystem
 from hiyari.bridge.openscenario.xosc import document
 from hiyari.bridge.openscenario.xosc.reader import read_scenario
 from hiyari.errors import HiyariError
@@ -241,17 +242,13 @@ def test_catalog_header_date_and_property_among_declarations(
     assert sc.entity("Ego").properties == {"p": "1"}
 
 
-def test_world_coordinate_system_is_one_line(tmp_path: Path) -> None:
+def test_world_coordinate_system_is_read(tmp_path: Path) -> None:
     angle = """<Condition name="a" delay="0" conditionEdge="none"><ByEntityCondition>
 <TriggeringEntities triggeringEntitiesRule="any"><EntityRef entityRef="Ego"/></TriggeringEntities>
 <EntityCondition><AngleCondition angleType="heading" angle="0" angleTolerance="0.1" coordinateSystem="world"/>
 </EntityCondition></ByEntityCondition></Condition>"""
     init = teleport_speed("Ego", -1, 50, 10)
     text = scenario_xml({"Ego": ""}, init, stop=f"<ConditionGroup>{angle}</ConditionGroup>")
-    path = write(tmp_path / "s.xosc", text).resolve()
-    with pytest.raises(HiyariError) as exc:
-        read_scenario(path)
-    assert str(exc.value).startswith(
-        f"{path}:{_line(text, '<AngleCondition')}: <AngleCondition> is not supported by hiyari "
-        "(coordinateSystem world"
-    )
+    sc = read_scenario(write(tmp_path / "s.xosc", text))
+    ((condition,),) = sc.storyboard.stop_trigger
+    assert condition.body.body.coordinate_system == CoordinateSystem.WORLD

@@ -42,6 +42,9 @@ COLLISION = 11
 TRAVELED = 12
 #: Kinds tracked every step, whether their trigger is evaluated or not.
 DURATION_KINDS = (STANDSTILL, END_OF_ROAD, TRAVELED)
+#: The frame a distance is measured in (a row's coordinateSystem): the triggering entity's
+#: axes, road / lane coordinates (s, t), the world's x and y axes.
+ENTITY_FRAME, ROAD_FRAME, WORLD_FRAME = 0, 1, 2
 POINT_KINDS = (DISTANCE, REACH, TTC_POINT)
 #: Positions that do not depend on where the entities are: resolved once.
 FIXED_POSITIONS = (WorldPosition, LanePosition, RoadPosition)
@@ -71,7 +74,7 @@ def holds(measured: float, value: float, rule: int) -> bool:
 class EntityRows:
     """Every entity-condition row: owning condition, triggering entity ``a``, reference entity
     ``b`` (-1: none), value and rule code, kind, freespace, distance type (0 euclidean,
-    1 longitudinal, 2 lateral), road coordinates (else entity) and the condition body."""
+    1 longitudinal, 2 lateral), frame (``ENTITY_FRAME`` ...) and the condition body."""
 
     owner: np.ndarray
     a: np.ndarray
@@ -164,6 +167,26 @@ def _road_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
 
 
 @njit(cache=True, inline="always")
+def _world_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
+    """Distance (m) of B from A along the world's x (longitudinal) and y (lateral) axes:
+    between the reference points, or with ``fs`` between the boxes' extents along the axes
+    (euclidean: the boxes' distance, the same in every frame)."""
+    if dtype == 0 and fs:
+        return footprint_distance_cs(
+            ea[E_X], ea[E_Y], ea[E_H], ea[E_COS], ea[E_SIN], ea[E_LEN], ea[E_WID],
+            eb[E_X], eb[E_Y], eb[E_H], eb[E_COS], eb[E_SIN], eb[E_LEN], eb[E_WID],
+        )  # fmt: skip
+    if fs:
+        ax, ay = footprint_extent(ea[E_LEN], ea[E_WID], ea[E_H])
+        bx, by = footprint_extent(eb[E_LEN], eb[E_WID], eb[E_H])
+        lon = max0(abs(eb[E_X] - ea[E_X]) - ax - bx)
+        lat = max0(abs(eb[E_Y] - ea[E_Y]) - ay - by)
+    else:
+        lon, lat = abs(eb[E_RX] - ea[E_RX]), abs(eb[E_RY] - ea[E_RY])
+    return math.hypot(lon, lat) if dtype == 0 else (lon if dtype == 1 else lat)
+
+
+@njit(cache=True, inline="always")
 def _sign(x: float) -> float:
     if x > 0.0:
         return 1.0
@@ -173,14 +196,19 @@ def _sign(x: float) -> float:
 
 
 @njit(cache=True, inline="always")
-def _closing(dtype: int, ea: tuple, eb: tuple) -> float:
+def _closing(dtype: int, ea: tuple, eb: tuple, world: bool = False) -> float:
     """Closing speed (m/s) of A and B along the measuring direction: A's axis (longitudinal /
-    lateral) or the line between the centres (euclidean)."""
+    lateral; with ``world`` the world's x / y axis) or the line between the centres
+    (euclidean)."""
     ca, sa, va, vb = ea[E_COS], ea[E_SIN], ea[E_V], eb[E_V]
     dvx, dvy = va * ca - vb * eb[E_COS], va * sa - vb * eb[E_SIN]  # relative velocity
     rx, ry = eb[E_X] - ea[E_X], eb[E_Y] - ea[E_Y]
     n = max(math.hypot(rx, ry), 1e-9)
-    if dtype == 1:
+    if world and dtype == 1:
+        dx, dy = 1.0, 0.0
+    elif world and dtype == 2:
+        dx, dy = 0.0, 1.0
+    elif dtype == 1:
         dx, dy = ca, sa
     elif dtype == 2:
         dx, dy = -sa, ca
@@ -190,11 +218,12 @@ def _closing(dtype: int, ea: tuple, eb: tuple) -> float:
 
 
 @njit(cache=True, inline="always")
-def pair_measure(kind: int, fs: bool, dtype: int, road: bool, ea: tuple, eb: tuple) -> float:
+def pair_measure(kind: int, fs: bool, dtype: int, frame: int, ea: tuple, eb: tuple) -> float:
     """Relative distance (m), time headway (s) or TTC (s) of present entity A to present
-    entity B (their :func:`entity_scalars`). The distance is measured only when the headway or
-    TTC needs it (B ahead and A moving; closing)."""
+    entity B (their :func:`entity_scalars`) in ``frame``. The distance is measured only when
+    the headway or TTC needs it (B ahead and A moving; closing)."""
     closing = 0.0
+    road = frame == ROAD_FRAME
     if kind == HEADWAY:
         if road:
             ahead = (eb[E_S] - ea[E_S]) * ea[E_DIR]
@@ -203,11 +232,13 @@ def pair_measure(kind: int, fs: bool, dtype: int, road: bool, ea: tuple, eb: tup
         if not (ahead > 0 and ea[E_V] > 1e-6):
             return math.inf
     elif kind == TTC:
-        closing = _closing(dtype, ea, eb)
+        closing = _closing(dtype, ea, eb, frame == WORLD_FRAME)
         if not closing > 1e-9:
             return math.inf
     if road:
         dist = _road_distance(fs, dtype, ea, eb)
+    elif frame == WORLD_FRAME:
+        dist = _world_distance(fs, dtype, ea, eb)
     else:
         dist = _entity_distance(fs, dtype, ea, eb)
     if kind == HEADWAY:
@@ -275,12 +306,13 @@ def traveled_measure(
 
 
 @njit(cache=True, inline="always")
-def point_measure(kind: int, fs: bool, dtype: int, road: bool, ea: tuple, point: tuple) -> float:
+def point_measure(kind: int, fs: bool, dtype: int, frame: int, ea: tuple, point: tuple) -> float:
     """Distance (m), reach distance (m) or TTC (s) of A to a point: ``point`` its world x, y
     and road s, t (m; x NaN: no point, i.e. A absent; s NaN: off the roads).
 
-    Measured by distance type ``dtype`` (0 euclidean, 1 longitudinal, 2 lateral) in A's frame
-    or, with ``road``, in road coordinates (s, t differences; A's reference point's taken as
+    Measured by distance type ``dtype`` (0 euclidean, 1 longitudinal, 2 lateral) in A's frame,
+    along the world's x / y axes (``frame`` WORLD_FRAME; with ``fs`` from A's box's extents
+    along them) or (ROAD_FRAME) in road coordinates (s, t differences; A's reference point's taken as
     its box centre's less the centre's offset along and across A's heading), between A's
     reference point and the point or, with ``fs``, A's box and the point (a point has no
     extent). The reach distance is always euclidean between the reference point and the
@@ -290,6 +322,7 @@ def point_measure(kind: int, fs: bool, dtype: int, road: bool, ea: tuple, point:
         return math.nan
     dx, dy = px - ea[E_RX], py - ea[E_RY]
     fs = fs and kind != REACH
+    road, world = frame == ROAD_FRAME, frame == WORLD_FRAME
     if kind == REACH or (dtype == 0 and not road):
         dist = math.hypot(dx, dy)
         if fs:
@@ -307,13 +340,18 @@ def point_measure(kind: int, fs: bool, dtype: int, road: bool, ea: tuple, point:
             along, left = unrotate(ea[E_X] - ea[E_RX], ea[E_Y] - ea[E_RY], ea[E_COS], ea[E_SIN])
             s, t = s - ea[E_DIR] * along, t - ea[E_DIR] * left
         lon, lat = abs((ps - s) * ea[E_DIR]), abs(pt - t)
+    elif world and fs:  # A's box's extents along the world axes
+        ex, ey = footprint_extent(ea[E_LEN], ea[E_WID], ea[E_H])
+        lon, lat = max0(abs(px - ea[E_X]) - ex), max0(abs(py - ea[E_Y]) - ey)
+    elif world:
+        lon, lat = abs(dx), abs(dy)
     elif fs:
         lon, lat = unrotate(px - ea[E_X], py - ea[E_Y], ea[E_COS], ea[E_SIN])
         lon, lat = abs(lon), abs(lat)
     else:
         lon, lat = unrotate(dx, dy, ea[E_COS], ea[E_SIN])
         lon, lat = abs(lon), abs(lat)
-    if fs:
+    if fs and not world:
         lon, lat = max0(lon - 0.5 * ea[E_LEN]), max0(lat - 0.5 * ea[E_WID])
     dist = lon if dtype == 1 else (lat if dtype == 2 else math.hypot(lon, lat))
     if kind != TTC_POINT:
@@ -321,7 +359,9 @@ def point_measure(kind: int, fs: bool, dtype: int, road: bool, ea: tuple, point:
     # closing speed along A's axis (longitudinal, lateral) or towards the point (euclidean),
     # as _closing with the point standing still
     ca, sa, v = ea[E_COS], ea[E_SIN], ea[E_V]
-    if dtype == 1:
+    if world and dtype != 0:
+        ux, uy = (1.0, 0.0) if dtype == 1 else (0.0, 1.0)
+    elif dtype == 1:
         ux, uy = ca, sa
     elif dtype == 2:
         ux, uy = -sa, ca

@@ -8,7 +8,7 @@ condition): kind (``STATIC``, ``TIME``, ``STATE``, ``ENTITY``), trigger, element
 rule ("all" 0 / "any" 1 for entity conditions, the rule code for time conditions), edge
 (0 none, 1 rising, 2 falling, 3 both) and delay in steps. Columns of ``rows`` (one row per
 entity-condition row): owner condition, entity a, entity b (-1 none), rule, kind, freespace,
-distance type, road coordinates, always measured.
+distance type, frame (measures.ENTITY_FRAME, ROAD_FRAME, WORLD_FRAME), always measured.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ from hiyari.bridge.openscenario.engine.kernels.measures import (
     E_V,
     END_OF_ROAD,
     REL_SPEED,
+    ROAD_FRAME,
     SPEED,
     STANDSTILL,
     TRAVELED,
@@ -67,7 +68,7 @@ def _row_holds(
     now: float,
     fs: bool,
     dtype: int,
-    road: bool,
+    frame: int,
     present_a: bool,
     present_b: bool,
     ea: tuple,
@@ -98,16 +99,16 @@ def _row_holds(
             kind == TTC
             and fs
             and dtype == 0
-            and not road
+            and frame != ROAD_FRAME
             and value < math.inf
             and ttc_above(value, ea, eb)
         ):  # certainly above the value: every rule decides as for an infinite TTC
             return holds(math.inf, value, rule), since, last
-        return holds(pair_measure(kind, fs, dtype, road, ea, eb), value, rule), since, last
+        return holds(pair_measure(kind, fs, dtype, frame, ea, eb), value, rule), since, last
     if kind <= REL_SPEED:
         return holds(single_measure(kind, ea, eb[E_V]), value, rule), since, last
     if DISTANCE <= kind <= TTC_POINT:
-        return holds(point_measure(kind, fs, dtype, road, ea, point), value, rule), since, last
+        return holds(point_measure(kind, fs, dtype, frame, ea, point), value, rule), since, last
     return False, since, last
 
 
@@ -138,7 +139,7 @@ def _condition_values(
             a, b = rows[r, R_A], rows[r, R_B]
             res, since[r, 0], since[r, 1] = _row_holds(
                 rows[r, R_KIND], rows[r, R_RULE], trig.row_value[r], now, rows[r, R_FS] != 0,
-                rows[r, R_DTYPE], rows[r, R_ROAD] != 0, present[a], b >= 0 and present[b],
+                rows[r, R_DTYPE], rows[r, R_ROAD], present[a], b >= 0 and present[b],
                 entity_scalars(a, work), entity_scalars(max(b, 0), work), ent.on_net[a],
                 since[r, 0], since[r, 1],
                 (points[r, 0], points[r, 1], points[r, 2], points[r, 3]),
@@ -252,10 +253,10 @@ def road_entities(
     n_entities: int,
 ) -> np.ndarray:
     """(E,) the entities (``a`` and ``b``, -1: none) of the entity rows in road coordinates
-    (``road``) whose trigger (``row_trigger``) is ``active``."""
+    (``road``: their frame is ROAD_FRAME) whose trigger (``row_trigger``) is ``active``."""
     need = np.zeros(n_entities, dtype=np.bool_)
     for r in range(len(row_trigger)):
-        if road[r] and active[row_trigger[r]]:
+        if road[r] == ROAD_FRAME and active[row_trigger[r]]:
             need[a[r]] = True
             if b[r] >= 0:
                 need[b[r]] = True
