@@ -14,7 +14,9 @@ of the file: netconvert builds only the listed links of an edge the file names, 
 had guessed right would otherwise be lost).
 
 Lanes are matched by the OpenDRIVE identity netconvert keeps (``origId`` "<road>_<lane>") on
-the edges at the junction's node (netconvert names the node after the junction id).
+the edges at the junction's node (netconvert names the node after the junction id). Only lanes
+open to vehicles count: pedestrians go from sidewalk to sidewalk over walking areas whatever
+the lane links, and closed lanes carry no traffic.
 """
 
 from __future__ import annotations
@@ -77,6 +79,8 @@ def _node_lanes(net: etree._Element, node: str) -> _NodeLanes:
             continue
         enters = edge.get("to") == node
         for lane in edge.iterfind("lane"):
+            if lane.get("allow") == "pedestrian" or lane.get("disallow") == "all":
+                continue  # sidewalks (pedestrians cross by walking areas) and closed lanes
             for param in lane.iterfind("param[@key='origId']"):
                 rid, _, lid = param.get("value", "").rpartition("_")
                 lanes[(rid, lid)] = (lane.get("id", ""), enters)
@@ -91,7 +95,7 @@ def _net_links(net: etree._Element, node: str) -> set[Link]:
     return {
         (f"{c.get('from')}_{c.get('fromLane')}", f"{c.get('to')}_{c.get('toLane')}")
         for c in net.iterfind("connection")
-        if c.get("from") in entering
+        if c.get("from") in entering and not c.get("to", "").startswith(":")  # walking areas
     }
 
 
@@ -128,7 +132,7 @@ def compare_links(net_path: str | Path, junctions: list[DirectJunction]) -> Patc
                                 f"road {road_b} lane {lane_b}")  # fmt: skip
                 continue
             wanted.add((a[0], b[0]) if a[1] else (b[0], a[0]))
-        have = _net_links(net, j.id)
+        have = {link for link in _net_links(net, j.id) if link[0] in at.road}
         every |= wanted
         missing |= wanted - have
         extra |= {

@@ -7,7 +7,7 @@ index 0 is the outermost lane. Each expected set below is read off the file by h
 from __future__ import annotations
 
 from lxml import etree
-from xodr_authoring import junction, opendrive, road, write
+from xodr_authoring import TOWN, junction, opendrive, road, write
 
 from hiyari.net.sumo.opendrive import import_opendrive
 
@@ -67,3 +67,19 @@ def test_exit_gets_no_link_from_the_other_carriageway(tmp_path):
         ("-1_0", "-3_0"),  # road 1 lane -2 (outer) -> exit road 3 lane -1
         ("2_0", "1_0"),  # road 2 lane 1 -> road 1 lane 1; no ("2_0", "-3_0") across the median
     }
+
+
+def test_sidewalks_of_a_direct_junction_are_left_to_walking_areas(tmp_path):
+    """Road 1 runs on into road 2 (median, driving lane, border, sidewalk per side) in direct
+    junction 9, every lane linked to its namesake: the driving links are the file's, and the
+    sidewalks (lane index 0) keep netconvert's walking areas (no link of theirs is patched)."""
+    root = opendrive()
+    road(root, 1, (0.0, 0.0, 0.0), 100.0, TOWN, links=[("successor", "junction", 9, None)])
+    road(root, 2, (100.0, 0.0, 0.0), 100.0, TOWN, links=[("predecessor", "junction", 9, None)])
+    junction(root, 9, [(1, None, "start", [(k, k) for k in TOWN], {"linkedRoad": "2"})],
+             type="direct")  # fmt: skip
+    net = import_opendrive(write(root, tmp_path / "town.xodr"), tmp_path / "n.net.xml",
+                           warn=lambda m: None)  # fmt: skip
+    links = _links(net)
+    assert {link for link in links if link[0].endswith("_1")} == {("-1_1", "-2_1"), ("2_1", "1_1")}
+    assert {("2_0", ":9_w0_0"), ("-1_0", ":9_w1_0")} <= links  # sidewalks onto walking areas
