@@ -1,4 +1,6 @@
-"""Contact between actors from their oriented ground rectangles (separating-axis test).
+"""Contact between actors from their oriented ground rectangles (separating-axis test) and
+their heights: two actors touch only where their rectangles overlap and their height ranges
+[z, z + height] overlap too (a car on a bridge passes over the car below it).
 
 SUMO reports only some contacts (vehicles on the same or crossing lanes); geometry catches the
 rest, such as a pedestrian stepping into a car's path off any crossing. Both are merged.
@@ -12,7 +14,11 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from hiyari.kinematics import overlap_depth
+from hiyari.traffic.actor_class import CLASS_SIZE, ActorClass
 from hiyari.traffic.world_state import WorldState
+
+#: Default height per ActorClass value, m (the one size table, CLASS_SIZE).
+_CLASS_HEIGHT = np.array([CLASS_SIZE[c].height for c in sorted(ActorClass)])
 
 
 @dataclass(frozen=True)
@@ -59,6 +65,7 @@ class CollisionDetector:
                 keep = ~(ped[i] & ped[j])
                 centre_gap = np.linalg.norm(state.xyz[i, :2] - state.xyz[j, :2], axis=1)
                 keep &= centre_gap <= radius[i] + radius[j]
+                keep &= _levels_overlap(state, i, j)
                 i, j = i[keep], j[keep]
                 if self.ignore_walkingarea_contacts and len(i):
                     lane = state.lane
@@ -89,6 +96,15 @@ class CollisionDetector:
                 kind = "vehicle-pedestrian" if a in ped_ids or b in ped_ids else "vehicle-vehicle"
                 found[key] = Collision(state.time, key[0], key[1], kind, 0.0, True)
         return [found[k] for k in sorted(found)]
+
+
+def _levels_overlap(state: WorldState, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """(P,) bool: the height ranges [z, z + height] of actors i and j overlap (z from SUMO's
+    3-D position, m; an actor whose state carries no height gets its class's from
+    CLASS_SIZE)."""
+    height = np.where(state.height > 0, state.height, _CLASS_HEIGHT[state.cls.astype(np.intp)])
+    z = state.xyz[:, 2]
+    return (z[i] < z[j] + height[j]) & (z[j] < z[i] + height[i])
 
 
 def _on_walkingarea(lane: str) -> bool:

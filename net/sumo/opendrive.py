@@ -16,6 +16,10 @@ types such as border or median only with ``ImportOptions.all_lanes``, closed to 
 Repairs: valid OpenDRIVE that netconvert refuses is repaired on a temporary copy first
 (``hiyari.net.sumo.opendrive_repair``); each repair is reported through ``warn``.
 
+Direct junctions: their lane links in the net are exactly the file's ``laneLink``s, in the
+lanes' driving directions (``hiyari.net.sumo.direct_junctions``; a second netconvert run with
+a connection file when netconvert's own reading differs).
+
 Junction shapes: by default the lanes inside junctions follow the file's connecting roads
 (the author's geometry). When SUMO's junction logic then disagrees with those paths (links it
 lets pass unhindered cross, or links it makes wait neither cross nor merge; see
@@ -35,6 +39,12 @@ from lxml import etree
 
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
+from hiyari.net.sumo.direct_junctions import (
+    DirectJunction,
+    compare_links,
+    direct_junctions,
+    write_connections,
+)
 from hiyari.net.sumo.files import check_net
 from hiyari.net.sumo.junction_check import JunctionReport, check_junctions
 from hiyari.net.sumo.lane_types import write_type_map
@@ -116,19 +126,28 @@ def _netconvert_args(xodr: Path, types: Path, opts: ImportOptions, shapes: bool)
 
 
 def _convert(xodr: Path, source: Path, types: Path, opts: ImportOptions, shapes: bool,
-             target: Path) -> JunctionReport:  # fmt: skip
-    """One netconvert run into ``target``; the junction check of the result."""
-    run_sumo_tool("netconvert", [*_netconvert_args(xodr, types, opts, shapes), "-o", str(target)],
-                  str(source))  # fmt: skip
+             target: Path, direct: list[DirectJunction]) -> JunctionReport:  # fmt: skip
+    """One netconvert run into ``target`` (a second one with a connection file when the
+    direct junctions' links differ from the file's); the junction check of the result."""
+    args = [*_netconvert_args(xodr, types, opts, shapes), "-o", str(target)]
+    run_sumo_tool("netconvert", args, str(source))
     try:
         check_net(target)
     except HiyariError:
         raise HiyariError(f"{source}: the converted map has no drivable lanes") from None
+    patch = compare_links(target, direct)
+    if patch:
+        connections = write_connections(patch, target.with_suffix(".con.xml"))
+        run_sumo_tool("netconvert", [*args, "--connection-files", str(connections)], str(source))
+        left = compare_links(target, direct)
+        if left:
+            raise HiyariError(f"{source}: netconvert keeps direct-junction links the file does "
+                              f"not have {list(left.extra)} or lacks {list(left.missing)}")  # fmt: skip
     return check_junctions(target)
 
 
 def _choose_shapes(xodr: Path, source: Path, types: Path, opts: ImportOptions, work: Path,
-                   warn: Callable[[str], None]) -> Path:  # fmt: skip
+                   warn: Callable[[str], None], direct: list[DirectJunction]) -> Path:  # fmt: skip
     """Convert with the file's junction shapes, falling back to computed ones (see module)."""
     first = opts.internal_shapes if opts.internal_shapes is not None else True
     compare = opts.internal_shapes is None  # an explicit choice only falls back on failure
@@ -136,7 +155,7 @@ def _choose_shapes(xodr: Path, source: Path, types: Path, opts: ImportOptions, w
     for shapes in (first, not first):
         net = work / f"shapes-{shapes}.net.xml"
         try:
-            results[shapes] = (net, _convert(xodr, source, types, opts, shapes, net))
+            results[shapes] = (net, _convert(xodr, source, types, opts, shapes, net, direct))
         except HiyariError as exc:
             results[shapes] = exc
         done = results[shapes]
@@ -188,7 +207,10 @@ def import_opendrive(
         for repair in repair_opendrive(xodr, repaired):
             warn(repair.message(xodr))
         types = write_type_map(work / "opendrive.typ.xml", lane_types)
-        net = _choose_shapes(repaired, xodr, types, opts, work, warn)
+        direct = direct_junctions(root)
+        net = _choose_shapes(repaired, xodr, types, opts, work, warn, direct)
+        for link in compare_links(net, direct).unusable:
+            warn(f"{xodr}: {link}: both lanes enter or both leave the junction: not imported")
         with atomic_path(out) as target:
             target.write_bytes(net.read_bytes())
     return Path(out)

@@ -9,7 +9,8 @@ netconvert reads what the author meant:
   connection's target, an ordinary road-to-road connection at the junction's node; a
   connection that names no road at all is dropped;
 - ``<junction type="direct">``: netconvert's own junction type (the connections above carry
-  the links);
+  the links; netconvert reads them keyed on the incoming road only, so the import then makes
+  the net's links exactly the file's laneLinks, ``hiyari.net.sumo.direct_junctions``);
 - a road named as a junction's ``connectingRoad`` but marked ``junction="-1"``: a connecting
   road of that junction (read as an ordinary road, it would cross the junction's other
   connecting roads with no junction logic between them);
