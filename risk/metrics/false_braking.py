@@ -82,10 +82,10 @@ class FalseActivationRule:
     """What counts as a false activation of the ego's emergency functions (SI).
 
     An activation step is one with an AEB stage (warning included) or a braking command
-    harder than ``comfort_decel``; an activation is a maximal run of such steps. It is false
-    when at none of its steps a ground-truth actor is in conflict with the ego: every
-    ground-truth TTC (hiyari.risk.metrics.ground_truth.time_to_collision, footprints overlapping
-    along the ego's corridor) above ``conflict_ttc``. docs/models.md §4, "False activations".
+    harder than ``comfort_decel``; an activation is a maximal run of such steps, gaps shorter
+    than ``join_gap`` bridged. It is false when at none of its steps a ground-truth actor is in
+    conflict with the ego: every ground-truth TTC (hiyari.risk.metrics.ground_truth.
+    time_to_collision, footprints overlapping along the ego's corridor) above ``conflict_ttc``. docs/models.md §4, "False activations".
     """
 
     #: m/s^2: the ACC's comfort limit (ACCConfig.max_decel): only the AEB brakes harder.
@@ -94,6 +94,12 @@ class FalseActivationRule:
     #: the AEB's warning threshold (2.6 s): a stage the sensors raise a little early for a
     #: real threat, or for one a little farther than the stack estimates, is not false.
     conflict_ttc: float = 4.0
+    #: s: activation steps less than this apart are one activation (0: every gap splits). The AEB applies the brake a
+    #: stage commands after its actuation delay (0.2 s by default) and holds it to standstill:
+    #: a stage that drops for a step or two before its braking starts is still the same event
+    #: (two were counted for one in an R157 cut-in, issue #30). Above the default delay by a
+    #: step of 0.05 s; a stack with a longer delay (0.8 s, the DIVP car) needs a longer gap.
+    join_gap: float = 0.25
 
 
 def false_activations(
@@ -115,12 +121,16 @@ def false_activations(
     active = (stage > 0) | (np.asarray(accel, float) < -rule.comfort_decel)
     if not active.any():
         return 0, float("nan")
-    start = active & ~np.concatenate([[False], active[:-1]])
-    episode = np.cumsum(start) - 1
-    k = int(start.sum())
-    conflict = np.asarray(ttc_true, float) <= rule.conflict_ttc
-    justified = np.bincount(episode[active], conflict[active], k) > 0
+    steps = np.flatnonzero(active)
+    # a new activation starts at the first active step and after every run of inactive steps
+    # whose active neighbours are join_gap or more apart
+    gap = (np.diff(steps) > 1) & (t[steps[1:]] - t[steps[:-1]] >= rule.join_gap - 1e-9)
+    new = np.concatenate([[True], gap])
+    episode = np.cumsum(new) - 1
+    k = int(new.sum())
+    conflict = np.asarray(ttc_true, float)[steps] <= rule.conflict_ttc
+    justified = np.bincount(episode, conflict, k) > 0
     false = ~justified
     if not false.any():
         return 0, float("nan")
-    return int(false.sum()), float(t[start][false][0])
+    return int(false.sum()), float(t[steps[new]][false][0])

@@ -119,8 +119,8 @@ def label_cells(
     """Connected objects of the occupied bird's-eye cells; label per point (-1: cell dropped).
 
     A cell is occupied with ``min_count`` points or more; two occupied cells belong to one
-    object when their row and column differ by at most ``reach`` (3 = one cell of dilation
-    then 8-connectivity). Labels are numbered like ndimage.label numbers the dilated grid:
+    object when they are at most ``reach`` cells apart, centre to centre (row and column
+    differences dr, dc with dr^2 + dc^2 <= reach^2; reach 1: 4-connectivity). Labels are numbered like ndimage.label numbers the dilated grid:
     in raster order of each object's first dilated cell. ``counts`` is overwritten.
     """
     # occupied cells get ids -1, -2, ... in the grid itself (no second nc x nc array)
@@ -140,7 +140,7 @@ def label_cells(
         for i in range(max(r - reach, 0), r + 1):
             for j in range(max(c - reach, 0), min(c + reach + 1, nc) if i < r else c):
                 v = counts[i * nc + j]
-                if v < 0:
+                if v < 0 and (i - r) ** 2 + (j - c) ** 2 <= reach * reach:
                     ra, rb = _root(parent, a), _root(parent, -v - 1)
                     if ra != rb:
                         parent[max(ra, rb)] = min(ra, rb)

@@ -50,12 +50,16 @@ class LidarRecognitionConfig:
     cluster_cell_m: float = 0.5
     """Bird's-eye grid cell for clustering, m."""
     cluster_reach_cells: int = 2
-    """Occupied cells whose row and column differ by at most this many cells form one object,
-    so a gap narrower than (reach - 1) x cell (0.5 m) is always bridged and one of
-    (reach + 1) x cell (1.5 m) or more never is. Two: vehicles in adjacent 3.5 m lanes are
-    1.35 m apart side by side (car 1.8 m and truck 2.5 m wide), and with three cells (gaps up
-    to 2 m bridged) a truck beside the ego merged with the car ahead in the ego's lane into one
-    box reaching into the ego's path (full AEB with no conflict in the blind-spot set)."""
+    """Occupied cells at most this many cells apart, centre to centre, form one object, so a
+    gap narrower than (reach - 1) x cell (0.5 m) is always bridged and one of (reach + 1) x
+    cell (1.5 m) or more never is. Two: vehicles in adjacent 3.5 m lanes are 1.35 m apart side
+    by side (car 1.8 m and truck 2.5 m wide), and with three cells (gaps up to 2 m bridged) a
+    truck beside the ego merged with the car ahead in the ego's lane into one box reaching into
+    the ego's path (full AEB with no conflict in the blind-spot set). Centre to centre, not
+    row and column apart each: with cells two rows and two columns apart joined (2.8 cells),
+    a truck beside the ego whose front was 0.5 m behind and 1.2 m to the side of a car ahead
+    in the ego's lane still merged with it into one 10.7 x 3.2 m box over the ego's lane (full
+    AEB with no conflict, blind-spot case occ4-hid1-decelerate-right, issue #30)."""
     min_cell_points: int = 2
     """Bird's-eye cells with fewer points are noise and dropped (the seed's rule-based
     recogniser removes points that are not from objects: insects, dust, drops)."""
