@@ -98,3 +98,9 @@ def _stamped(init: Callable[..., None]) -> Callable[..., None]:
 
 if not getattr(Cache.__init__, "hiyari_stamped", False):
     Cache.__init__ = _stamped(Cache.__init__)
+
+
+def cached(kernel: Any) -> bool:
+    """True when the on-disk cache holds a build of ``kernel`` (an ``njit(cache=True)``
+    function) for the current sources: no compilation is due for it."""
+    return bool(kernel._cache._cache_file._load_index())

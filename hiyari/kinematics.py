@@ -39,8 +39,15 @@ STILL_SPEED = 1e-9
 def _flat(*arrays: float | np.ndarray) -> tuple[tuple[int, ...], list[np.ndarray]]:
     """The broadcast shape of ``arrays`` and each of them broadcast to it, as a flat
     contiguous float64 array: the rows the compiled loops of kinematics_scalar take."""
-    b = np.broadcast_arrays(*(np.asarray(a, float) for a in arrays))
-    return b[0].shape, [np.ascontiguousarray(x).reshape(-1) for x in b]
+    arrs = [np.asarray(a, float) for a in arrays]
+    shape = np.broadcast_shapes(*(a.shape for a in arrs))
+    # a broadcast view is copied, not passed on: numba warns on (and numpy will refuse)
+    # writeable views from broadcast_arrays
+    flat = [
+        np.ascontiguousarray(a) if a.shape == shape else np.array(np.broadcast_to(a, shape))
+        for a in arrs
+    ]
+    return shape, [a.reshape(-1) for a in flat]
 
 
 # ---------------------------------------------------------------------------------- rotations

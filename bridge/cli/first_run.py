@@ -23,6 +23,15 @@ NOTE = (
 )
 
 
+def kernels_cached() -> bool:
+    """Whether the closed loop's step kernel, the first every simulation compiles, is in the
+    on-disk cache for the current sources."""
+    from hiyari.bridge.openscenario.engine.kernels.step_kernel import quiet_step
+    from hiyari.jit import cached
+
+    return cached(quiet_step)
+
+
 class CompileNote(event.Listener):
     """Prints :data:`NOTE` once, at the first compilation this process starts (a worker forked
     from the command inherits the listener and says it once for itself)."""
@@ -42,8 +51,10 @@ class CompileNote(event.Listener):
 
 def first_run_note(command: str) -> CompileNote | None:
     """Arrange for :data:`NOTE` on stderr at the first kernel compilation of ``command``, when
-    it is a command that simulates; returns the listener registered (None when not)."""
-    if command not in SIMULATING:
+    it is a command that simulates and the kernels are not cached (a fresh install, or sources
+    changed; a late compilation of one rare signature is not worth the note); returns the
+    listener registered (None when not)."""
+    if command not in SIMULATING or kernels_cached():
         return None
     listener = CompileNote()
     event.register("numba:compile", listener)

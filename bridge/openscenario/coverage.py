@@ -130,7 +130,7 @@ def schema_elements() -> tuple[str, ...]:
 @cache
 def named_in_reader() -> frozenset[str]:
     """Element names the reader's code spells out."""
-    text = "".join(p.read_text() for p in sorted((HERE / "xosc").glob("*.py")))
+    text = "".join(p.read_text() for p in sorted((HERE / "xosc").rglob("*.py")))
     return frozenset(re.findall(r'"([A-Z][A-Za-z0-9]*)"', text))
 
 

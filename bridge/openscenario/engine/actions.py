@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from hiyari.bridge.openscenario.engine.ego_ramp import EgoRamp
+from hiyari.bridge.openscenario.engine.followers.ego_ramp import EgoRamp
 from hiyari.bridge.openscenario.engine.followers.lateral_distance import lateral_goal
 from hiyari.bridge.openscenario.engine.followers.speed_profile import speed_profile
 from hiyari.bridge.openscenario.engine.followers.synchronize import Synchronizer

@@ -28,7 +28,6 @@ import numpy as np
 
 from hiyari.bridge.openscenario.engine.actions import ActionStarter, Instance
 from hiyari.bridge.openscenario.engine.conditions import ConditionBank
-from hiyari.bridge.openscenario.engine.ego_ramp import EgoRamp
 from hiyari.bridge.openscenario.engine.elements import (
     NO_TRANSITION,
     RUNNING,
@@ -37,6 +36,7 @@ from hiyari.bridge.openscenario.engine.elements import (
     active_triggers,
     ends_bottom_up,
 )
+from hiyari.bridge.openscenario.engine.followers.ego_ramp import EgoRamp
 from hiyari.bridge.openscenario.engine.global_actions import is_global
 from hiyari.bridge.openscenario.engine.kernels.command_kernel import command_step
 from hiyari.bridge.openscenario.engine.kernels.snapshot import (

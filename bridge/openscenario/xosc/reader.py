@@ -33,9 +33,12 @@ from hiyari.bridge.openscenario.model.storyboard import (
 from hiyari.bridge.openscenario.xosc import document
 from hiyari.bridge.openscenario.xosc.catalogs import Catalogs
 from hiyari.bridge.openscenario.xosc.context import Ctx, Scope
-from hiyari.bridge.openscenario.xosc.read_actions import read_controller, read_private_action
-from hiyari.bridge.openscenario.xosc.read_conditions import read_trigger
-from hiyari.bridge.openscenario.xosc.read_global import (
+from hiyari.bridge.openscenario.xosc.elements.read_actions import (
+    read_controller,
+    read_private_action,
+)
+from hiyari.bridge.openscenario.xosc.elements.read_conditions import read_trigger
+from hiyari.bridge.openscenario.xosc.elements.read_global import (
     read_global_action,
     read_monitors,
     read_variables,

@@ -94,8 +94,8 @@ def _cycles(graph: dict[str, set[str]]) -> list[frozenset[str]]:
 #: positions and trajectories follow the format's recursion (a RoutePosition holds a route of
 #: positions: one module, or the reader of each passed to the other).
 KNOWN = {
-    frozenset({"hiyari.bridge.openscenario.xosc.read_positions",
-               "hiyari.bridge.openscenario.xosc.read_trajectories"}),
+    frozenset({"hiyari.bridge.openscenario.xosc.elements.read_positions",
+               "hiyari.bridge.openscenario.xosc.elements.read_trajectories"}),
 }  # fmt: skip
 
 

@@ -8,6 +8,7 @@ import io
 from numba import njit
 from numba.core import event
 
+from hiyari.bridge.cli import first_run
 from hiyari.bridge.cli.first_run import NOTE, CompileNote, first_run_note
 
 
@@ -38,8 +39,11 @@ def test_a_cached_or_compiled_kernel_prints_nothing() -> None:
     assert out.getvalue() == ""
 
 
-def test_only_simulating_commands_listen(capsys) -> None:
+def test_only_simulating_commands_on_a_cold_cache_listen(capsys, monkeypatch) -> None:
     assert first_run_note("doctor") is None
+    monkeypatch.setattr(first_run, "kernels_cached", lambda: True)
+    assert first_run_note("run") is None
+    monkeypatch.setattr(first_run, "kernels_cached", lambda: False)
     _fresh_kernel()(1.0)
     assert NOTE not in capsys.readouterr().err
     listener = first_run_note("run")

@@ -4,6 +4,7 @@ they broadcast like numpy, give each row the scalar kernel's value, and keep the
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -46,3 +47,15 @@ def test_nan_propagates_as_numpy_would() -> None:
     p = np.array([[np.nan, 0.0], [5.0, np.nan]])
     assert np.isnan(K.box_distance(p, 2.0, 1.0)).all()
     assert math.isnan(S.max0(math.nan)) and S.max0(-1.0) == 0.0
+
+
+@pytest.mark.parametrize("shapes", [((1,), ()), ((3,), (), (3,)), ((1, 1), (1,))])
+def test_the_kernels_get_no_broadcast_views(shapes) -> None:
+    """Inputs reach the compiled loops as arrays of their own: numba types a broadcast view
+    by its writeable flag, which warns on stderr on a fresh cache (a size-1 view is contiguous
+    and was passed on), and numpy will make such views read-only."""
+    _, flat = K._flat(*(np.zeros(s) for s in shapes))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for a in flat:
+            a[...] = 1.0  # a broadcast view warns on write

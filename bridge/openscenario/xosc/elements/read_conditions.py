@@ -39,7 +39,7 @@ from hiyari.bridge.openscenario.model.conditions import (
     VariableCondition,
 )
 from hiyari.bridge.openscenario.xosc.context import Ctx
-from hiyari.bridge.openscenario.xosc.read_positions import read_position
+from hiyari.bridge.openscenario.xosc.elements.read_positions import read_position
 from hiyari.errors import HiyariError
 
 

@@ -35,8 +35,8 @@ from hiyari.bridge.openscenario.model.actions import (
 )
 from hiyari.bridge.openscenario.model.entities import ControllerSpec
 from hiyari.bridge.openscenario.xosc.context import Ctx
-from hiyari.bridge.openscenario.xosc.read_positions import read_position
-from hiyari.bridge.openscenario.xosc.read_trajectories import read_route, read_trajectory
+from hiyari.bridge.openscenario.xosc.elements.read_positions import read_position
+from hiyari.bridge.openscenario.xosc.elements.read_trajectories import read_route, read_trajectory
 
 
 def read_private_action(ctx: Ctx, el: etree._Element) -> ActionBody:

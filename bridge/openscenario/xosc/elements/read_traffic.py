@@ -14,7 +14,7 @@ from hiyari.bridge.openscenario.model.global_actions import (
     TrafficSwarmAction,
 )
 from hiyari.bridge.openscenario.xosc.context import Ctx
-from hiyari.bridge.openscenario.xosc.read_positions import read_position
+from hiyari.bridge.openscenario.xosc.elements.read_positions import read_position
 from hiyari.errors import HiyariError
 
 

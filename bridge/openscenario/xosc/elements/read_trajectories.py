@@ -18,7 +18,7 @@ from hiyari.bridge.openscenario.model.trajectories import (
     Vertex,
 )
 from hiyari.bridge.openscenario.xosc.context import Ctx
-from hiyari.bridge.openscenario.xosc.read_positions import read_position
+from hiyari.bridge.openscenario.xosc.elements.read_positions import read_position
 from hiyari.errors import HiyariError
 
 

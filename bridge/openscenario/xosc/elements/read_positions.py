@@ -102,7 +102,7 @@ def _rel_world(ctx: Ctx, p: etree._Element) -> Position:
 
 
 def _trajectory(ctx: Ctx, p: etree._Element) -> Position:
-    from hiyari.bridge.openscenario.xosc.read_trajectories import read_trajectory_ref
+    from hiyari.bridge.openscenario.xosc.elements.read_trajectories import read_trajectory_ref
 
     return TrajectoryPosition(
         read_trajectory_ref(ctx, ctx.child(p, "TrajectoryRef")),
@@ -113,7 +113,7 @@ def _trajectory(ctx: Ctx, p: etree._Element) -> Position:
 
 
 def _route(ctx: Ctx, p: etree._Element) -> Position:
-    from hiyari.bridge.openscenario.xosc.read_trajectories import read_route
+    from hiyari.bridge.openscenario.xosc.elements.read_trajectories import read_route
 
     route = read_route(ctx, ctx.one(ctx.child(p, "RouteRef")))
     where = ctx.one(ctx.child(p, "InRoutePosition"))

@@ -25,8 +25,8 @@ from hiyari.bridge.openscenario.model.global_actions import (
     Wind,
 )
 from hiyari.bridge.openscenario.xosc.context import Ctx, canonical
-from hiyari.bridge.openscenario.xosc.read_positions import read_position
-from hiyari.bridge.openscenario.xosc.read_traffic import read_traffic
+from hiyari.bridge.openscenario.xosc.elements.read_positions import read_position
+from hiyari.bridge.openscenario.xosc.elements.read_traffic import read_traffic
 from hiyari.errors import HiyariError
 
 #: The file's modify rules and the model's operations.
