@@ -26,36 +26,18 @@ Each repair is one line: ``<file>:<line>: <element>: <what was done>``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
 from lxml import etree
 
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
+from hiyari.xml_repair import Repair
+from hiyari.xml_repair import tag as _tag
 
 #: Largest lateral departure, m, below which a curve is read as the simpler one (arc as line,
 #: spiral as arc): far below any lane-width or survey precision.
 FLAT = 1e-4
-
-
-@dataclass(frozen=True)
-class Repair:
-    """One change made to the copy: the element's source line, a short tag, what was done."""
-
-    line: int
-    element: str
-    action: str
-
-    def message(self, source: str | Path) -> str:
-        """The one-line warning naming the user's file."""
-        return f"{source}:{self.line}: {self.element}: {self.action}"
-
-
-def _tag(el: etree._Element, *attrs: str) -> str:
-    """``<name a="1" b="2">`` with the given attributes, as written in the file."""
-    shown = " ".join(f'{a}="{el.get(a)}"' for a in attrs if el.get(a) is not None)
-    return f"<{etree.QName(el).localname}{' ' + shown if shown else ''}>"
 
 
 def _connections(root: etree._Element) -> list[Repair]:

@@ -16,29 +16,11 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import datetime
-from pathlib import Path
 
 from lxml import etree
 
-
-@dataclass(frozen=True)
-class Repair:
-    """One change made to the parsed tree: the element's source line, a short tag, what was
-    done."""
-
-    line: int
-    element: str
-    action: str
-
-    def message(self, source: str | Path) -> str:
-        """The one-line warning naming the user's file."""
-        return f"{source}:{self.line}: {self.element}: {self.action}"
-
-
-def _tag(el: etree._Element, *attrs: str) -> str:
-    """``<Name a="1">`` with the given attributes as written in the file."""
-    shown = " ".join(f'{a}="{el.get(a)}"' for a in attrs if el.get(a) is not None)
-    return f"<{el.tag}{' ' + shown if shown else ''}>"
+from hiyari.xml_repair import Repair
+from hiyari.xml_repair import tag as _tag
 
 
 def _note(out: list[Repair], el: etree._Element, element: str, action: str) -> None:
