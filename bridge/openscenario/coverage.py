@@ -23,6 +23,8 @@ from pathlib import Path
 
 from lxml import etree
 
+from hiyari.checkout import shared_dir
+
 HERE = Path(__file__).resolve().parent
 SCHEMA = HERE / "xosc" / "schema" / "OpenSCENARIO_1_3.xsd"
 _XSD = "{http://www.w3.org/2001/XMLSchema}"
@@ -162,7 +164,7 @@ def test_of(name: str) -> str:
     for n in own:
         if f"<{name}" in texts[n] or f"<{name}>" in texts[n]:
             return n
-    data = HERE.parents[2] / "shared" / "data" / "openscenario"
+    data = shared_dir() / "data" / "openscenario"
     for files, test in (("ncap", "test_osc_ncap.py"), ("alks", "test_closed_loop_alks.py")):
         for f in sorted((data / files).rglob("*.xosc")):
             if f"<{name}" in f.read_text(errors="replace"):

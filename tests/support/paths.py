@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from hiyari.checkout import shared_dir
+
 #: the repository's root (pyproject.toml, README.md)
 REPO_ROOT = Path(__file__).resolve().parents[2]
 #: ../shared beside the repository: the specs and the third-party data (data/README.md)
-SHARED = REPO_ROOT.parent / "shared"
+SHARED = shared_dir(REPO_ROOT)

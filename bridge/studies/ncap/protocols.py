@@ -15,6 +15,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+from hiyari.checkout import shared_dir
 from hiyari.errors import HiyariError
 
 #: Environment variable naming the root of the Euro NCAP set (the folder holding OpenSCENARIO/).
@@ -147,12 +148,12 @@ def select_tests(protocol: str, only: tuple[str, ...] = ()) -> list[NcapTest]:
 
 
 def default_root() -> Path:
-    """The Euro NCAP set: $HIYARI_NCAP_DIR, else ../shared/data/openscenario/ncap beside the
-    source checkout."""
+    """The Euro NCAP set: $HIYARI_NCAP_DIR, else data/openscenario/ncap in the checkout's shared
+    folder (hiyari.checkout)."""
     env = os.environ.get(ENV_DIR)
     if env:
         return Path(env)
-    return Path(__file__).resolve().parents[4] / "shared" / "data" / "openscenario" / "ncap"
+    return shared_dir() / "data" / "openscenario" / "ncap"
 
 
 def variations_file(root: Path, test: NcapTest) -> Path:
