@@ -18,6 +18,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+from hiyari.checkout import shared_dir
 from hiyari.net.mesh.road_mesh import build_scene_mesh
 from hiyari.net.road.geometry import RoadGeometry
 from hiyari.net.sumo.build import CityGridParams, city_grid_plain
@@ -26,7 +27,7 @@ from hiyari.net.sumo.plain_xml import write_plain
 from hiyari.sumo_tools import run_sumo_tool
 
 CITY = CityGridParams(blocks_x=10, blocks_y=10, block_length=200.0)
-ALKS = Path(__file__).resolve().parents[2] / "shared" / "data" / "opendrive" / "alks"
+ALKS = shared_dir() / "data" / "opendrive" / "alks"
 
 
 def best(fn: Callable[[], object], repeat: int) -> tuple[float, object]:

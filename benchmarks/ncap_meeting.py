@@ -26,11 +26,12 @@ from hiyari.bridge.openscenario.engine import ScenarioEngine
 from hiyari.bridge.openscenario.engine.followers.synchronize import Synchronizer
 from hiyari.bridge.openscenario.model.actions import SynchronizeAction
 from hiyari.bridge.openscenario.xosc.reader import read_scenario
+from hiyari.checkout import shared_dir
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.net.sumo.opendrive import import_opendrive
 from hiyari.traffic.simulation import SimConfig, Simulation
 
-NCAP = Path(__file__).resolve().parents[2] / "shared" / "data" / "openscenario" / "ncap"
+NCAP = shared_dir() / "data" / "openscenario" / "ncap"
 FILES = sorted((NCAP / "OpenSCENARIO" / "NCAP").glob("AEB_*_2023/*.xosc"))
 
 

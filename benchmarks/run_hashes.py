@@ -32,8 +32,10 @@ from pathlib import Path
 
 from mcap.reader import make_reader
 
+from hiyari.checkout import shared_dir
+
 REPO = Path(__file__).resolve().parents[1]
-SHARED = REPO.parent / "shared"
+SHARED = shared_dir()
 ALKS = SHARED / "data" / "openscenario" / "alks"
 PRESETS = REPO / "bridge" / "openscenario" / "presets" / "library"
 #: Fields that hold wall-clock time (not results).

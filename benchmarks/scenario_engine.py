@@ -73,16 +73,14 @@ from hiyari.bridge.openscenario.model import (
     TimeToCollisionCondition,
     TransitionDynamics,
 )
+from hiyari.checkout import shared_dir
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.net.sumo.opendrive import import_opendrive
 from hiyari.traffic import commands
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.simulation import SimConfig, Simulation
 
-XODR = (
-    Path(__file__).resolve().parents[2]
-    / "shared/data/openscenario/alks/road_networks/alks_road_straight.xodr"
-)
+XODR = shared_dir() / "data/openscenario/alks/road_networks/alks_road_straight.xodr"
 N_ACTORS, STEPS, DT = 50, 600, 0.05
 _DEQUE = deque  # traffic.commands' own, restored after each run
 LANES = (-3, -4, -5, 3, 4, 5)

@@ -11,10 +11,11 @@ from pathlib import Path
 import pytest
 from durations import DurationLog
 
+from hiyari.checkout import shared_dir
 from hiyari.net.sumo.build import IntersectionParams, build_intersection
 from hiyari.traffic.demand import DemandConfig, write_demand
 
-SHARED = Path(__file__).resolve().parents[2] / "shared"
+SHARED = shared_dir(Path(__file__).resolve().parents[1])
 #: Temporary folders hiyari makes; none may be left behind by the test suite.
 HIYARI_TEMP = ("hiyari-run-*", "hiyari-net-*", "hiyari-sumo-*", "hiyari-sim-*", "hiyari-study-*")
 

@@ -8,8 +8,10 @@ from pathlib import Path
 
 from paths import REPO_ROOT
 
+from hiyari.checkout import shared_dir
+
 # resolved: ../shared may be a symlink, and the reader reports resolved paths
-SHARED = (REPO_ROOT.parent / "shared").resolve() / "data" / "openscenario"
+SHARED = shared_dir(REPO_ROOT).resolve() / "data" / "openscenario"
 ALKS = SHARED / "alks"
 ROADS = ALKS / "road_networks"
 STRAIGHT = ROADS / "alks_road_straight.xodr"

@@ -48,8 +48,10 @@ from lxml import etree
 from openscenario_files import element_seeds
 from paths import REPO_ROOT
 
+from hiyari.checkout import shared_dir
+
 REPO = REPO_ROOT
-SHARED = REPO.parent / "shared"
+SHARED = shared_dir(REPO)
 #: Modules whose bad-input handling another engineer owns (issue 17 split): failures there
 #: are reported, not failed.
 OWNED_ELSEWHERE = ("traffic/demand.py", "net/sumo/opendrive", "net/road/geometry.py")

@@ -10,11 +10,12 @@ import numpy as np
 import pytest
 from paths import REPO_ROOT
 
+from hiyari.checkout import shared_dir
 from hiyari.net.sumo.opendrive import import_opendrive
 from hiyari.traffic.commands import VehicleType, heading_to_sumo_angle
 from hiyari.traffic.simulation import SimConfig, Simulation
 
-XODR = REPO_ROOT.parent / "shared/data/openscenario/alks/road_networks/alks_road_straight.xodr"
+XODR = shared_dir(REPO_ROOT) / "data/openscenario/alks/road_networks/alks_road_straight.xodr"
 LENGTH = 5.0
 
 

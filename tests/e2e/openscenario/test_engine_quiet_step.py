@@ -45,12 +45,13 @@ from hiyari.bridge.openscenario.model import (
     TransitionDynamics,
 )
 from hiyari.bridge.openscenario.model.actions import RelativeSpeed
+from hiyari.checkout import shared_dir
 from hiyari.net.road.opendrive_lanes import RoadLanes
 from hiyari.net.sumo.opendrive import import_opendrive
 from hiyari.traffic.actor_class import ActorClass
 from hiyari.traffic.simulation import SimConfig, Simulation
 
-XODR = REPO_ROOT.parent / "shared/data/openscenario/alks/road_networks/alks_road_straight.xodr"
+XODR = shared_dir(REPO_ROOT) / "data/openscenario/alks/road_networks/alks_road_straight.xodr"
 DT, STEPS, N = 0.05, 240, 6
 
 
