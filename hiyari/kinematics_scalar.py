@@ -22,20 +22,20 @@ from hiyari.jit import njit
 
 
 # ---------------------------------------------------------------------------------- scalars
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def unrotate(x: float, y: float, c: float, s: float) -> tuple[float, float]:
     """World-frame vector (``x``, ``y``) -> the (forward, left) components in the frame of a
     vehicle whose heading has cos ``c`` and sin ``s`` (kinematics.unrotate_xy)."""
     return x * c + y * s, -x * s + y * c
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def max0(x: float) -> float:
     """max(x, 0) as np.maximum(x, 0.0): NaN stays NaN."""
     return x if (x > 0.0 or x != x) else 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def outside(x: float, y: float, half_x: float, half_y: float) -> float:
     """Distance (m) from the point (``x``, ``y``) to the box |x| <= ``half_x``,
     |y| <= ``half_y`` (box frame); 0 inside."""
@@ -47,7 +47,7 @@ def outside(x: float, y: float, half_x: float, half_y: float) -> float:
     return math.hypot(lx, ly)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def footprint_extent(length: float, width: float, heading: float) -> tuple[float, float]:
     """Half extents (m) along a frame's x and y of a rectangle at ``heading`` (rad, relative
     to that frame): the half sizes of its axis-aligned bounding box."""
@@ -55,7 +55,7 @@ def footprint_extent(length: float, width: float, heading: float) -> tuple[float
     return (length * c + width * s) / 2, (length * s + width * c) / 2
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def rectangle_point_distance(
     cx: float, cy: float, c: float, s: float, half_x: float, half_y: float, px: float, py: float
 ) -> float:
@@ -66,7 +66,7 @@ def rectangle_point_distance(
     return outside(x, y, half_x, half_y)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def footprint_distance_cs(
     ax_: float,
     ay_: float,
@@ -112,7 +112,7 @@ def footprint_distance_cs(
     return min(b_in_a, a_in_b)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def footprint_distance(
     ax: float,
     ay: float,

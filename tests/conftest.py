@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import resource
 import shutil
 import tempfile
@@ -43,14 +44,27 @@ def pytest_configure(config: pytest.Config) -> None:
     resource.setrlimit(resource.RLIMIT_CORE, (0, resource.getrlimit(resource.RLIMIT_CORE)[1]))
     if _xdist_worker(config) is not None:
         return
-    config.pluginmanager.register(
-        DurationLog(Path(__file__).resolve().parents[1] / "out" / "test-durations.csv"),
-        "hiyari-durations",
-    )
+    config.pluginmanager.register(DurationLog(durations_path(config)), "hiyari-durations")
     base = Path(tempfile.mkdtemp(prefix="hiyari-tests-"))
     config.stash[_TEMP_KEY] = (base, os.environ.get("TMPDIR"))
     os.environ["TMPDIR"] = str(base)
     tempfile.tempdir = None  # recomputed from TMPDIR
+
+
+def durations_path(config: pytest.Config) -> Path:
+    """Where this session writes its durations: out/test-durations.csv for the whole suite
+    (CI keeps it; the scheduler reads it), out/test-durations-<marker>.csv for a marker
+    selection (CI's baseline-dispatch run after the suite would otherwise overwrite the
+    suite's file with its 45 tests) and out/test-durations-selection.csv for named tests."""
+    out = Path(__file__).resolve().parents[1] / "out"
+    mark = config.getoption("markexpr", "")
+    if mark:
+        return out / f"test-durations-{re.sub(r'[^A-Za-z0-9]+', '-', mark).strip('-')}.csv"
+    if config.args and [Path(a).resolve() for a in config.args] != [
+        config.rootpath / t for t in config.getini("testpaths")
+    ]:
+        return out / "test-durations-selection.csv"
+    return out / "test-durations.csv"
 
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:

@@ -41,7 +41,10 @@ ARGS = [
     "--no-first-run",
     "--disable-quic",
 ]
-VIEW = {"width": 1024, "height": 640}
+#: The page's size, px. SwiftShader renders every frame on the CPU, so each screenshot costs
+#: time in proportion to the pixels: 768 x 480 is the smallest size at which viser's panel
+#: still leaves the scene most of the width.
+VIEW = {"width": 768, "height": 480}
 #: Playwright's limit for every wait and screenshot, ms. Software WebGL on a loaded 2-core
 #: machine can take tens of seconds per frame; the waits end as soon as their condition holds,
 #: so a generous limit costs nothing when the machine is idle.

@@ -50,7 +50,7 @@ POINT_KINDS = (DISTANCE, REACH, TTC_POINT)
 FIXED_POSITIONS = (WorldPosition, LanePosition, RoadPosition)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def holds(measured: float, value: float, rule: int) -> bool:
     """Whether ``measured`` satisfies rule code ``rule`` (index into Rule: greaterThan,
     lessThan, equalTo, greaterOrEqual, lessOrEqual, notEqualTo) against ``value``; never for
@@ -118,7 +118,7 @@ def pack_entities(ent: EntityFields, out: np.ndarray) -> None:
         out[k, E_S], out[k, E_T], out[k, E_DIR] = ent.road_s[k], ent.road_t[k], ent.road_dir[k]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def entity_scalars(k: int, packed: np.ndarray) -> tuple:
     """Entity ``k``'s fields (see ``E_X`` ...) from :func:`pack_entities`'s array, as one
     tuple of floats."""
@@ -130,7 +130,7 @@ def entity_scalars(k: int, packed: np.ndarray) -> tuple:
 
 
 # ---------------------------------------------------------------------------------- pairs
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _entity_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
     """Distance (m) of B from A in A's frame, by distance type: between the reference points,
     or the boxes' gap with ``fs`` (freespace)."""
@@ -150,7 +150,7 @@ def _entity_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
     return max0(abs(by) - 0.5 * wa - ext_y)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _road_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
     """Distance (m) of B from A in road coordinates, by distance type."""
     ds = (eb[E_S] - ea[E_S]) * ea[E_DIR]
@@ -166,7 +166,7 @@ def _road_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
     return math.hypot(lon, lat)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _world_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
     """Distance (m) of B from A along the world's x (longitudinal) and y (lateral) axes:
     between the reference points, or with ``fs`` between the boxes' extents along the axes
@@ -186,7 +186,7 @@ def _world_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
     return math.hypot(lon, lat) if dtype == 0 else (lon if dtype == 1 else lat)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _sign(x: float) -> float:
     if x > 0.0:
         return 1.0
@@ -195,7 +195,7 @@ def _sign(x: float) -> float:
     return x  # 0 or NaN, as np.sign
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _closing(dtype: int, ea: tuple, eb: tuple, world: bool = False) -> float:
     """Closing speed (m/s) of A and B along the measuring direction: A's axis (longitudinal /
     lateral; with ``world`` the world's x / y axis) or the line between the centres
@@ -217,7 +217,7 @@ def _closing(dtype: int, ea: tuple, eb: tuple, world: bool = False) -> float:
     return (dvx * dx + dvy * dy) * _sign(rx * dx + ry * dy)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def pair_measure(kind: int, fs: bool, dtype: int, frame: int, ea: tuple, eb: tuple) -> float:
     """Relative distance (m), time headway (s) or TTC (s) of present entity A to present
     entity B (their :func:`entity_scalars`) in ``frame``. The distance is measured only when
@@ -248,7 +248,7 @@ def pair_measure(kind: int, fs: bool, dtype: int, frame: int, ea: tuple, eb: tup
     return dist
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def ttc_above(value: float, ea: tuple, eb: tuple) -> bool:
     """Whether the freespace euclidean TTC of present A to present B (``pair_measure``) is
     certainly infinite (not closing) or above ``value`` (s, below infinity), found without
@@ -264,7 +264,7 @@ def ttc_above(value: float, ea: tuple, eb: tuple) -> bool:
 
 
 # ---------------------------------------------------------------------------------- one entity
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def single_measure(kind: int, ea: tuple, speed_b: float) -> float:
     """Speed (m/s), acceleration (m/s^2) of present entity A, or its speed relative to
     entity B (``speed_b``; NaN: B absent)."""
@@ -275,7 +275,7 @@ def single_measure(kind: int, ea: tuple, speed_b: float) -> float:
     return ea[E_V] - speed_b
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def duration_measure(
     kind: int, now: float, present: bool, speed: float, on_net: bool, since: float
 ) -> tuple[float, float]:
@@ -291,7 +291,7 @@ def duration_measure(
     return (now - since if present else math.nan), since
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def traveled_measure(
     now: float, present: bool, speed: float, travelled: float, last: float
 ) -> tuple[float, float, float]:
@@ -305,7 +305,7 @@ def traveled_measure(
     return travelled, travelled, now
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def point_measure(kind: int, fs: bool, dtype: int, frame: int, ea: tuple, point: tuple) -> float:
     """Distance (m), reach distance (m) or TTC (s) of A to a point: ``point`` its world x, y
     and road s, t (m; x NaN: no point, i.e. A absent; s NaN: off the roads).

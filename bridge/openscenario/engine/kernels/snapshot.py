@@ -88,7 +88,7 @@ def gather_entities(
         _road_coords(i, ent, actors, out)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _road_coords(k: int, ent: GatherArrays, actors: ActorArrays, out: EntityFields) -> None:
     """Road s of entity ``k``'s box centre, t and direction from the ActorTable (see
     :func:`gather_entities`)."""

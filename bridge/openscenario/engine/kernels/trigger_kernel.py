@@ -60,7 +60,7 @@ R_OWNER, R_A, R_B, R_RULE, R_KIND, R_FS, R_DTYPE, R_ROAD, R_ALWAYS = range(9)
 FIRST_TRANSITION = 3
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _row_holds(
     kind: int,
     rule: int,
@@ -84,7 +84,7 @@ def _row_holds(
     see measures.traveled_measure), given its entities' presence and fields (``ea``, ``eb``:
     measures.entity_scalars; ``eb`` is any entity's when the row has none) and its point
     (world x, y and road s, t: measures.point_measure). An absent entity measures NaN,
-    which no rule holds for. Scalars only: a compiled helper inlined with array arguments
+    which no rule holds for. Scalars only: a compiled helper called with array arguments
     pays a reference count per array and row."""
     if STANDSTILL <= kind <= END_OF_ROAD:
         m, since = duration_measure(kind, now, present_a, ea[E_V], on_net_a, since)
