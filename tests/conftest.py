@@ -55,14 +55,13 @@ def durations_path(config: pytest.Config) -> Path:
     """Where this session writes its durations: out/test-durations.csv for the whole suite
     (CI keeps it; the scheduler reads it), out/test-durations-<marker>.csv for a marker
     selection (CI's baseline-dispatch run after the suite would otherwise overwrite the
-    suite's file with its 45 tests) and out/test-durations-selection.csv for named tests."""
+    suite's file with its 45 tests) and out/test-durations-selection.csv for named tests or -k."""
     out = Path(__file__).resolve().parents[1] / "out"
     mark = config.getoption("markexpr", "")
     if mark:
         return out / f"test-durations-{re.sub(r'[^A-Za-z0-9]+', '-', mark).strip('-')}.csv"
-    if config.args and [Path(a).resolve() for a in config.args] != [
-        config.rootpath / t for t in config.getini("testpaths")
-    ]:
+    whole = [config.rootpath / t for t in config.getini("testpaths")]
+    if config.getoption("keyword", "") or [Path(a).resolve() for a in config.args] != whole:
         return out / "test-durations-selection.csv"
     return out / "test-durations.csv"
 
