@@ -80,6 +80,9 @@ NETCONVERT_OPTIONS: tuple[NetconvertOption, ...] = tuple(
         ("--tls.join", "true", "the signals of one junction cluster act as one controller"),
         ("--tls.discard-simple", "true", "a lone signal node not at a junction (a pedestrian "
          "light mid-block) stays a crossing, not a controller of nothing"),
+        ("--osm.elevation", "true", "bridges and tunnels at the heights of their OSM layers "
+         "(ele tags the repaired copy carries, hiyari.net.sumo.osm_levels); every other road "
+         "on the ground"),
         ("--junctions.join", "true", "the nodes OSM maps for one junction of dual "
          "carriageways become one junction"),
         ("--ramps.guess", "true", "acceleration and deceleration lanes at motorway ramps"),

@@ -111,3 +111,36 @@ def town(doc: OsmDoc | None = None) -> OsmDoc:
     ids["tall"] = doc.building(20.0, 20.0, 60.0, 60.0, height="12 m")
     ids["levels"] = doc.building(-60.0, -60.0, -20.0, -20.0, building__levels="5")
     return doc
+
+
+def bridge_loop(doc: OsmDoc | None = None, **bridge_tags: str) -> OsmDoc:
+    """A secondary road on a bridge over a residential street, closed into one loop (an
+    extract's road that leads nowhere is not imported)::
+
+        y=150              N ---- NE street ---- E' (150, 0) is E
+                           |
+        y=20               n  bridge: bridge=yes, layer=1 (or ``bridge_tags``)
+        y=0    W ------- (over) -------- E      Under Street: residential, on the ground
+        y=-20              s
+                           |
+        y=-150             S ---- SW street ---- W
+            x=-150       x=0          x=150
+
+    The bridge way is s -> n (two nodes: nothing on it between its ends); "south" S -> s and
+    "north" n -> N are its approach roads. ``ids``: nodes "W", "E", "S", "N", "s", "n"; ways
+    "under", "south", "bridge", "north".
+    """
+    doc = doc or OsmDoc()
+    ids = doc.ids
+    for name, (x, y) in {"W": (-150, 0), "E": (150, 0), "S": (0, -150), "N": (0, 150),
+                         "s": (0, -20), "n": (0, 20)}.items():  # fmt: skip
+        ids[name] = doc.node(float(x), float(y))
+    mid = [doc.node(-50.0, 0.0), doc.node(50.0, 0.0)]  # Under Street's shape, clear of x = 0
+    ids["under"] = doc.way([ids["W"], *mid, ids["E"]], highway="residential", name="Under")
+    ids["south"] = doc.way([ids["S"], ids["s"]], highway="secondary", name="South")
+    tags = bridge_tags or {"bridge": "yes", "layer": "1"}
+    ids["bridge"] = doc.way([ids["s"], ids["n"]], highway="secondary", name="Bridge", **tags)
+    ids["north"] = doc.way([ids["n"], ids["N"]], highway="secondary", name="North")
+    doc.way([ids["E"], ids["N"]], highway="residential", name="NE")
+    doc.way([ids["S"], ids["W"]], highway="residential", name="SW")
+    return doc
