@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import logging
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -39,6 +39,7 @@ from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
 from hiyari.net.road.buildings import poly_path
 from hiyari.net.sumo.files import check_net
+from hiyari.net.sumo.junction_repair import CLOSE_PASS, clusters_to_unjoin, repair_net
 from hiyari.net.sumo.osm_repair import BBox, check_bbox, repair_osm, sidewalk_types
 from hiyari.sumo_tools import run_sumo_tool, sumo_home
 
@@ -85,6 +86,10 @@ NETCONVERT_OPTIONS: tuple[NetconvertOption, ...] = tuple(
          "on the ground"),
         ("--junctions.join", "true", "the nodes OSM maps for one junction of dual "
          "carriageways become one junction"),
+        ("--internal-junctions.vehicle-width", "2.5", "a vehicle waiting inside a junction "
+         "(a left turn at its internal junction) stops clear of the lanes it yields to by half "
+         "a bus's width, not a car's (1.8 m, netconvert's default, leaves a waiting car's "
+         "corner in the way at a skewed junction)"),
         ("--ramps.guess", "true", "acceleration and deceleration lanes at motorway ramps"),
         ("--roundabouts.guess", "true", "right of way inside roundabouts"),
         ("--no-turnarounds.except-deadend", "true", "U-turns only at dead ends: a U-turn at "
@@ -111,15 +116,37 @@ class OsmImportOptions:
     buildings: bool = True
 
 
-def netconvert_args(osm: Path, bbox: BBox | None) -> list[str]:
-    """netconvert's command line for the OSM file ``osm`` (without the output)."""
+def netconvert_args(osm: Path, bbox: BBox | None, unjoined: Sequence[str] = ()) -> list[str]:
+    """netconvert's command line for the OSM file ``osm`` (without the output); the OSM
+    nodes ``unjoined`` are not joined into junction clusters."""
     maps = sumo_home() / "data" / "typemap"
     args = ["--osm-files", str(osm), "--type-files", ",".join(str(maps / t) for t in TYPE_MAPS)]
     for opt in NETCONVERT_OPTIONS:
         args += [opt.name, opt.value]
     if bbox is not None:
         args += ["--keep-edges.in-geo-boundary", ",".join(repr(v) for v in bbox)]
+    if unjoined:
+        args += ["--junctions.join-exclude", ",".join(unjoined)]
     return args
+
+
+def _convert(
+    copy: Path, net: Path, source: Path, bbox: BBox | None, unjoined: Sequence[str]
+) -> None:
+    """Run netconvert on the repaired copy; HiyariError (one line) when it makes no net with
+    a drivable lane."""
+    inside = f" inside --bbox {','.join(f'{v:g}' for v in bbox)}" if bbox else ""
+    try:
+        run_sumo_tool("netconvert", [*netconvert_args(copy, bbox, unjoined), "-o", str(net)],
+                      str(source))  # fmt: skip
+    except HiyariError as exc:
+        raise HiyariError(f"{exc}{inside}") from None
+    if not net.is_file():
+        raise HiyariError(f"{source}: netconvert made no network (no road{inside})")
+    try:
+        check_net(net)
+    except HiyariError:
+        raise HiyariError(f"{source}: the converted map has no drivable lanes{inside}") from None
 
 
 def polyconvert_args(osm: Path, net: Path) -> list[str]:
@@ -160,20 +187,16 @@ def import_osm(
         if opts.bbox is not None:
             check_bbox(source, opts.bbox, extract)
         net = work / "map.net.xml"
-        inside = f" inside --bbox {','.join(f'{v:g}' for v in opts.bbox)}" if opts.bbox else ""
-        try:
-            run_sumo_tool("netconvert", [*netconvert_args(copy, opts.bbox), "-o", str(net)],
-                          str(source))  # fmt: skip
-        except HiyariError as exc:
-            raise HiyariError(f"{exc}{inside}") from None
-        if not net.is_file():
-            raise HiyariError(f"{source}: netconvert made no network (no road{inside})")
-        try:
-            check_net(net)
-        except HiyariError:
-            raise HiyariError(
-                f"{source}: the converted map has no drivable lanes{inside}"
-            ) from None
+        _convert(copy, net, source, opts.bbox, ())
+        say = warn or _log.warning
+        unjoin = clusters_to_unjoin(net)
+        if unjoin:
+            for j, nodes in unjoin.items():
+                say(f"{source}: junction {j}: OSM nodes {' '.join(nodes)} converted unjoined: "
+                    "joined, their car links cross without being foes or pass closer than "
+                    f"{CLOSE_PASS:g} m")  # fmt: skip
+            _convert(copy, net, source, opts.bbox, [n for ns in unjoin.values() for n in ns])
+        repair_net(net, str(source), lambda line: say(f"{source}: {line}"))
         poly = work / "map.poly.xml"
         if opts.buildings:
             run_sumo_tool("polyconvert", [*polyconvert_args(copy, net), "-o", str(poly)],

@@ -144,3 +144,55 @@ def bridge_loop(doc: OsmDoc | None = None, **bridge_tags: str) -> OsmDoc:
     doc.way([ids["E"], ids["N"]], highway="residential", name="NE")
     doc.way([ids["S"], ids["W"]], highway="residential", name="SW")
     return doc
+
+
+def staggered_junction(doc: OsmDoc | None = None) -> OsmDoc:
+    """A secondary road with a 10 m jog where two residential side roads meet it, one from
+    the north at A, one from the south at B (a staggered junction; netconvert joins A and B,
+    8 m apart on the map, into one junction)::
+
+        y=150       N
+                    |
+        y=0   W --- A
+                     \\
+        y=-8          B --- E      Main Street: W (-150, 0) A (0, 0) B (6, -8) E (150, -8)
+                      |
+        y=-150        S
+
+    Two residential streets close the loop: W -> N and S -> E. ``ids``: nodes "A", "B";
+    way "main".
+    """
+    doc = doc or OsmDoc()
+    ids = doc.ids
+    for name, (x, y) in {"W": (-150, 0), "A": (0, 0), "B": (6, -8), "E": (150, -8),
+                         "N": (0, 150), "S": (6, -150)}.items():  # fmt: skip
+        ids[name] = doc.node(float(x), float(y))
+    ids["main"] = doc.way([ids[k] for k in "WABE"], highway="secondary", name="Main Street")
+    doc.way([ids["N"], ids["A"]], highway="residential", name="North Street")
+    doc.way([ids["B"], ids["S"]], highway="residential", name="South Street")
+    doc.way([ids["W"], ids["N"]], highway="residential")
+    doc.way([ids["S"], ids["E"]], highway="residential")
+    return doc
+
+
+def dead_start(doc: OsmDoc | None = None) -> OsmDoc:
+    """A two-way street N -> X -> B that goes on one-way from B to S, with a mapped crossing
+    node X 3 m before B: netconvert leaves a road piece B -> X some 0.2 m long whose car lane
+    nothing leads into (no street other than the one-way one meets at B)::
+
+        y=100   N ------------ (Loop, residential, two-way) ---- W (-100, 0) -- S
+        y=3     X  highway=crossing
+        y=0     B
+        y=-100  S  (B -> S: oneway=yes)
+
+    ``ids``: nodes "B", "X"; ways "two-way", "one-way".
+    """
+    doc = doc or OsmDoc()
+    ids = doc.ids
+    for name, (x, y) in {"S": (0, -100), "B": (0, 0), "N": (0, 100), "W": (-100, 0)}.items():
+        ids[name] = doc.node(float(x), float(y))
+    ids["X"] = doc.node(0.0, 3.0, highway="crossing")
+    ids["two-way"] = doc.way([ids["N"], ids["X"], ids["B"]], highway="residential")
+    ids["one-way"] = doc.way([ids["B"], ids["S"]], highway="residential", oneway="yes")
+    doc.way([ids["S"], ids["W"], ids["N"]], highway="residential", name="Loop")
+    return doc
