@@ -196,7 +196,9 @@ def _narrowed(
     return 0.0
 
 
-def _crossings(root: etree._Element) -> list[tuple[str, str, str, float, float]]:
+def crossings_along_cars(root: etree._Element) -> list[tuple[str, str, str, float, float]]:
+    """Crossings a car link that is not their foe passes within half a car's width of:
+    (junction, crossing edge id, crossed edges, width, the width that clears them or 0)."""
     paths, _, _ = _paths(root)
     car = _car_lanes(root)
     crossing = {}
@@ -279,7 +281,7 @@ def repair_net(net: Path, what: str, warn: Callable[[str], None]) -> None:
     ``warn`` line per repair), then report the car conflicts left; ``what`` names the
     user's input in an error."""
     root = etree.parse(str(net), etree.XMLParser(huge_tree=True)).getroot()
-    repairs = NetRepairs(crossings=_crossings(root), closed=_dead_starts(root))
+    repairs = NetRepairs(crossings=crossings_along_cars(root), closed=_dead_starts(root))
     if repairs.any:
         fixed = net.with_name("repaired." + net.name)
         _apply(net, repairs, fixed, what)

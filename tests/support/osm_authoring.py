@@ -196,3 +196,30 @@ def dead_start(doc: OsmDoc | None = None) -> OsmDoc:
     ids["one-way"] = doc.way([ids["B"], ids["S"]], highway="residential", oneway="yes")
     doc.way([ids["S"], ids["W"], ids["N"]], highway="residential", name="Loop")
     return doc
+
+
+def crossing_at_junction(doc: OsmDoc | None = None) -> OsmDoc:
+    """A mapped zebra crossing (``highway=crossing``) on the node J where a residential side
+    street without sidewalks (``sidewalk=no``) crosses Main Street (secondary, sidewalks on
+    both sides): netconvert puts the crossings over Main Street's two legs inside junction J,
+    4 m wide, where the side street's straight-on cars pass::
+
+        y=150          N
+                       |
+        y=0    W ----- J ----- E     Main Street
+                       |
+        y=-150         S             loop: N -> W, S -> E (residential, no sidewalks)
+
+    ``ids``: node "J"; ways "main", "side".
+    """
+    doc = doc or OsmDoc()
+    ids = doc.ids
+    ids["J"] = doc.node(0.0, 0.0, highway="crossing", crossing="zebra")
+    for name, (x, y) in {"N": (0, 150), "S": (0, -150), "W": (-150, 0), "E": (150, 0)}.items():
+        ids[name] = doc.node(float(x), float(y))
+    ids["main"] = doc.way([ids["W"], ids["J"], ids["E"]], highway="secondary",
+                          name="Main Street", sidewalk="both")  # fmt: skip
+    ids["side"] = doc.way([ids["N"], ids["J"], ids["S"]], highway="residential", sidewalk="no")
+    doc.way([ids["N"], ids["W"]], highway="residential", sidewalk="no")
+    doc.way([ids["S"], ids["E"]], highway="residential", sidewalk="no")
+    return doc
