@@ -86,10 +86,6 @@ NETCONVERT_OPTIONS: tuple[NetconvertOption, ...] = tuple(
          "on the ground"),
         ("--junctions.join", "true", "the nodes OSM maps for one junction of dual "
          "carriageways become one junction"),
-        ("--internal-junctions.vehicle-width", "2.5", "a vehicle waiting inside a junction "
-         "(a left turn at its internal junction) stops clear of the lanes it yields to by half "
-         "a bus's width, not a car's (1.8 m, netconvert's default, leaves a waiting car's "
-         "corner in the way at a skewed junction)"),
         ("--ramps.guess", "true", "acceleration and deceleration lanes at motorway ramps"),
         ("--roundabouts.guess", "true", "right of way inside roundabouts"),
         ("--no-turnarounds.except-deadend", "true", "U-turns only at dead ends: a U-turn at "

@@ -1,11 +1,20 @@
 """Bridge and tunnel heights from OSM tags (no SUMO): the level of a way, the level of the
-nodes where levels meet, and the ele tags the repaired copy carries."""
+nodes where levels meet, the slope limit, and the ele tags the repaired copy carries."""
 
 from __future__ import annotations
 
+import pytest
 from lxml import etree
 
-from hiyari.net.sumo.osm_levels import LEVEL_HEIGHT, node_levels, way_level, write_levels
+from hiyari.net.sumo.osm_levels import (
+    LEVEL_HEIGHT,
+    M_PER_DEG,
+    MAX_GRADE,
+    node_heights,
+    node_levels,
+    way_level,
+    write_levels,
+)
 
 
 def test_way_level_from_layer_bridge_and_tunnel():
@@ -20,10 +29,11 @@ def test_way_level_from_layer_bridge_and_tunnel():
     assert way_level({"bridge": "yes", "layer": "x"}) == 1  # no integer: the bridge's 1
 
 
-def _osm(ways: list[tuple[list[int], dict[str, str]]]) -> etree._Element:
+def _osm(ways: list[tuple[list[int], dict[str, str]]], step: float = 100.0) -> etree._Element:
+    """Nodes 1..9 on the equator, node n at n * ``step`` m east."""
     root = etree.Element("osm")
     for n in range(1, 10):
-        node = etree.SubElement(root, "node", id=str(n), lat="0", lon="0")
+        node = etree.SubElement(root, "node", id=str(n), lat="0", lon=repr(n * step / M_PER_DEG))
         etree.SubElement(node, "tag", k="ele", v="31.5")  # an altitude: dropped
     for k, (refs, tags) in enumerate(ways):
         way = etree.SubElement(root, "way", id=str(100 + k))
@@ -60,3 +70,14 @@ def test_ways_that_are_no_roads_give_no_level():
     etree.SubElement(rail, "tag", k="railway", v="rail")
     etree.SubElement(rail, "tag", k="bridge", v="yes")
     assert node_levels(root) == {}
+
+
+def test_no_slope_is_steeper_than_the_grade_limit():
+    # a footway tunnel 1 -> 2 -> 3 -> 4 (nodes 6 m apart) ends at node 4 inside a ground
+    # street 5 -> 4 -> 6: node 3 is 6 m from the ground, so 1.5 m down, not a layer's 6 m
+    root = _osm([([1, 2, 3, 4], {"highway": "footway", "tunnel": "yes"}), ([5, 4, 6], {})],
+                step=6.0)  # fmt: skip
+    assert node_levels(root) == {"1": -1, "2": -1, "3": -1}
+    assert node_heights(root) == pytest.approx(
+        {"3": -MAX_GRADE * 6.0, "2": -MAX_GRADE * 12.0, "1": -MAX_GRADE * 18.0}, abs=0.01
+    )
