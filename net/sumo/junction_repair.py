@@ -22,7 +22,12 @@ where that fails:
   a vehicle inserted there stands in the junction behind it, where SUMO does not see it.
   Repair: the lane is closed to vehicles (and the lanes only it leads into, while as short).
 
-The last two are applied by netconvert to the net itself (``netconvert -s`` with a
+- *lanes of zero length*: netconvert cuts a short road piece whose ends are at different
+  heights (a tunnel's ramp between two close junctions) down to a lane whose shape points
+  coincide; SUMO puts a person on it, or on the walking area before it, at NaN. Repair:
+  the lane gets a straight 0.1 m shape (its length in the net) along its edge.
+
+The crossings and dead starts are applied by netconvert to the net itself (``netconvert -s`` with a
 connection file and an edge file). What is left is reported as SUMO's limit, one line per
 junction: car links that cross without being foes or pass closer than ``CLOSE_PASS``
 without crossing (SUMO's in-junction conflicts are crossings of lane centre lines only),
@@ -31,6 +36,7 @@ crossings that cannot be narrowed enough.
 
 from __future__ import annotations
 
+import math
 import tempfile
 from collections import defaultdict
 from collections.abc import Callable
@@ -276,10 +282,47 @@ def _apply(net: Path, repairs: NetRepairs, out: Path, what: str) -> None:
                                      "--edge-files", str(edg_file), "-o", str(out)], what)  # fmt: skip
 
 
+#: A lane whose shape is shorter than this in plan view has collapsed to a point, m.
+_COLLAPSED = 0.05
+
+
+def _unit(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, float]:
+    d = math.dist(a, b)
+    return ((b[0] - a[0]) / d, (b[1] - a[1]) / d) if d > 0 else (1.0, 0.0)
+
+
+def straighten_collapsed(root: etree._Element) -> list[str]:
+    """Give every lane whose shape collapsed to a point a straight 0.1 m shape centred on
+    it, along its edge (from-junction to to-junction; an internal lane along its junction's
+    incoming lane); return the lane ids."""
+    xy = {j.get("id"): (float(j.get("x")), float(j.get("y"))) for j in root.iter("junction")}
+    shapes = {ln.get("id"): ln.get("shape") for ln in root.iter("lane")}
+    into = {c.get("via"): f"{c.get('from')}_{c.get('fromLane')}" for c in root.iter("connection")
+            if c.get("via")}  # fmt: skip
+    fixed = []
+    for e in root.iter("edge"):
+        for ln in e.iter("lane"):
+            pts = [tuple(map(float, p.split(","))) for p in ln.get("shape").split()]
+            run = sum(math.dist(a[:2], b[:2]) for a, b in zip(pts, pts[1:], strict=False))
+            if run >= _COLLAPSED:
+                continue
+            if e.get("function") == "internal" and into.get(ln.get("id")) in shapes:
+                before = [tuple(map(float, p.split(",")[:2]))
+                          for p in shapes[into[ln.get("id")]].split()]  # fmt: skip
+                ux, uy = _unit(before[-2], before[-1])
+            else:
+                ux, uy = _unit(xy.get(e.get("from"), (0, 0)), xy.get(e.get("to"), (1, 0)))
+            x, y, *z = pts[0]
+            ends = [(x - 0.05 * ux, y - 0.05 * uy), (x + 0.05 * ux, y + 0.05 * uy)]
+            ln.set("shape", " ".join(",".join(f"{v:.2f}" for v in (*p, *z)) for p in ends))
+            fixed.append(ln.get("id"))
+    return fixed
+
+
 def repair_net(net: Path, what: str, warn: Callable[[str], None]) -> None:
-    """Narrow the crossings and close the dead starts of the net ``net`` in place (one
-    ``warn`` line per repair), then report the car conflicts left; ``what`` names the
-    user's input in an error."""
+    """Narrow the crossings, close the dead starts and straighten the collapsed lanes of the
+    net ``net`` in place (one ``warn`` line per repair), then report the car conflicts
+    left; ``what`` names the user's input in an error."""
     root = etree.parse(str(net), etree.XMLParser(huge_tree=True)).getroot()
     repairs = NetRepairs(crossings=crossings_along_cars(root), closed=_dead_starts(root))
     if repairs.any:
@@ -287,6 +330,13 @@ def repair_net(net: Path, what: str, warn: Callable[[str], None]) -> None:
         _apply(net, repairs, fixed, what)
         fixed.replace(net)
         root = etree.parse(str(net), etree.XMLParser(huge_tree=True)).getroot()
+    collapsed = straighten_collapsed(root)
+    if collapsed:
+        etree.ElementTree(root).write(str(net), xml_declaration=True, encoding="UTF-8")
     repairs.conflicts = car_conflicts(root)
     for line in repairs.messages():
         warn(line)
+    for lane in collapsed:
+        warn(f"lane {lane}: netconvert cut it to a point (a short piece between junctions at "
+             "different heights): given a straight 0.1 m shape along its edge (SUMO puts a "
+             "person on a lane of zero length at no position)")  # fmt: skip
