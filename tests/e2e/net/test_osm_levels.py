@@ -1,7 +1,7 @@
 """A bridge over a street, written as OSM maps it (bridge=yes, layer=1, two nodes): the
 import puts the bridge at its layer's height and the street below on the ground, and a car
 crossing the bridge passes over the car below it with no contact, although their ground
-rectangles overlap in plan view."""
+rectangles overlap in plan view; a building beside the bridge stands on the ground."""
 
 from __future__ import annotations
 
@@ -13,6 +13,8 @@ import shapely
 from lxml import etree
 from osm_authoring import bridge_loop
 
+from hiyari.net.mesh.materials import Material
+from hiyari.net.mesh.road_mesh import network_scene_mesh
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.sumo.osm import import_osm
 from hiyari.net.sumo.osm_levels import LEVEL_HEIGHT
@@ -85,3 +87,14 @@ def test_a_car_on_the_bridge_passes_over_the_car_below(bridge_net):
                 seen_2d += bool(flat.detect(ground))
     assert z == {(("high", LEVEL_HEIGHT), ("low", 0.0))}  # SUMO's 3-D positions, one per level
     assert seen_2d >= 5 and contacts == []
+
+
+def test_a_building_beside_the_bridge_stands_on_the_ground(tmp_path):
+    doc = bridge_loop()
+    # 12 m high, 2 m east of the bridge's sidewalk and nearer to the bridge (at 6 m) than to
+    # any street on the ground
+    doc.building(8.0, 10.0, 14.0, 40.0, height="12")
+    net = import_osm(doc.write(tmp_path / "b.osm"), tmp_path / "b.net.xml")
+    mesh = network_scene_mesh(RoadNetwork(net))
+    feet = mesh.vertices[np.unique(mesh.faces[mesh.material == Material.BUILDING])]
+    assert sorted(set(np.round(feet[:, 2], 3))) == [0.0, 12.0]
