@@ -431,7 +431,7 @@ def _buildings(g: RoadGeometry, p: MeshParams) -> SceneMesh:
     return polygon_prism(polys, z0, z0 + height[polys.vertex_owner], Material.BUILDING)
 
 
-def _ground_height(road_pts: np.ndarray, at: np.ndarray, k: int = 64) -> np.ndarray:
+def _ground_height(road_pts: np.ndarray, at: np.ndarray, k: int = 256) -> np.ndarray:
     """(N,) the ground's height at the points ``at`` (N, 2): of the ``k`` road points nearest
     to each, the height nearest to 0 m, so that a building beside a bridge or above a
     tunnel (an OSM import's roads off the ground) stands on the street beside it."""
