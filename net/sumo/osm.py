@@ -24,7 +24,11 @@ kept as a ``<param>``; ``hiyari.net.road.buildings`` reads the buildings from it
 
 Repairs: what netconvert would stop on is repaired on a temporary copy first
 (``hiyari.net.sumo.osm_repair``), one warning line per repair; the user's file is never
-modified.
+modified. The copy carries the heights of bridges and tunnels (``osm_levels``). After
+netconvert, junctions where SUMO's logic would let vehicles collide are repaired
+(``junction_repair``: joined clusters converted again unjoined, crossings narrowed, dead-start
+lanes closed, collapsed lanes straightened), one warning line each, and the car conflicts
+left are reported as SUMO's limit.
 """
 
 from __future__ import annotations
@@ -166,7 +170,7 @@ def import_osm(
     """Convert the OpenStreetMap extract ``osm`` to the SUMO net ``out``; return ``out``.
 
     With ``options.buildings`` the buildings go to ``poly_path(out)``. ``warn`` receives one
-    line per repair of the extract. Raises HiyariError (one line) for a missing, truncated or
+    line per repair of the extract and of the converted net. Raises HiyariError (one line) for a missing, truncated or
     malformed file, an extract without roads, a bounding box outside the map and a map that
     yields no drivable lane; nothing is written then, and the user's file is never modified.
     """
