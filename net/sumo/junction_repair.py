@@ -48,18 +48,17 @@ from lxml import etree
 
 from hiyari.net.sumo.junction_check import _paths, check_junctions
 from hiyari.sumo_tools import run_sumo_tool
-from hiyari.traffic.actor_class import CLASS_SIZE, ActorClass
 
-#: Half the width of SUMO's (and hiyari's) car, m.
-CAR_HALF_WIDTH = 0.5 * CLASS_SIZE[ActorClass.CAR].width
+#: Half the width of a car, m (SUMO's passenger car and hiyari's CAR class are 1.8 m wide; the
+#: net layer does not import the traffic layer's size table).
+CAR_HALF_WIDTH = 0.9
 #: Distance kept between a car's path and a narrowed crossing: half a car and 0.1 m, m.
 CLEARANCE = CAR_HALF_WIDTH + 0.1
 #: A crossing is not narrowed below this width, m (two people side by side).
 MIN_CROSSING_WIDTH = 2.0
-#: A dead start shorter than this holds no inserted vehicle of the demand's longest type
-#: (a bus), m.
-LONGEST_VEHICLE = max(CLASS_SIZE[c].length for c in (ActorClass.CAR, ActorClass.BUS,
-                                                      ActorClass.TRUCK))  # fmt: skip
+#: A dead start shorter than this holds no inserted vehicle of the longest type the demand
+#: inserts (a 12 m bus, SUMO's and hiyari's), m.
+LONGEST_VEHICLE = 12.0
 #: Two car links whose paths pass closer than this without crossing let their cars' bodies
 #: overlap by 0.3 m side by side, m (opposite left turns at an ordinary crossroads pass 1.6
 #: to 1.8 m apart, and SUMO's cars pass there).
