@@ -1,5 +1,5 @@
 """Where netconvert's junctions let SUMO's vehicles run into each other, on small OSM files
-written for each case (see hiyari.net.sumo.junction_repair): a staggered junction that
+written for each case (see hiyari.net.sumo.osm.junction_repair): a staggered junction that
 netconvert would join is converted node by node, a crossing drawn along cars that are not
 its foes is narrowed clear of them, and a car lane that nothing leads into, 0.2 m long, is
 closed to vehicles."""
@@ -9,12 +9,12 @@ from __future__ import annotations
 from lxml import etree
 from osm_authoring import crossing_at_junction, dead_start, staggered_junction
 
-from hiyari.net.sumo.junction_repair import (
+from hiyari.net.sumo.osm import import_osm
+from hiyari.net.sumo.osm.junction_repair import (
     MIN_CROSSING_WIDTH,
     car_conflicts,
     crossings_along_cars,
 )
-from hiyari.net.sumo.osm import import_osm
 
 
 def _root(net) -> etree._Element:

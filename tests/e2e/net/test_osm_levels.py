@@ -17,7 +17,7 @@ from hiyari.net.mesh.materials import Material
 from hiyari.net.mesh.road_mesh import network_scene_mesh
 from hiyari.net.road.network import RoadNetwork
 from hiyari.net.sumo.osm import import_osm
-from hiyari.net.sumo.osm_levels import LEVEL_HEIGHT
+from hiyari.net.sumo.osm.levels import LEVEL_HEIGHT
 from hiyari.traffic import SimConfig, Simulation
 from hiyari.traffic.collision import CollisionDetector
 

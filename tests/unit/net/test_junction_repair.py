@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from lxml import etree
 
-from hiyari.net.sumo.junction_repair import straighten_collapsed
+from hiyari.net.sumo.osm.junction_repair import straighten_collapsed
 
 
 def test_a_lane_cut_to_a_point_gets_a_straight_shape_along_its_edge():

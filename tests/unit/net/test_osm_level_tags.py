@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 from lxml import etree
 
-from hiyari.net.sumo.osm_levels import (
+from hiyari.net.sumo.osm.levels import (
     LEVEL_HEIGHT,
     M_PER_DEG,
     MAX_GRADE,

@@ -23,7 +23,7 @@ multipolygon relations assembled) into ``<net stem>.poly.xml`` beside the net, e
 kept as a ``<param>``; ``hiyari.net.road.buildings`` reads the buildings from it.
 
 Repairs: what netconvert would stop on is repaired on a temporary copy first
-(``hiyari.net.sumo.osm_repair``), one warning line per repair; the user's file is never
+(``hiyari.net.sumo.osm.repair``), one warning line per repair; the user's file is never
 modified. The copy carries the heights of bridges and tunnels (``osm_levels``). After
 netconvert, junctions where SUMO's logic would let vehicles collide are repaired
 (``junction_repair``: joined clusters converted again unjoined, crossings narrowed, dead-start
@@ -43,8 +43,8 @@ from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
 from hiyari.net.road.buildings import poly_path
 from hiyari.net.sumo.files import check_net
-from hiyari.net.sumo.junction_repair import CLOSE_PASS, clusters_to_unjoin, repair_net
-from hiyari.net.sumo.osm_repair import BBox, check_bbox, repair_osm, sidewalk_types
+from hiyari.net.sumo.osm.junction_repair import CLOSE_PASS, clusters_to_unjoin, repair_net
+from hiyari.net.sumo.osm.repair import BBox, check_bbox, repair_osm, sidewalk_types
 from hiyari.sumo_tools import run_sumo_tool, sumo_home
 
 _log = logging.getLogger(__name__)
@@ -86,7 +86,7 @@ NETCONVERT_OPTIONS: tuple[NetconvertOption, ...] = tuple(
         ("--tls.discard-simple", "true", "a lone signal node not at a junction (a pedestrian "
          "light mid-block) stays a crossing, not a controller of nothing"),
         ("--osm.elevation", "true", "bridges and tunnels at the heights of their OSM layers "
-         "(ele tags the repaired copy carries, hiyari.net.sumo.osm_levels); every other road "
+         "(ele tags the repaired copy carries, hiyari.net.sumo.osm.levels); every other road "
          "on the ground"),
         ("--junctions.join", "true", "the nodes OSM maps for one junction of dual "
          "carriageways become one junction"),

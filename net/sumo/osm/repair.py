@@ -19,7 +19,7 @@ mapped gets none, while ``--sidewalks.guess`` overrides even ``sidewalk=no``. Ev
 a type that SUMO's pedestrian type map gives a sidewalk width (primary ... residential) and
 that has no ``sidewalk`` / ``sidewalk:left`` / ``sidewalk:right`` / ``sidewalk:both`` tag gets
 ``sidewalk=both`` in the copy (a guess, not a repair: not reported per way). Bridges and
-tunnels get their heights in the copy too (``hiyari.net.sumo.osm_levels``).
+tunnels get their heights in the copy too (``hiyari.net.sumo.osm.levels``).
 
 Each repair is one line: ``<file>:<line>: <element>: <what was done>``. What cannot be
 repaired is one HiyariError line naming the file: not well-formed XML (a truncated download),
@@ -36,7 +36,7 @@ from lxml import etree
 
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
-from hiyari.net.sumo.osm_levels import write_levels
+from hiyari.net.sumo.osm.levels import write_levels
 
 #: West, south, east, north in degrees (WGS84 longitude / latitude), as osmium and the OSM
 #: API write a bounding box.
