@@ -431,8 +431,18 @@ def _buildings(g: RoadGeometry, p: MeshParams) -> SceneMesh:
     return polygon_prism(polys, z0, z0 + height[polys.vertex_owner], Material.BUILDING)
 
 
+def _ground_height(road_pts: np.ndarray, at: np.ndarray, k: int = 256) -> np.ndarray:
+    """(N,) the ground's height at the points ``at`` (N, 2): of the ``k`` road points nearest
+    to each, the height nearest to 0 m, so that a building beside a bridge or above a
+    tunnel (an OSM import's roads off the ground) stands on the street beside it."""
+    _, idx = cKDTree(road_pts[:, :2]).query(at, k=min(k, len(road_pts)))
+    z = road_pts[np.asarray(idx).reshape(len(at), -1), 2]
+    return z[np.arange(len(at)), np.argmin(np.abs(z), axis=1)]
+
+
 def _mapped_buildings(g: RoadGeometry, mapped: Sequence[Building]) -> SceneMesh:
-    """Each building's footprint extruded to its height from the road height nearest to it."""
+    """Each building's footprint extruded to its height from the ground beside it (of the
+    road heights nearby, the one nearest to 0 m)."""
     if not mapped:
         return SceneMesh.concatenate([])
     outlines = [np.column_stack([b.outline, np.zeros(len(b.outline))]) for b in mapped]
@@ -441,8 +451,7 @@ def _mapped_buildings(g: RoadGeometry, mapped: Sequence[Building]) -> SceneMesh:
         return SceneMesh.concatenate([])
     road_pts = np.concatenate([np.concatenate([ln.left, ln.right]) for ln in g.lanes.values()])
     centroids = shapely.get_coordinates(shapely.centroid(polys.polygons))
-    _, nearest = cKDTree(road_pts[:, :2]).query(centroids)
-    base = road_pts[nearest, 2]
+    base = _ground_height(road_pts, centroids)
     height = np.array([b.height for b in mapped])[polys.source]
     z0 = base[polys.vertex_owner]
     return polygon_prism(polys, z0, z0 + height[polys.vertex_owner], Material.BUILDING)

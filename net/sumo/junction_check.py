@@ -93,9 +93,13 @@ def _paths(
     return paths, targets, source
 
 
-def check_junctions(net: str | Path) -> JunctionReport:
-    """Compare every junction's link logic with its link paths (see the module docstring)."""
-    root = etree.parse(str(net), etree.XMLParser(huge_tree=True)).getroot()
+def check_junctions(net: str | Path | etree._Element) -> JunctionReport:
+    """Compare every junction's link logic with its link paths (see the module docstring);
+    ``net`` is a net file or its parsed root."""
+    if isinstance(net, etree._Element):
+        root = net
+    else:
+        root = etree.parse(str(net), etree.XMLParser(huge_tree=True)).getroot()
     paths, targets, sources = _paths(root)
     report = JunctionReport()
     for j in root.iter("junction"):

@@ -111,3 +111,115 @@ def town(doc: OsmDoc | None = None) -> OsmDoc:
     ids["tall"] = doc.building(20.0, 20.0, 60.0, 60.0, height="12 m")
     ids["levels"] = doc.building(-60.0, -60.0, -20.0, -20.0, building__levels="5")
     return doc
+
+
+def bridge_loop(doc: OsmDoc | None = None, **bridge_tags: str) -> OsmDoc:
+    """A secondary road on a bridge over a residential street, closed into one loop (an
+    extract's road that leads nowhere is not imported)::
+
+        y=150              N ---- NE street ---- E' (150, 0) is E
+                           |
+        y=20               n  bridge: bridge=yes, layer=1 (or ``bridge_tags``)
+        y=0    W ------- (over) -------- E      Under Street: residential, on the ground
+        y=-20              s
+                           |
+        y=-150             S ---- SW street ---- W
+            x=-150       x=0          x=150
+
+    The bridge way is s -> n (two nodes: nothing on it between its ends); "south" S -> s and
+    "north" n -> N are its approach roads. ``ids``: nodes "W", "E", "S", "N", "s", "n"; ways
+    "under", "south", "bridge", "north".
+    """
+    doc = doc or OsmDoc()
+    ids = doc.ids
+    for name, (x, y) in {"W": (-150, 0), "E": (150, 0), "S": (0, -150), "N": (0, 150),
+                         "s": (0, -20), "n": (0, 20)}.items():  # fmt: skip
+        ids[name] = doc.node(float(x), float(y))
+    mid = [doc.node(-50.0, 0.0), doc.node(50.0, 0.0)]  # Under Street's shape, clear of x = 0
+    ids["under"] = doc.way([ids["W"], *mid, ids["E"]], highway="residential", name="Under")
+    ids["south"] = doc.way([ids["S"], ids["s"]], highway="secondary", name="South")
+    tags = bridge_tags or {"bridge": "yes", "layer": "1"}
+    ids["bridge"] = doc.way([ids["s"], ids["n"]], highway="secondary", name="Bridge", **tags)
+    ids["north"] = doc.way([ids["n"], ids["N"]], highway="secondary", name="North")
+    doc.way([ids["E"], ids["N"]], highway="residential", name="NE")
+    doc.way([ids["S"], ids["W"]], highway="residential", name="SW")
+    return doc
+
+
+def staggered_junction(doc: OsmDoc | None = None) -> OsmDoc:
+    """A secondary road with a 10 m jog where two residential side roads meet it, one from
+    the north at A, one from the south at B (a staggered junction; netconvert joins A and B,
+    8 m apart on the map, into one junction)::
+
+        y=150       N
+                    |
+        y=0   W --- A
+                     \\
+        y=-8          B --- E      Main Street: W (-150, 0) A (0, 0) B (6, -8) E (150, -8)
+                      |
+        y=-150        S
+
+    Two residential streets close the loop: W -> N and S -> E. ``ids``: nodes "A", "B";
+    way "main".
+    """
+    doc = doc or OsmDoc()
+    ids = doc.ids
+    for name, (x, y) in {"W": (-150, 0), "A": (0, 0), "B": (6, -8), "E": (150, -8),
+                         "N": (0, 150), "S": (6, -150)}.items():  # fmt: skip
+        ids[name] = doc.node(float(x), float(y))
+    ids["main"] = doc.way([ids[k] for k in "WABE"], highway="secondary", name="Main Street")
+    doc.way([ids["N"], ids["A"]], highway="residential", name="North Street")
+    doc.way([ids["B"], ids["S"]], highway="residential", name="South Street")
+    doc.way([ids["W"], ids["N"]], highway="residential")
+    doc.way([ids["S"], ids["E"]], highway="residential")
+    return doc
+
+
+def dead_start(doc: OsmDoc | None = None) -> OsmDoc:
+    """A two-way street N -> X -> B that goes on one-way from B to S, with a mapped crossing
+    node X 3 m before B: netconvert leaves a road piece B -> X some 0.2 m long whose car lane
+    nothing leads into (no street other than the one-way one meets at B)::
+
+        y=100   N ------------ (Loop, residential, two-way) ---- W (-100, 0) -- S
+        y=3     X  highway=crossing
+        y=0     B
+        y=-100  S  (B -> S: oneway=yes)
+
+    ``ids``: nodes "B", "X"; ways "two-way", "one-way".
+    """
+    doc = doc or OsmDoc()
+    ids = doc.ids
+    for name, (x, y) in {"S": (0, -100), "B": (0, 0), "N": (0, 100), "W": (-100, 0)}.items():
+        ids[name] = doc.node(float(x), float(y))
+    ids["X"] = doc.node(0.0, 3.0, highway="crossing")
+    ids["two-way"] = doc.way([ids["N"], ids["X"], ids["B"]], highway="residential")
+    ids["one-way"] = doc.way([ids["B"], ids["S"]], highway="residential", oneway="yes")
+    doc.way([ids["S"], ids["W"], ids["N"]], highway="residential", name="Loop")
+    return doc
+
+
+def crossing_at_junction(doc: OsmDoc | None = None) -> OsmDoc:
+    """A mapped zebra crossing (``highway=crossing``) on the node J where a residential side
+    street without sidewalks (``sidewalk=no``) crosses Main Street (secondary, sidewalks on
+    both sides): netconvert puts the crossings over Main Street's two legs inside junction J,
+    4 m wide, where the side street's straight-on cars pass::
+
+        y=150          N
+                       |
+        y=0    W ----- J ----- E     Main Street
+                       |
+        y=-150         S             loop: N -> W, S -> E (residential, no sidewalks)
+
+    ``ids``: node "J"; ways "main", "side".
+    """
+    doc = doc or OsmDoc()
+    ids = doc.ids
+    ids["J"] = doc.node(0.0, 0.0, highway="crossing", crossing="zebra")
+    for name, (x, y) in {"N": (0, 150), "S": (0, -150), "W": (-150, 0), "E": (150, 0)}.items():
+        ids[name] = doc.node(float(x), float(y))
+    ids["main"] = doc.way([ids["W"], ids["J"], ids["E"]], highway="secondary",
+                          name="Main Street", sidewalk="both")  # fmt: skip
+    ids["side"] = doc.way([ids["N"], ids["J"], ids["S"]], highway="residential", sidewalk="no")
+    doc.way([ids["N"], ids["W"]], highway="residential", sidewalk="no")
+    doc.way([ids["S"], ids["E"]], highway="residential", sidewalk="no")
+    return doc

@@ -23,15 +23,19 @@ multipolygon relations assembled) into ``<net stem>.poly.xml`` beside the net, e
 kept as a ``<param>``; ``hiyari.net.road.buildings`` reads the buildings from it.
 
 Repairs: what netconvert would stop on is repaired on a temporary copy first
-(``hiyari.net.sumo.osm_repair``), one warning line per repair; the user's file is never
-modified.
+(``hiyari.net.sumo.osm.repair``), one warning line per repair; the user's file is never
+modified. The copy carries the heights of bridges and tunnels (``osm_levels``). After
+netconvert, junctions where SUMO's logic would let vehicles collide are repaired
+(``junction_repair``: joined clusters converted again unjoined, crossings narrowed, dead-start
+lanes closed, collapsed lanes straightened), one warning line each, and the car conflicts
+left are reported as SUMO's limit.
 """
 
 from __future__ import annotations
 
 import logging
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -39,7 +43,8 @@ from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
 from hiyari.net.road.buildings import poly_path
 from hiyari.net.sumo.files import check_net
-from hiyari.net.sumo.osm_repair import BBox, check_bbox, repair_osm, sidewalk_types
+from hiyari.net.sumo.osm.junction_repair import CLOSE_PASS, clusters_to_unjoin, repair_net
+from hiyari.net.sumo.osm.repair import BBox, check_bbox, repair_osm, sidewalk_types
 from hiyari.sumo_tools import run_sumo_tool, sumo_home
 
 _log = logging.getLogger(__name__)
@@ -80,6 +85,9 @@ NETCONVERT_OPTIONS: tuple[NetconvertOption, ...] = tuple(
         ("--tls.join", "true", "the signals of one junction cluster act as one controller"),
         ("--tls.discard-simple", "true", "a lone signal node not at a junction (a pedestrian "
          "light mid-block) stays a crossing, not a controller of nothing"),
+        ("--osm.elevation", "true", "bridges and tunnels at the heights of their OSM layers "
+         "(ele tags the repaired copy carries, hiyari.net.sumo.osm.levels); every other road "
+         "on the ground"),
         ("--junctions.join", "true", "the nodes OSM maps for one junction of dual "
          "carriageways become one junction"),
         ("--ramps.guess", "true", "acceleration and deceleration lanes at motorway ramps"),
@@ -108,15 +116,37 @@ class OsmImportOptions:
     buildings: bool = True
 
 
-def netconvert_args(osm: Path, bbox: BBox | None) -> list[str]:
-    """netconvert's command line for the OSM file ``osm`` (without the output)."""
+def netconvert_args(osm: Path, bbox: BBox | None, unjoined: Sequence[str] = ()) -> list[str]:
+    """netconvert's command line for the OSM file ``osm`` (without the output); the OSM
+    nodes ``unjoined`` are not joined into junction clusters."""
     maps = sumo_home() / "data" / "typemap"
     args = ["--osm-files", str(osm), "--type-files", ",".join(str(maps / t) for t in TYPE_MAPS)]
     for opt in NETCONVERT_OPTIONS:
         args += [opt.name, opt.value]
     if bbox is not None:
         args += ["--keep-edges.in-geo-boundary", ",".join(repr(v) for v in bbox)]
+    if unjoined:
+        args += ["--junctions.join-exclude", ",".join(unjoined)]
     return args
+
+
+def _convert(
+    copy: Path, net: Path, source: Path, bbox: BBox | None, unjoined: Sequence[str]
+) -> None:
+    """Run netconvert on the repaired copy; HiyariError (one line) when it makes no net with
+    a drivable lane."""
+    inside = f" inside --bbox {','.join(f'{v:g}' for v in bbox)}" if bbox else ""
+    try:
+        run_sumo_tool("netconvert", [*netconvert_args(copy, bbox, unjoined), "-o", str(net)],
+                      str(source))  # fmt: skip
+    except HiyariError as exc:
+        raise HiyariError(f"{exc}{inside}") from None
+    if not net.is_file():
+        raise HiyariError(f"{source}: netconvert made no network (no road{inside})")
+    try:
+        check_net(net)
+    except HiyariError:
+        raise HiyariError(f"{source}: the converted map has no drivable lanes{inside}") from None
 
 
 def polyconvert_args(osm: Path, net: Path) -> list[str]:
@@ -140,7 +170,7 @@ def import_osm(
     """Convert the OpenStreetMap extract ``osm`` to the SUMO net ``out``; return ``out``.
 
     With ``options.buildings`` the buildings go to ``poly_path(out)``. ``warn`` receives one
-    line per repair of the extract. Raises HiyariError (one line) for a missing, truncated or
+    line per repair of the extract and of the converted net. Raises HiyariError (one line) for a missing, truncated or
     malformed file, an extract without roads, a bounding box outside the map and a map that
     yields no drivable lane; nothing is written then, and the user's file is never modified.
     """
@@ -157,20 +187,16 @@ def import_osm(
         if opts.bbox is not None:
             check_bbox(source, opts.bbox, extract)
         net = work / "map.net.xml"
-        inside = f" inside --bbox {','.join(f'{v:g}' for v in opts.bbox)}" if opts.bbox else ""
-        try:
-            run_sumo_tool("netconvert", [*netconvert_args(copy, opts.bbox), "-o", str(net)],
-                          str(source))  # fmt: skip
-        except HiyariError as exc:
-            raise HiyariError(f"{exc}{inside}") from None
-        if not net.is_file():
-            raise HiyariError(f"{source}: netconvert made no network (no road{inside})")
-        try:
-            check_net(net)
-        except HiyariError:
-            raise HiyariError(
-                f"{source}: the converted map has no drivable lanes{inside}"
-            ) from None
+        _convert(copy, net, source, opts.bbox, ())
+        say = warn or _log.warning
+        unjoin = clusters_to_unjoin(net)
+        if unjoin:
+            for j, nodes in unjoin.items():
+                say(f"{source}: junction {j}: OSM nodes {' '.join(nodes)} converted unjoined: "
+                    "joined, their car links cross without being foes or pass closer than "
+                    f"{CLOSE_PASS:g} m")  # fmt: skip
+            _convert(copy, net, source, opts.bbox, [n for ns in unjoin.values() for n in ns])
+        repair_net(net, str(source), lambda line: say(f"{source}: {line}"))
         poly = work / "map.poly.xml"
         if opts.buildings:
             run_sumo_tool("polyconvert", [*polyconvert_args(copy, net), "-o", str(poly)],

@@ -18,7 +18,8 @@ The copy also makes netconvert's sidewalks follow OSM's convention: netconvert's
 mapped gets none, while ``--sidewalks.guess`` overrides even ``sidewalk=no``. Every street of
 a type that SUMO's pedestrian type map gives a sidewalk width (primary ... residential) and
 that has no ``sidewalk`` / ``sidewalk:left`` / ``sidewalk:right`` / ``sidewalk:both`` tag gets
-``sidewalk=both`` in the copy (a guess, not a repair: not reported per way).
+``sidewalk=both`` in the copy (a guess, not a repair: not reported per way). Bridges and
+tunnels get their heights in the copy too (``hiyari.net.sumo.osm.levels``).
 
 Each repair is one line: ``<file>:<line>: <element>: <what was done>``. What cannot be
 repaired is one HiyariError line naming the file: not well-formed XML (a truncated download),
@@ -35,6 +36,7 @@ from lxml import etree
 
 from hiyari.atomic import atomic_path
 from hiyari.errors import HiyariError
+from hiyari.net.sumo.osm.levels import write_levels
 
 #: West, south, east, north in degrees (WGS84 longitude / latitude), as osmium and the OSM
 #: API write a bounding box.
@@ -207,7 +209,8 @@ def repair_osm(
     source: str | Path, copy: str | Path, sidewalk_streets: frozenset[str] = frozenset()
 ) -> tuple[list[Repair], OsmExtract]:
     """Write to ``copy`` the OSM extract ``source`` (XML or PBF) as repaired XML, with
-    ``sidewalk=both`` on the ``sidewalk_streets`` (highway values) that map no sidewalk.
+    ``sidewalk=both`` on the ``sidewalk_streets`` (highway values) that map no sidewalk and the
+    heights of bridges and tunnels as node ``ele`` tags.
 
     Returns the repairs in file order and what the copy holds. ``source`` is only read.
     HiyariError (one line) for a missing file, malformed XML, an unreadable PBF, a document
@@ -227,6 +230,7 @@ def repair_osm(
     if not extract.highways:
         raise HiyariError(f"{source}: the extract has no highway=* way (no road to import)")
     guess_sidewalks(root, sidewalk_streets)
+    write_levels(root)
     with atomic_path(copy) as tmp:
         tree.write(str(tmp), xml_declaration=True, encoding="UTF-8")
     return sorted(repairs, key=lambda r: r.line), extract
