@@ -206,16 +206,18 @@ class LateralDistanceAction:
     """Hold the actor ``distance`` m across the road from ``entity`` (between the boxes'
     sides when ``freespace``, else between the reference points), on the side
     ``displacement`` says (leftToReferencedEntity, rightToReferencedEntity: in the
-    reference's direction of travel; any: the side it is on). ``max_acc`` (m/s^2; None:
-    at once): the peak lateral acceleration of the move there; ``continuous``: hold it
-    every step (the reference may move across)."""
+    reference's direction of travel; any: the side it is on). ``continuous``: hold it
+    every step (the reference may move across), and the action runs until it is stopped.
+    ``limits``: the DynamicConstraints, lateral (maximum acceleration, deceleration m/s^2,
+    maximum speed m/s; None each where not given; None: no DynamicConstraints, the actor is
+    put there at once)."""
 
     entity: str
     distance: float
     freespace: bool
     continuous: bool
     displacement: str = "any"
-    max_acc: float | None = None
+    limits: tuple[float | None, float | None, float | None] | None = None
 
 
 @dataclass(frozen=True)
