@@ -22,7 +22,10 @@ from hiyari.bridge.openscenario.engine.followers.lateral_distance import (
     next_lateral_speed,
     sinusoidal_duration,
 )
-from hiyari.bridge.openscenario.engine.followers.speed_profile import speed_profile
+from hiyari.bridge.openscenario.engine.followers.speed_profile import (
+    JerkLimited,
+    speed_profile,
+)
 from hiyari.bridge.openscenario.engine.followers.synchronize import Synchronizer
 from hiyari.bridge.openscenario.engine.global_actions import is_global, run_global
 from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
@@ -335,13 +338,24 @@ class ActionStarter:
         base = self.e.speed_of(body.entity) if body.entity else 0.0
         times, speeds = speed_profile(body, a.v, base, now)
         over = [False]
+        jerk = None
+        if body.following_mode == "follow" and (body.max_accel_rate or body.max_decel_rate):
+            jerk = JerkLimited.of(body, times, speeds)
+            # from the actor's acceleration, within the action's limits
+            jerk.acc = min(body.max_accel or math.inf, max(-(body.max_decel or math.inf), a.accel))
 
         def goal() -> float:
             t = self.e.now + self.e.dt  # the speed at the end of the coming step
-            if t >= times[-1] - 1e-9 and not over[0]:
+            if jerk is not None:
+                jerk.v = a.v
+                v = jerk.step(self.e.dt)
+                done = jerk.reached()
+            else:
+                v, done = float(np.interp(t, times, speeds)), t >= times[-1] - 1e-9
+            if done and not over[0]:
                 over[0] = True
                 self.e.table.motion_version += 1  # the storyboard is to end the action
-            return float(np.interp(t, times, speeds))
+            return v
 
         self._claim(element, a.name, ("longitudinal",))
         tr = SpeedTransition(a.v, a.v, goal, Shape.STEP, 0.0, False, True, now)

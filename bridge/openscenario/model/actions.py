@@ -121,7 +121,10 @@ class SpeedProfileAction:
     reaching that speed takes (linearly); without one the change takes as long as
     ``max_accel`` / ``max_decel`` (m/s^2) allow (at once when they are not given).
     ``following_mode`` "follow" also keeps a timed change within those limits (it then takes
-    longer); "position" follows the times exactly. ``max_speed`` caps every speed."""
+    longer) and, with ``max_accel_rate`` / ``max_decel_rate`` (m/s^3, the jerk limits),
+    changes the acceleration no faster than they allow (the speed then rounds the
+    profile's corners); "position" follows the times exactly. ``max_speed`` caps every
+    speed."""
 
     entries: tuple[tuple[float, float | None], ...]
     following_mode: str = "follow"
@@ -129,6 +132,8 @@ class SpeedProfileAction:
     max_accel: float | None = None
     max_decel: float | None = None
     max_speed: float | None = None
+    max_accel_rate: float | None = None
+    max_decel_rate: float | None = None
 
 
 @dataclass(frozen=True)

@@ -269,6 +269,8 @@ def _speed_profile(ctx: Ctx, el: etree._Element) -> ActionBody:
         limit("maxAcceleration"),
         limit("maxDeceleration"),
         limit("maxSpeed"),
+        limit("maxAccelerationRate"),
+        limit("maxDecelerationRate"),
     )
 
 
