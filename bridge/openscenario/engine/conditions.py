@@ -362,16 +362,26 @@ def _table(rows: list[tuple]) -> EntityRows:
         rule=np.array(rule, dtype=np.intp),
         kind=np.array(kind, dtype=np.int8),
         freespace=np.array([getattr(x, "freespace", False) for x in bodies], dtype=bool),
-        dtype=np.array(
-            [_DTYPE.get(getattr(x, "distance_type", DistanceType.EUCLIDEAN), 0) for x in bodies],
-            dtype=np.int8,
-        ),
+        dtype=np.array([_dtype(x) for x in bodies], dtype=np.int8),
         road=np.array(
             [_FRAME[getattr(x, "coordinate_system", CoordinateSystem.ENTITY)] for x in bodies],
             dtype=np.int8,
         ),
         body=list(bodies),
     )
+
+
+#: A speed / acceleration direction's code in the rows' distance-type column.
+_DIRECTION = {None: M.DIR_NONE, "longitudinal": M.DIR_LON, "lateral": M.DIR_LAT,
+              "vertical": M.DIR_VERT}  # fmt: skip
+
+
+def _dtype(body: object) -> int:
+    """The distance-type column of a row: its distance type, or for a speed, acceleration or
+    relative speed its direction."""
+    if isinstance(body, SpeedCondition | AccelerationCondition | RelativeSpeedCondition):
+        return _DIRECTION[body.direction]
+    return _DTYPE.get(getattr(body, "distance_type", DistanceType.EUCLIDEAN), 0)
 
 
 #: The kernels' frame of each coordinateSystem (lane coordinates measure as road ones).
@@ -396,7 +406,8 @@ def _row_table(rows: EntityRows) -> np.ndarray:
                 rows.freespace,
                 rows.dtype,
                 rows.road,
-                np.isin(rows.kind, M.DURATION_KINDS),
+                np.isin(rows.kind, M.DURATION_KINDS)
+                | ((rows.kind == M.ACCEL) & (rows.dtype == M.DIR_LAT)),  # tracked every step
             ],  # fmt: skip
             axis=1,
         )

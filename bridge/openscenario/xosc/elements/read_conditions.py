@@ -174,16 +174,25 @@ def _ttc(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
     )
 
 
+_DIRECTIONS = ("longitudinal", "lateral", "vertical")
+
+
+def _direction(ctx: Ctx, el: etree._Element) -> str | None:
+    """A DirectionalDimension attribute ``direction`` (None: not given)."""
+    text = ctx.opt(el, "direction")
+    if text is not None and text not in _DIRECTIONS:
+        raise HiyariError(
+            f"{ctx.where(el)}: direction {text!r} is not one of {', '.join(_DIRECTIONS)}"
+        )
+    return text
+
+
 def _speed(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
-    if el.get("direction") not in (None, "longitudinal"):
-        raise ctx.unsupported(el, f"direction {el.get('direction')}")
-    return SpeedCondition(ctx.num(el, "value"), _rule(ctx, el))
+    return SpeedCondition(ctx.num(el, "value"), _rule(ctx, el), _direction(ctx, el))
 
 
 def _accel(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
-    if el.get("direction") not in (None, "longitudinal"):
-        raise ctx.unsupported(el, f"direction {el.get('direction')}")
-    return AccelerationCondition(ctx.num(el, "value"), _rule(ctx, el))
+    return AccelerationCondition(ctx.num(el, "value"), _rule(ctx, el), _direction(ctx, el))
 
 
 def _collision(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
@@ -225,7 +234,7 @@ _ENTITY_READERS = {
     "CollisionCondition": _collision,
     "ReachPositionCondition": _reach,
     "RelativeSpeedCondition": lambda ctx, el: RelativeSpeedCondition(
-        ctx.text(el, "entityRef"), ctx.num(el, "value"), _rule(ctx, el)
+        ctx.text(el, "entityRef"), ctx.num(el, "value"), _rule(ctx, el), _direction(ctx, el)
     ),
     "StandStillCondition": lambda ctx, el: StandStillCondition(ctx.num(el, "duration")),
     "TraveledDistanceCondition": lambda ctx, el: TraveledDistanceCondition(ctx.num(el, "value")),
