@@ -26,6 +26,7 @@ from hiyari.bridge.openscenario.engine.kernels.tables import (
     EntityFields,
     TriggerArrays,
 )
+from hiyari.bridge.openscenario.engine.lane_frame import in_lane_frame
 from hiyari.bridge.openscenario.engine.positions import Pose
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.conditions import (
@@ -143,6 +144,7 @@ class ConditionBank:
                     b.body, RelativeClearanceCondition | AngleCondition | RelativeAngleCondition
                 )
                 or (isinstance(b.body, CollisionCondition) and b.body.by_type is not None)
+                or in_lane_frame(b.body)
             ):
                 cond[i, K.C_KIND] = K.STATIC  # measured in Python (python_eval) each step
                 refs = getattr(b.body, "entities", ()) or (getattr(b.body, "entity", None),)
@@ -384,11 +386,11 @@ def _dtype(body: object) -> int:
     return _DTYPE.get(getattr(body, "distance_type", DistanceType.EUCLIDEAN), 0)
 
 
-#: The kernels' frame of each coordinateSystem (lane coordinates measure as road ones).
+#: The kernels' frame of each coordinateSystem (lane coordinates are measured in Python:
+#: lane_frame).
 _FRAME = {
     CoordinateSystem.ENTITY: M.ENTITY_FRAME,
     CoordinateSystem.ROAD: M.ROAD_FRAME,
-    CoordinateSystem.LANE: M.ROAD_FRAME,
     CoordinateSystem.WORLD: M.WORLD_FRAME,
 }
 

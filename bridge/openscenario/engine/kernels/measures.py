@@ -152,14 +152,26 @@ def _entity_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
 
 
 @njit(cache=True, inline="always")
+def _reference_road(e: tuple) -> tuple[float, float]:
+    """Road s, t of an entity's reference point: its box centre's less the centre's offset
+    along and across its heading (taken as the road's direction there)."""
+    along, left = unrotate(e[E_X] - e[E_RX], e[E_Y] - e[E_RY], e[E_COS], e[E_SIN])
+    return e[E_S] - e[E_DIR] * along, e[E_T] - e[E_DIR] * left
+
+
+@njit(cache=True, inline="always")
 def _road_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
-    """Distance (m) of B from A in road coordinates, by distance type."""
-    ds = (eb[E_S] - ea[E_S]) * ea[E_DIR]
-    dt = eb[E_T] - ea[E_T]
-    lon, lat = abs(ds), abs(dt)
+    """Distance (m) of B from A in road coordinates, by distance type: between the boxes
+    (``fs``: their centres' s, t less half their lengths, widths) or the reference points."""
     if fs:
+        ds = (eb[E_S] - ea[E_S]) * ea[E_DIR]
+        dt = eb[E_T] - ea[E_T]
         lon = max0(abs(ds) - 0.5 * (ea[E_LEN] + eb[E_LEN]))
         lat = max0(abs(dt) - 0.5 * (ea[E_WID] + eb[E_WID]))
+    else:
+        sa, ta = _reference_road(ea)
+        sb, tb = _reference_road(eb)
+        lon, lat = abs(sb - sa), abs(tb - ta)
     if dtype == 1:
         return lon
     if dtype == 2:
@@ -372,8 +384,7 @@ def point_measure(kind: int, fs: bool, dtype: int, frame: int, ea: tuple, point:
     if road:  # as _road_distance, the point with no extent
         s, t = ea[E_S], ea[E_T]  # of the box centre; the reference point's without freespace
         if not fs:
-            along, left = unrotate(ea[E_X] - ea[E_RX], ea[E_Y] - ea[E_RY], ea[E_COS], ea[E_SIN])
-            s, t = s - ea[E_DIR] * along, t - ea[E_DIR] * left
+            s, t = _reference_road(ea)
         lon, lat = abs((ps - s) * ea[E_DIR]), abs(pt - t)
     elif world and fs:  # A's box's extents along the world axes
         ex, ey = footprint_extent(ea[E_LEN], ea[E_WID], ea[E_H])

@@ -163,14 +163,17 @@ def _ttc(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
     target = ctx.one(ctx.child(el, "TimeToCollisionConditionTarget"))
     entity = ctx.text(target, "entityRef") if target.tag == "EntityRef" else None
     position = read_position(ctx, target) if target.tag == "Position" else None
+    frame, kind = _coordinate_system(ctx, el), _distance_type(ctx, el, "euclidianDistance")
+    if frame == CoordinateSystem.LANE and kind == DistanceType.LATERAL:
+        raise ctx.unsupported(el, "a lateral time to collision in lanes (coordinateSystem lane)")
     return TimeToCollisionCondition(
         ctx.num(el, "value"),
         ctx.flag(el, "freespace"),
         _rule(ctx, el),
         entity,
         position,
-        _coordinate_system(ctx, el),
-        _distance_type(ctx, el, "euclidianDistance"),
+        frame,
+        kind,
     )
 
 
