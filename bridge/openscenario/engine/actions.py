@@ -544,6 +544,7 @@ class ActionStarter:
     ) -> Instance:
         start = Pose(a.x, a.y, a.z, a.h, "" if a.free else a.road, a.lane, a.s, a.t)
         path = self.e.resolver.trajectory(body.trajectory, start)
+        self.e.trajectory_of[a.name] = path
         times = None
         if body.timing is not None and path.times is not None:
             tm = body.timing
@@ -574,6 +575,7 @@ class ActionStarter:
         stack keeps the speed); it starts at the trajectory's start + initial offset."""
         start = Pose(a.x, a.y, a.z, a.h, "" if a.free else a.road, a.lane, a.s, a.t)
         path = self.e.resolver.trajectory(body.trajectory, start)
+        self.e.trajectory_of[a.name] = path
         motion = PathMotion(path, None, False, body.initial_distance_offset, a.v < 0)
         a.x, a.y, a.h = motion.start(now)
         a.free = True

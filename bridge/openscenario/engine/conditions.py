@@ -28,6 +28,7 @@ from hiyari.bridge.openscenario.engine.kernels.tables import (
 )
 from hiyari.bridge.openscenario.engine.lane_frame import in_lane_frame
 from hiyari.bridge.openscenario.engine.positions import Pose
+from hiyari.bridge.openscenario.engine.trajectory_frame import in_trajectory_frame
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.conditions import (
     AccelerationCondition,
@@ -145,6 +146,7 @@ class ConditionBank:
                 )
                 or (isinstance(b.body, CollisionCondition) and b.body.by_type is not None)
                 or in_lane_frame(b.body)
+                or in_trajectory_frame(b.body)
             ):
                 cond[i, K.C_KIND] = K.STATIC  # measured in Python (python_eval) each step
                 refs = getattr(b.body, "entities", ()) or (getattr(b.body, "entity", None),)
@@ -386,8 +388,8 @@ def _dtype(body: object) -> int:
     return _DTYPE.get(getattr(body, "distance_type", DistanceType.EUCLIDEAN), 0)
 
 
-#: The kernels' frame of each coordinateSystem (lane coordinates are measured in Python:
-#: lane_frame).
+#: The kernels' frame of each coordinateSystem (lane and trajectory coordinates are
+#: measured in Python: lane_frame, trajectory_frame).
 _FRAME = {
     CoordinateSystem.ENTITY: M.ENTITY_FRAME,
     CoordinateSystem.ROAD: M.ROAD_FRAME,

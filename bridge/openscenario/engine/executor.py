@@ -72,6 +72,7 @@ from hiyari.bridge.openscenario.engine.paths.sampled import SampledPath
 from hiyari.bridge.openscenario.engine.positions import Pose, PoseResolver
 from hiyari.bridge.openscenario.engine.preflight import check_decided_actions
 from hiyari.bridge.openscenario.engine.signals import ControllerClock, phase_index, sumo_state
+from hiyari.bridge.openscenario.engine.trajectory_frame import check_trajectory_frames
 from hiyari.bridge.openscenario.engine.values import ValueStore
 from hiyari.bridge.openscenario.model.actions import (
     AssignRouteAction,
@@ -184,6 +185,10 @@ class ScenarioEngine:
             step_length,
         )
         self.bank.python_eval = self._measure_in_python
+        check_trajectory_frames(scenario.storyboard, self.tree.triggers)
+        #: The trajectory each entity was given by its latest FollowTrajectoryAction (the
+        #: frame of conditions in trajectory coordinates).
+        self.trajectory_of: dict[str, SampledPath] = {}
         self.instances: dict[int, list[Instance]] = {}
         self.owner: dict[tuple[str, str], int] = {}
         self.controller = {e.name: e.controller for e in scenario.entities}

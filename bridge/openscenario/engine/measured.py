@@ -1,5 +1,6 @@
 """Conditions measured in Python each step their trigger is evaluated: relative clearance,
-angles, time of day, distances / headways / TTCs in lane coordinates (lane_frame).
+angles, time of day, distances / headways / TTCs in lane and trajectory coordinates
+(lane_frame, trajectory_frame).
 
 RelativeClearanceCondition: whether the space around a triggering entity is free of other
 entities, in road coordinates.
@@ -25,6 +26,7 @@ from hiyari.bridge.openscenario.engine.lane_frame import (
     lane_measure,
     relative_lane,
 )
+from hiyari.bridge.openscenario.engine.trajectory_frame import trajectory_measure
 from hiyari.bridge.openscenario.model.conditions import (
     AngleCondition,
     CollisionCondition,
@@ -63,8 +65,13 @@ def entity_holds(engine: ScenarioEngine, ec: EntityCondition) -> bool:
 
 
 def _in_lanes(engine: ScenarioEngine, name: str, b: LaneCondition) -> bool:
-    """A distance, headway or TTC condition in lane coordinates (see lane_frame)."""
-    return bool(holds(lane_measure(engine, name, b), b.value, list(Rule).index(b.rule)))
+    """A distance, headway or TTC condition in lane or trajectory coordinates (see
+    lane_frame, trajectory_frame)."""
+    if b.coordinate_system == CoordinateSystem.TRAJECTORY:
+        m = trajectory_measure(engine, name, b)
+    else:
+        m = lane_measure(engine, name, b)
+    return bool(holds(m, b.value, list(Rule).index(b.rule)))
 
 
 _KIND_TYPE = {"vehicle": "vehicle", "pedestrian": "pedestrian", "misc": "miscellaneous"}

@@ -75,12 +75,15 @@ class DistanceType(StrEnum):
 
 
 class CoordinateSystem(StrEnum):
-    """The frame a distance is measured in: the reference entity's axes, road / lane
-    coordinates (s along the road, t across it), or the world's x and y axes."""
+    """The frame a distance is measured in: the reference entity's axes, road coordinates
+    (s along the road, t across it), lane coordinates (along the lane's centre line, across
+    in lanes), trajectory coordinates (along and across the triggering entity's trajectory),
+    or the world's x and y axes."""
 
     ENTITY = "entity"
     ROAD = "road"
     LANE = "lane"
+    TRAJECTORY = "trajectory"
     WORLD = "world"
 
 

@@ -120,10 +120,7 @@ def _coordinate_system(ctx: Ctx, el: etree._Element) -> CoordinateSystem:
     """coordinateSystem, or the deprecated alongRoute (true: road)."""
     if el.get("coordinateSystem") is None and el.get("alongRoute") is not None:
         return CoordinateSystem.ROAD if ctx.flag(el, "alongRoute") else CoordinateSystem.ENTITY
-    text = ctx.text(el, "coordinateSystem", "entity")
-    if text == "trajectory":  # the trajectory frame is not modelled
-        raise ctx.unsupported(el, f"coordinateSystem {text}")
-    return CoordinateSystem(text)
+    return CoordinateSystem(ctx.text(el, "coordinateSystem", "entity"))
 
 
 def _relative_distance(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
