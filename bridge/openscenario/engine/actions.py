@@ -16,8 +16,16 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from hiyari.bridge.openscenario.engine.followers.ego_ramp import EgoRamp
-from hiyari.bridge.openscenario.engine.followers.lateral_distance import lateral_goal
-from hiyari.bridge.openscenario.engine.followers.speed_profile import speed_profile
+from hiyari.bridge.openscenario.engine.followers.lateral_distance import (
+    lateral_goal,
+    limited,
+    next_lateral_speed,
+    sinusoidal_duration,
+)
+from hiyari.bridge.openscenario.engine.followers.speed_profile import (
+    JerkLimited,
+    speed_profile,
+)
 from hiyari.bridge.openscenario.engine.followers.synchronize import Synchronizer
 from hiyari.bridge.openscenario.engine.global_actions import is_global, run_global
 from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
@@ -152,6 +160,8 @@ class ActionStarter:
                 a.long = None
             inst.finished = True
             return True
+        if any(self.e.keepers.get((inst.actor, d)) is inst.obj for d in inst.domains):
+            return False  # a continuous action holding its goal runs until it is stopped
         if inst.obj is not None and inst.obj not in (a.long, a.lat, a.path):
             inst.finished = True
         return inst.finished
@@ -328,13 +338,24 @@ class ActionStarter:
         base = self.e.speed_of(body.entity) if body.entity else 0.0
         times, speeds = speed_profile(body, a.v, base, now)
         over = [False]
+        jerk = None
+        if body.following_mode == "follow" and (body.max_accel_rate or body.max_decel_rate):
+            jerk = JerkLimited.of(body, times, speeds)
+            # from the actor's acceleration, within the action's limits
+            jerk.acc = min(body.max_accel or math.inf, max(-(body.max_decel or math.inf), a.accel))
 
         def goal() -> float:
             t = self.e.now + self.e.dt  # the speed at the end of the coming step
-            if t >= times[-1] - 1e-9 and not over[0]:
+            if jerk is not None:
+                jerk.v = a.v
+                v = jerk.step(self.e.dt)
+                done = jerk.reached()
+            else:
+                v, done = float(np.interp(t, times, speeds)), t >= times[-1] - 1e-9
+            if done and not over[0]:
                 over[0] = True
                 self.e.table.motion_version += 1  # the storyboard is to end the action
-            return float(np.interp(t, times, speeds))
+            return v
 
         self._claim(element, a.name, ("longitudinal",))
         tr = SpeedTransition(a.v, a.v, goal, Shape.STEP, 0.0, False, True, now)
@@ -410,28 +431,42 @@ class ActionStarter:
     def _lateral_distance(
         self, element: int, a: Actor, body: LateralDistanceAction, now: float
     ) -> Instance:
+        """Without DynamicConstraints the actor is put at its goal (and held there every step
+        when continuous). With them it moves there within the limits: not continuous, in the
+        sinusoidal move they allow; continuous, following the (possibly moving) goal step by
+        step (``next_lateral_speed``), the lateral share of its path taken out of its progress
+        along the road as in the motion kernel (its speed is the speed along its path)."""
         if a.free or not a.road:
             raise HiyariError(f"LateralDistanceAction on {a.name!r}, which is not on a road")
         goal = lateral_goal(self.e, a.name, body)
         if body.continuous:
+            v_lat = [0.0]
+            odr = self.e.roads.odr
 
             def keep() -> None:
-                a.t = lateral_goal(self.e, a.name, body)
+                target = lateral_goal(self.e, a.name, body)
+                if limited(body):
+                    v_lat[0] = next_lateral_speed(target - a.t, v_lat[0], self.e.dt, body)
+                    d_lat, d = v_lat[0] * self.e.dt, float(a.table.step_travelled[a.k])
+                    back = abs(d) - math.sqrt(max(0.0, d * d - d_lat * d_lat))
+                    curve = max(1e-3, 1.0 - float(a.table.kappa[a.k]) * a.t)
+                    a.s -= float(a.table.direction[a.k]) * math.copysign(back, d) / curve
+                    a.t, a.v_lat = a.t + d_lat, v_lat[0]
+                else:
+                    a.t = target
                 a.lane = self.e.resolver.at_road(a.road, a.s, a.t).lane
-                place_actor(self.e.roads.odr, a)
+                place_actor(odr, a)
 
             self._claim(element, a.name, ("lateral",))
             a.lat = None
-            keep()
+            if not limited(body):
+                keep()
             self.e.keepers[(a.name, "lateral")] = keep
             return Instance(element, a.name, ("lateral",), keep)
         lane = self.e.resolver.at_road(a.road, a.s, goal).lane
         offset = goal - self._lane_t(a.road, lane, a.s)
-        if body.max_acc is None or body.max_acc <= 0:
-            shape, duration = Shape.STEP, 0.0
-        else:
-            shape = Shape.SINUSOIDAL
-            duration = lateral_duration(shape, body.max_acc, goal - a.t)
+        duration = sinusoidal_duration(body, goal - a.t) if limited(body) else 0.0
+        shape = Shape.SINUSOIDAL if duration > 0 else Shape.STEP
         return self._lateral(
             element, a, lane, offset, None, shape, Dimension.TIME, duration, now, False
         )
@@ -509,6 +544,7 @@ class ActionStarter:
     ) -> Instance:
         start = Pose(a.x, a.y, a.z, a.h, "" if a.free else a.road, a.lane, a.s, a.t)
         path = self.e.resolver.trajectory(body.trajectory, start)
+        self.e.trajectory_of[a.name] = path
         times = None
         if body.timing is not None and path.times is not None:
             tm = body.timing
@@ -539,6 +575,7 @@ class ActionStarter:
         stack keeps the speed); it starts at the trajectory's start + initial offset."""
         start = Pose(a.x, a.y, a.z, a.h, "" if a.free else a.road, a.lane, a.s, a.t)
         path = self.e.resolver.trajectory(body.trajectory, start)
+        self.e.trajectory_of[a.name] = path
         motion = PathMotion(path, None, False, body.initial_distance_offset, a.v < 0)
         a.x, a.y, a.h = motion.start(now)
         a.free = True

@@ -17,6 +17,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from hiyari.bridge.openscenario.engine.frames.lane import in_lane_frame
+from hiyari.bridge.openscenario.engine.frames.trajectory import in_trajectory_frame
 from hiyari.bridge.openscenario.engine.kernels import measures as M
 from hiyari.bridge.openscenario.engine.kernels import trigger_kernel as K
 from hiyari.bridge.openscenario.engine.kernels.measures import EntityRows
@@ -143,6 +145,8 @@ class ConditionBank:
                     b.body, RelativeClearanceCondition | AngleCondition | RelativeAngleCondition
                 )
                 or (isinstance(b.body, CollisionCondition) and b.body.by_type is not None)
+                or in_lane_frame(b.body)
+                or in_trajectory_frame(b.body)
             ):
                 cond[i, K.C_KIND] = K.STATIC  # measured in Python (python_eval) each step
                 refs = getattr(b.body, "entities", ()) or (getattr(b.body, "entity", None),)
@@ -362,10 +366,7 @@ def _table(rows: list[tuple]) -> EntityRows:
         rule=np.array(rule, dtype=np.intp),
         kind=np.array(kind, dtype=np.int8),
         freespace=np.array([getattr(x, "freespace", False) for x in bodies], dtype=bool),
-        dtype=np.array(
-            [_DTYPE.get(getattr(x, "distance_type", DistanceType.EUCLIDEAN), 0) for x in bodies],
-            dtype=np.int8,
-        ),
+        dtype=np.array([_dtype(x) for x in bodies], dtype=np.int8),
         road=np.array(
             [_FRAME[getattr(x, "coordinate_system", CoordinateSystem.ENTITY)] for x in bodies],
             dtype=np.int8,
@@ -374,11 +375,24 @@ def _table(rows: list[tuple]) -> EntityRows:
     )
 
 
-#: The kernels' frame of each coordinateSystem (lane coordinates measure as road ones).
+#: A speed / acceleration direction's code in the rows' distance-type column.
+_DIRECTION = {None: M.DIR_NONE, "longitudinal": M.DIR_LON, "lateral": M.DIR_LAT,
+              "vertical": M.DIR_VERT}  # fmt: skip
+
+
+def _dtype(body: object) -> int:
+    """The distance-type column of a row: its distance type, or for a speed, acceleration or
+    relative speed its direction."""
+    if isinstance(body, SpeedCondition | AccelerationCondition | RelativeSpeedCondition):
+        return _DIRECTION[body.direction]
+    return _DTYPE.get(getattr(body, "distance_type", DistanceType.EUCLIDEAN), 0)
+
+
+#: The kernels' frame of each coordinateSystem (lane and trajectory coordinates are
+#: measured in Python: frames.lane, frames.trajectory).
 _FRAME = {
     CoordinateSystem.ENTITY: M.ENTITY_FRAME,
     CoordinateSystem.ROAD: M.ROAD_FRAME,
-    CoordinateSystem.LANE: M.ROAD_FRAME,
     CoordinateSystem.WORLD: M.WORLD_FRAME,
 }
 
@@ -396,7 +410,8 @@ def _row_table(rows: EntityRows) -> np.ndarray:
                 rows.freespace,
                 rows.dtype,
                 rows.road,
-                np.isin(rows.kind, M.DURATION_KINDS),
+                np.isin(rows.kind, M.DURATION_KINDS)
+                | ((rows.kind == M.ACCEL) & (rows.dtype == M.DIR_LAT)),  # tracked every step
             ],  # fmt: skip
             axis=1,
         )

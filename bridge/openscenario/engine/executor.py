@@ -37,6 +37,7 @@ from hiyari.bridge.openscenario.engine.elements import (
     ends_bottom_up,
 )
 from hiyari.bridge.openscenario.engine.followers.ego_ramp import EgoRamp
+from hiyari.bridge.openscenario.engine.frames.trajectory import check_trajectory_frames
 from hiyari.bridge.openscenario.engine.global_actions import is_global
 from hiyari.bridge.openscenario.engine.kernels.command_kernel import command_step
 from hiyari.bridge.openscenario.engine.kernels.snapshot import (
@@ -184,6 +185,10 @@ class ScenarioEngine:
             step_length,
         )
         self.bank.python_eval = self._measure_in_python
+        check_trajectory_frames(scenario.storyboard, self.tree.triggers)
+        #: The trajectory each entity was given by its latest FollowTrajectoryAction (the
+        #: frame of conditions in trajectory coordinates).
+        self.trajectory_of: dict[str, SampledPath] = {}
         self.instances: dict[int, list[Instance]] = {}
         self.owner: dict[tuple[str, str], int] = {}
         self.controller = {e.name: e.controller for e in scenario.entities}

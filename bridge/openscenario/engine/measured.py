@@ -1,5 +1,6 @@
 """Conditions measured in Python each step their trigger is evaluated: relative clearance,
-angles, time of day.
+angles, time of day, distances / headways / TTCs in lane and trajectory coordinates
+(frames.lane, frames.trajectory).
 
 RelativeClearanceCondition: whether the space around a triggering entity is free of other
 entities, in road coordinates.
@@ -19,32 +20,31 @@ import math
 from datetime import datetime, timedelta
 from typing import TYPE_CHECKING
 
+from hiyari.bridge.openscenario.engine.frames.lane import (
+    LaneCondition,
+    lane_measure,
+    relative_lane,
+)
+from hiyari.bridge.openscenario.engine.frames.trajectory import trajectory_measure
 from hiyari.bridge.openscenario.engine.kernels.measures import holds
 from hiyari.bridge.openscenario.model.conditions import (
     AngleCondition,
     CollisionCondition,
     CoordinateSystem,
+    DistanceCondition,
     EntityCondition,
     RelativeAngleCondition,
     RelativeClearanceCondition,
+    RelativeDistanceCondition,
     Rule,
+    TimeHeadwayCondition,
     TimeOfDayCondition,
+    TimeToCollisionCondition,
 )
 from hiyari.errors import HiyariError
 
 if TYPE_CHECKING:
     from hiyari.bridge.openscenario.engine.executor import ScenarioEngine
-
-
-def relative_lane(own: int, other: int, direction: float) -> int:
-    """Lanes from ``own`` to ``other`` (OpenDRIVE ids, 0 skipped), positive to the left of a
-    travel ``direction`` of +1 (increasing s) or -1."""
-    steps = other - own
-    if own < 0 < other:
-        steps -= 1
-    elif other < 0 < own:
-        steps += 1
-    return int(steps * direction)
 
 
 def entity_holds(engine: ScenarioEngine, ec: EntityCondition) -> bool:
@@ -55,9 +55,23 @@ def entity_holds(engine: ScenarioEngine, ec: EntityCondition) -> bool:
         AngleCondition: _angle,
         RelativeAngleCondition: _relative_angle,
         CollisionCondition: _collides_with_type,
+        RelativeDistanceCondition: _in_lanes,
+        DistanceCondition: _in_lanes,
+        TimeHeadwayCondition: _in_lanes,
+        TimeToCollisionCondition: _in_lanes,
     }[type(ec.body)]
     results = [_present(engine, n) and measure(engine, n, ec.body) for n in ec.triggering]
     return any(results) if ec.rule != "all" else all(results)
+
+
+def _in_lanes(engine: ScenarioEngine, name: str, b: LaneCondition) -> bool:
+    """A distance, headway or TTC condition in lane or trajectory coordinates (see
+    frames.lane, frames.trajectory)."""
+    if b.coordinate_system == CoordinateSystem.TRAJECTORY:
+        m = trajectory_measure(engine, name, b)
+    else:
+        m = lane_measure(engine, name, b)
+    return bool(holds(m, b.value, list(Rule).index(b.rule)))
 
 
 _KIND_TYPE = {"vehicle": "vehicle", "pedestrian": "pedestrian", "misc": "miscellaneous"}

@@ -121,7 +121,10 @@ class SpeedProfileAction:
     reaching that speed takes (linearly); without one the change takes as long as
     ``max_accel`` / ``max_decel`` (m/s^2) allow (at once when they are not given).
     ``following_mode`` "follow" also keeps a timed change within those limits (it then takes
-    longer); "position" follows the times exactly. ``max_speed`` caps every speed."""
+    longer) and, with ``max_accel_rate`` / ``max_decel_rate`` (m/s^3, the jerk limits),
+    changes the acceleration no faster than they allow (the speed then rounds the
+    profile's corners); "position" follows the times exactly. ``max_speed`` caps every
+    speed."""
 
     entries: tuple[tuple[float, float | None], ...]
     following_mode: str = "follow"
@@ -129,6 +132,8 @@ class SpeedProfileAction:
     max_accel: float | None = None
     max_decel: float | None = None
     max_speed: float | None = None
+    max_accel_rate: float | None = None
+    max_decel_rate: float | None = None
 
 
 @dataclass(frozen=True)
@@ -206,16 +211,18 @@ class LateralDistanceAction:
     """Hold the actor ``distance`` m across the road from ``entity`` (between the boxes'
     sides when ``freespace``, else between the reference points), on the side
     ``displacement`` says (leftToReferencedEntity, rightToReferencedEntity: in the
-    reference's direction of travel; any: the side it is on). ``max_acc`` (m/s^2; None:
-    at once): the peak lateral acceleration of the move there; ``continuous``: hold it
-    every step (the reference may move across)."""
+    reference's direction of travel; any: the side it is on). ``continuous``: hold it
+    every step (the reference may move across), and the action runs until it is stopped.
+    ``limits``: the DynamicConstraints, lateral (maximum acceleration, deceleration m/s^2,
+    maximum speed m/s; None each where not given; None: no DynamicConstraints, the actor is
+    put there at once)."""
 
     entity: str
     distance: float
     freespace: bool
     continuous: bool
     displacement: str = "any"
-    max_acc: float | None = None
+    limits: tuple[float | None, float | None, float | None] | None = None
 
 
 @dataclass(frozen=True)

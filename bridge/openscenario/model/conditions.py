@@ -75,12 +75,15 @@ class DistanceType(StrEnum):
 
 
 class CoordinateSystem(StrEnum):
-    """The frame a distance is measured in: the reference entity's axes, road / lane
-    coordinates (s along the road, t across it), or the world's x and y axes."""
+    """The frame a distance is measured in: the reference entity's axes, road coordinates
+    (s along the road, t across it), lane coordinates (along the lane's centre line, across
+    in lanes), trajectory coordinates (along and across the triggering entity's trajectory),
+    or the world's x and y axes."""
 
     ENTITY = "entity"
     ROAD = "road"
     LANE = "lane"
+    TRAJECTORY = "trajectory"
     WORLD = "world"
 
 
@@ -211,27 +214,35 @@ class TimeToCollisionCondition:
 
 @dataclass(frozen=True)
 class SpeedCondition:
-    """Speed (m/s) compared with ``value``."""
+    """Speed (m/s) compared with ``value``: the speed, or with ``direction`` (longitudinal,
+    lateral, vertical: the entity's axes) its velocity's component along that axis."""
 
     value: float
     rule: Rule
+    direction: str | None = None
 
 
 @dataclass(frozen=True)
 class RelativeSpeedCondition:
-    """Own speed minus ``entity``'s (m/s) compared with ``value``."""
+    """Own speed minus ``entity``'s (m/s) compared with ``value``; with ``direction``
+    (longitudinal, lateral, vertical) the component of the relative velocity (own minus
+    ``entity``'s) along that axis of the triggering entity."""
 
     entity: str
     value: float
     rule: Rule
+    direction: str | None = None
 
 
 @dataclass(frozen=True)
 class AccelerationCondition:
-    """Acceleration along the heading (m/s^2) compared with ``value``."""
+    """Acceleration along the heading (m/s^2) compared with ``value``; with ``direction``
+    lateral: the acceleration across the heading (the speed times the yaw rate, positive to
+    the left), vertical: along the entity's up axis."""
 
     value: float
     rule: Rule
+    direction: str | None = None
 
 
 @dataclass(frozen=True)

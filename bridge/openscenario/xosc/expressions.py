@@ -209,6 +209,11 @@ class _Parser:
             if len(args) != n_args:
                 raise ValueError(f"{text}() takes {n_args} argument(s), got {len(args)}")
             return fn(*args)
+        if kind == "name":  # text pasted together, as some tools allow: not an expression
+            raise ValueError(
+                f"{text!r} is neither a parameter (${text}) nor a function or constant: "
+                "OpenSCENARIO 1.3 expressions compute numbers and booleans, not text"
+            )
         raise ValueError(f"unexpected {text!r}")
 
 

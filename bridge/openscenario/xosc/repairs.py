@@ -194,6 +194,21 @@ def _property_in_declarations(root: etree._Element) -> list[Repair]:
     return out
 
 
+#: Storyboard elements whose ``name`` the schema requires (a StoryboardElementStateCondition
+#: refers to them by it).
+_NAMED = ("Story", "Act", "ManeuverGroup", "Maneuver", "Event", "Action")
+
+
+def _unnamed(root: etree._Element) -> list[Repair]:
+    out: list[Repair] = []
+    for el in root.iter(_NAMED):
+        if el.get("name") is None and el.getparent() is not None:
+            name = f"unnamed {el.tag} at line {el.sourceline or 0}"
+            _note(out, el, f"<{el.tag}>", f'no name: named "{name}" (nothing can refer to it)')
+            el.set("name", name)
+    return out
+
+
 @dataclass(frozen=True)
 class Deviation:
     """One known deviation: what the file says, how it is read, who writes it."""
@@ -230,6 +245,9 @@ DEVIATIONS = (
     Deviation("`<Property>` inside an element's ParameterDeclarations",
               "moved to the element's Properties", "esmini catalogs",
               _property_in_declarations),
+    Deviation("Story / Act / ManeuverGroup / Maneuver / Event / Action without `name`",
+              "`name=\"unnamed <element> at line <n>\"` (no condition can refer to it)",
+              "esmini examples", _unnamed),
 )  # fmt: skip
 
 

@@ -56,3 +56,39 @@ def test_actor_follows_its_profile(tmp_path: Path) -> None:
     )
     ends = [t for t, _, n, tr in engine.tree.log if n == "PAction" and tr == "endTransition"]
     assert ends and ends[0] == pytest.approx(4.95, abs=0.051)
+
+
+def test_follow_mode_keeps_the_jerk_limits(tmp_path: Path) -> None:
+    profile = """<LongitudinalAction><SpeedProfileAction followingMode="follow">
+<DynamicConstraints maxAccelerationRate="4" maxDecelerationRate="3"/>
+<SpeedProfileEntry speed="20" time="4"/></SpeedProfileAction></LongitudinalAction>"""
+    init = teleport_speed("Ego", -5, 20, 10) + teleport_speed("Car", -4, 50, 10)
+    stories = story("Car", profile, time_condition(0.99, "go", "none"), "J")
+    seen = {}
+
+    def on_step(sim, world, report, engine) -> None:
+        a = engine.actors["Car"]
+        seen[round(report.time, 2)] = (a.v, a.accel)
+
+    engine, _ = run_scenario(
+        write(tmp_path / "j.xosc", scenario_xml({"Ego": "", "Car": ""}, init, stories)),
+        tmp_path,
+        until=7.0,
+        on_step=on_step,
+    )
+    start = [t for t, _, n, tr in engine.tree.log if n == "JAction" and tr == "startTransition"]
+    end = [t for t, _, n, tr in engine.tree.log if n == "JAction" and tr == "endTransition"]
+    # the acceleration builds up by 4 m/s^3 x 0.05 s a step (the old profile jumped to
+    # 2.5 m/s^2 in one step), 10 + 0.005 k (k + 1) m/s after k steps (the update at the
+    # start moves the actor to the end of the first step)
+    steps = [round(start[0] + 0.05 * (k - 1), 2) for k in range(1, 13)]
+    assert [seen[t][1] for t in steps] == pytest.approx([0.2 * k for k in range(1, 13)])
+    assert [seen[t][0] for t in steps] == pytest.approx(
+        [10 + 0.005 * k * (k + 1) for k in range(1, 13)]
+    )
+    times = sorted(seen)
+    jerk = [(seen[b][1] - seen[a][1]) / 0.05 for a, b in zip(times, times[1:], strict=False)]
+    assert max(jerk) <= 4.0 + 1e-6 and min(jerk) >= -3.0 - 1e-6
+    # build-up 0.625 s, hold 3.2708 s, unwind 0.8333 s: 20 m/s after 4.729 s, not 4 s
+    assert end and end[0] - start[0] == pytest.approx(4.729, abs=0.1)
+    assert max(v for v, _ in seen.values()) < 20.0 + 2e-3

@@ -31,3 +31,11 @@ def test_sign_abs_min_max() -> None:
     assert off == pytest.approx(-0.856)
     with pytest.raises(ValueError, match="takes 2"):
         evaluate("max(1)", P)
+
+
+def test_text_pasted_together_is_refused_with_the_reason() -> None:
+    # esmini's cut-in.xosc names a condition ${BrakeCondition_HWT + _ + $HeadwayTime_Brake}
+    with pytest.raises(ValueError, match=r"'BrakeCondition_HWT' is neither a parameter "):
+        evaluate("BrakeCondition_HWT + _ + $deg", P)
+    with pytest.raises(ValueError, match="compute numbers and booleans, not text"):
+        evaluate("$deg + _", P)

@@ -252,3 +252,21 @@ def test_world_coordinate_system_is_read(tmp_path: Path) -> None:
     sc = read_scenario(write(tmp_path / "s.xosc", text))
     ((condition,),) = sc.storyboard.stop_trigger
     assert condition.body.body.coordinate_system == CoordinateSystem.WORLD
+
+
+def test_unnamed_story_and_maneuver(tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+    # esmini's straight_500m.xosc writes <Story> and alks_cut-in.xosc <Maneuver> without name
+    body = story("Ego", _action(12), time_condition(1.0), "S")
+    body = body.replace('<Story name="S">', "<Story>").replace('<Maneuver name="SM">', "<Maneuver>")
+    text = scenario_xml({"Ego": CAR.format(name="Ego")}, teleport_speed("Ego", -1, 50, 10), body)
+    sc, path, lines = _read(tmp_path, text, caplog)
+    story_line, man_line = _line(text, "<Story>"), _line(text, "<Maneuver>")
+    assert lines == [
+        f'{path}:{story_line}: <Story>: no name: named "unnamed Story at line {story_line}" '
+        "(nothing can refer to it)",
+        f'{path}:{man_line}: <Maneuver>: no name: named "unnamed Maneuver at line {man_line}" '
+        "(nothing can refer to it)",
+    ]
+    st = sc.storyboard.stories[0]
+    assert st.name == f"unnamed Story at line {story_line}"
+    assert st.acts[0].groups[0].maneuvers[0].name == f"unnamed Maneuver at line {man_line}"

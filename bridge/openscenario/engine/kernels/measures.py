@@ -74,7 +74,8 @@ def holds(measured: float, value: float, rule: int) -> bool:
 class EntityRows:
     """Every entity-condition row: owning condition, triggering entity ``a``, reference entity
     ``b`` (-1: none), value and rule code, kind, freespace, distance type (0 euclidean,
-    1 longitudinal, 2 lateral), frame (``ENTITY_FRAME`` ...) and the condition body."""
+    1 longitudinal, 2 lateral; a speed's or acceleration's direction, ``DIR_NONE`` ...),
+    frame (``ENTITY_FRAME`` ...) and the condition body."""
 
     owner: np.ndarray
     a: np.ndarray
@@ -151,14 +152,26 @@ def _entity_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
 
 
 @njit(cache=True)
+def _reference_road(e: tuple) -> tuple[float, float]:
+    """Road s, t of an entity's reference point: its box centre's less the centre's offset
+    along and across its heading (taken as the road's direction there)."""
+    along, left = unrotate(e[E_X] - e[E_RX], e[E_Y] - e[E_RY], e[E_COS], e[E_SIN])
+    return e[E_S] - e[E_DIR] * along, e[E_T] - e[E_DIR] * left
+
+
+@njit(cache=True)
 def _road_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
-    """Distance (m) of B from A in road coordinates, by distance type."""
-    ds = (eb[E_S] - ea[E_S]) * ea[E_DIR]
-    dt = eb[E_T] - ea[E_T]
-    lon, lat = abs(ds), abs(dt)
+    """Distance (m) of B from A in road coordinates, by distance type: between the boxes
+    (``fs``: their centres' s, t less half their lengths, widths) or the reference points."""
     if fs:
+        ds = (eb[E_S] - ea[E_S]) * ea[E_DIR]
+        dt = eb[E_T] - ea[E_T]
         lon = max0(abs(ds) - 0.5 * (ea[E_LEN] + eb[E_LEN]))
         lat = max0(abs(dt) - 0.5 * (ea[E_WID] + eb[E_WID]))
+    else:
+        sa, ta = _reference_road(ea)
+        sb, tb = _reference_road(eb)
+        lon, lat = abs(sb - sa), abs(tb - ta)
     if dtype == 1:
         return lon
     if dtype == 2:
@@ -264,15 +277,49 @@ def ttc_above(value: float, ea: tuple, eb: tuple) -> bool:
 
 
 # ---------------------------------------------------------------------------------- one entity
+#: The direction of a speed, acceleration or relative-speed row (its distance-type column):
+#: none (the speed; the acceleration along the heading; the difference of the speeds), or the
+#: triggering entity's longitudinal, lateral or vertical axis (OpenSCENARIO's
+#: DirectionalDimension).
+DIR_NONE, DIR_LON, DIR_LAT, DIR_VERT = 0, 1, 2, 3
+
+
 @njit(cache=True)
-def single_measure(kind: int, ea: tuple, speed_b: float) -> float:
-    """Speed (m/s), acceleration (m/s^2) of present entity A, or its speed relative to
-    entity B (``speed_b``; NaN: B absent)."""
+def single_measure(kind: int, direction: int, ea: tuple, eb: tuple) -> float:
+    """Speed (m/s) or acceleration (m/s^2) of present entity A, or its speed relative to
+    present entity B (A's minus B's), by ``direction``. A velocity is along its entity's
+    heading and in the plane (the WorldState's: speed times the heading's unit vector), so
+    an entity's own lateral and vertical speeds are 0 and its relative velocity to B in its
+    axes is (v_a - v_b cos(h_b - h_a), -v_b sin(h_b - h_a), 0). The vertical acceleration is
+    0 (level entities, planar motion); the lateral one is :func:`lateral_accel_measure`'s."""
     if kind == SPEED:
-        return ea[E_V]
+        return ea[E_V] if direction <= DIR_LON else 0.0
     if kind == ACCEL:
-        return ea[E_ACC]
-    return ea[E_V] - speed_b
+        return ea[E_ACC] if direction <= DIR_LON else 0.0
+    if direction == DIR_NONE:
+        return ea[E_V] - eb[E_V]
+    if direction == DIR_VERT:
+        return 0.0
+    dh = eb[E_H] - ea[E_H]
+    if direction == DIR_LON:
+        return ea[E_V] - eb[E_V] * math.cos(dh)
+    return -eb[E_V] * math.sin(dh)
+
+
+@njit(cache=True)
+def lateral_accel_measure(
+    now: float, present: bool, heading: float, speed: float, last_h: float, last_t: float
+) -> tuple[float, float, float]:
+    """Lateral acceleration (m/s^2, positive to the left) of an entity at ``now``: its speed
+    times its yaw rate, the heading's change (wrapped to (-pi, pi]) since the previous
+    evaluation (``last_h`` rad at ``last_t`` s, NaN: none) over the time between; NaN at the
+    first evaluation and while absent. Returns it with the heading and time to keep."""
+    if not present:
+        return math.nan, math.nan, math.nan
+    if last_t != last_t or now <= last_t:
+        return math.nan, heading, now
+    turn = (heading - last_h + math.pi) % (2.0 * math.pi) - math.pi
+    return speed * turn / (now - last_t), heading, now
 
 
 @njit(cache=True)
@@ -337,8 +384,7 @@ def point_measure(kind: int, fs: bool, dtype: int, frame: int, ea: tuple, point:
     if road:  # as _road_distance, the point with no extent
         s, t = ea[E_S], ea[E_T]  # of the box centre; the reference point's without freespace
         if not fs:
-            along, left = unrotate(ea[E_X] - ea[E_RX], ea[E_Y] - ea[E_RY], ea[E_COS], ea[E_SIN])
-            s, t = s - ea[E_DIR] * along, t - ea[E_DIR] * left
+            s, t = _reference_road(ea)
         lon, lat = abs((ps - s) * ea[E_DIR]), abs(pt - t)
     elif world and fs:  # A's box's extents along the world axes
         ex, ey = footprint_extent(ea[E_LEN], ea[E_WID], ea[E_H])

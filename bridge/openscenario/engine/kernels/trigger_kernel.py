@@ -18,8 +18,11 @@ import math
 import numpy as np
 
 from hiyari.bridge.openscenario.engine.kernels.measures import (
+    ACCEL,
     COLLISION,
+    DIR_LAT,
     DISTANCE,
+    E_H,
     E_V,
     END_OF_ROAD,
     REL_SPEED,
@@ -32,6 +35,7 @@ from hiyari.bridge.openscenario.engine.kernels.measures import (
     duration_measure,
     entity_scalars,
     holds,
+    lateral_accel_measure,
     pack_entities,
     pair_measure,
     point_measure,
@@ -83,7 +87,9 @@ def _row_holds(
     measures.duration_measure, or the distance travelled and the time it was measured at,
     see measures.traveled_measure), given its entities' presence and fields (``ea``, ``eb``:
     measures.entity_scalars; ``eb`` is any entity's when the row has none) and its point
-    (world x, y and road s, t: measures.point_measure). An absent entity measures NaN,
+    (world x, y and road s, t: measures.point_measure). A lateral acceleration row keeps
+    the heading and time of its previous evaluation (measures.lateral_accel_measure; it is
+    measured every step). An absent entity measures NaN,
     which no rule holds for. Scalars only: a compiled helper called with array arguments
     pays a reference count per array and row."""
     if STANDSTILL <= kind <= END_OF_ROAD:
@@ -91,6 +97,9 @@ def _row_holds(
         return holds(m, value, rule), since, last
     if kind == TRAVELED:
         m, since, last = traveled_measure(now, present_a, ea[E_V], since, last)
+        return holds(m, value, rule), since, last
+    if kind == ACCEL and dtype == DIR_LAT:
+        m, since, last = lateral_accel_measure(now, present_a, ea[E_H], ea[E_V], since, last)
         return holds(m, value, rule), since, last
     if not present_a or ((kind < SPEED or kind == REL_SPEED) and not present_b):
         return False, since, last
@@ -106,7 +115,7 @@ def _row_holds(
             return holds(math.inf, value, rule), since, last
         return holds(pair_measure(kind, fs, dtype, frame, ea, eb), value, rule), since, last
     if kind <= REL_SPEED:
-        return holds(single_measure(kind, ea, eb[E_V]), value, rule), since, last
+        return holds(single_measure(kind, dtype, ea, eb), value, rule), since, last
     if DISTANCE <= kind <= TTC_POINT:
         return holds(point_measure(kind, fs, dtype, frame, ea, point), value, rule), since, last
     return False, since, last

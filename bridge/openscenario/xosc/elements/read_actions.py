@@ -134,13 +134,14 @@ def _synchronize(ctx: Ctx, el: etree._Element) -> ActionBody:
     )
 
 
+def _limits(ctx: Ctx, dyn: etree._Element) -> tuple[float | None, float | None, float | None]:
+    """A DynamicConstraints' (maxAcceleration, maxDeceleration, maxSpeed), None where absent."""
+    return tuple(ctx.opt_num(dyn, k) for k in ("maxAcceleration", "maxDeceleration", "maxSpeed"))
+
+
 def _long_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
     dyn = el.find("DynamicConstraints")
-    limits = None
-    if dyn is not None:
-        limits = tuple(
-            ctx.opt_num(dyn, k) for k in ("maxAcceleration", "maxDeceleration", "maxSpeed")
-        )
+    limits = None if dyn is None else _limits(ctx, dyn)
     if ctx.text(el, "coordinateSystem", "entity") not in ("entity", "road", "lane"):
         raise ctx.unsupported(el, f"coordinateSystem {el.get('coordinateSystem')}")
     return LongitudinalDistanceAction(
@@ -268,6 +269,8 @@ def _speed_profile(ctx: Ctx, el: etree._Element) -> ActionBody:
         limit("maxAcceleration"),
         limit("maxDeceleration"),
         limit("maxSpeed"),
+        limit("maxAccelerationRate"),
+        limit("maxDecelerationRate"),
     )
 
 
@@ -288,7 +291,7 @@ def _lateral_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
         ctx.flag(el, "freespace"),
         ctx.flag(el, "continuous"),
         ctx.text(el, "displacement", "any"),
-        None if dyn is None else ctx.opt_num(dyn, "maxAcceleration"),
+        None if dyn is None else _limits(ctx, dyn),
     )
 
 

@@ -120,10 +120,7 @@ def _coordinate_system(ctx: Ctx, el: etree._Element) -> CoordinateSystem:
     """coordinateSystem, or the deprecated alongRoute (true: road)."""
     if el.get("coordinateSystem") is None and el.get("alongRoute") is not None:
         return CoordinateSystem.ROAD if ctx.flag(el, "alongRoute") else CoordinateSystem.ENTITY
-    text = ctx.text(el, "coordinateSystem", "entity")
-    if text == "trajectory":  # the trajectory frame is not modelled
-        raise ctx.unsupported(el, f"coordinateSystem {text}")
-    return CoordinateSystem(text)
+    return CoordinateSystem(ctx.text(el, "coordinateSystem", "entity"))
 
 
 def _relative_distance(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
@@ -163,27 +160,39 @@ def _ttc(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
     target = ctx.one(ctx.child(el, "TimeToCollisionConditionTarget"))
     entity = ctx.text(target, "entityRef") if target.tag == "EntityRef" else None
     position = read_position(ctx, target) if target.tag == "Position" else None
+    frame, kind = _coordinate_system(ctx, el), _distance_type(ctx, el, "euclidianDistance")
+    if frame == CoordinateSystem.LANE and kind == DistanceType.LATERAL:
+        raise ctx.unsupported(el, "a lateral time to collision in lanes (coordinateSystem lane)")
     return TimeToCollisionCondition(
         ctx.num(el, "value"),
         ctx.flag(el, "freespace"),
         _rule(ctx, el),
         entity,
         position,
-        _coordinate_system(ctx, el),
-        _distance_type(ctx, el, "euclidianDistance"),
+        frame,
+        kind,
     )
 
 
+_DIRECTIONS = ("longitudinal", "lateral", "vertical")
+
+
+def _direction(ctx: Ctx, el: etree._Element) -> str | None:
+    """A DirectionalDimension attribute ``direction`` (None: not given)."""
+    text = ctx.opt(el, "direction")
+    if text is not None and text not in _DIRECTIONS:
+        raise HiyariError(
+            f"{ctx.where(el)}: direction {text!r} is not one of {', '.join(_DIRECTIONS)}"
+        )
+    return text
+
+
 def _speed(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
-    if el.get("direction") not in (None, "longitudinal"):
-        raise ctx.unsupported(el, f"direction {el.get('direction')}")
-    return SpeedCondition(ctx.num(el, "value"), _rule(ctx, el))
+    return SpeedCondition(ctx.num(el, "value"), _rule(ctx, el), _direction(ctx, el))
 
 
 def _accel(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
-    if el.get("direction") not in (None, "longitudinal"):
-        raise ctx.unsupported(el, f"direction {el.get('direction')}")
-    return AccelerationCondition(ctx.num(el, "value"), _rule(ctx, el))
+    return AccelerationCondition(ctx.num(el, "value"), _rule(ctx, el), _direction(ctx, el))
 
 
 def _collision(ctx: Ctx, el: etree._Element) -> EntityConditionBody:
@@ -225,7 +234,7 @@ _ENTITY_READERS = {
     "CollisionCondition": _collision,
     "ReachPositionCondition": _reach,
     "RelativeSpeedCondition": lambda ctx, el: RelativeSpeedCondition(
-        ctx.text(el, "entityRef"), ctx.num(el, "value"), _rule(ctx, el)
+        ctx.text(el, "entityRef"), ctx.num(el, "value"), _rule(ctx, el), _direction(ctx, el)
     ),
     "StandStillCondition": lambda ctx, el: StandStillCondition(ctx.num(el, "duration")),
     "TraveledDistanceCondition": lambda ctx, el: TraveledDistanceCondition(ctx.num(el, "value")),
