@@ -130,7 +130,10 @@ class CameraConfig:
         for _ in range(20):
             f = r * (1 + self.k1 * r**2 + self.k2 * r**4) - rd
             df = 1 + 3 * self.k1 * r**2 + 5 * self.k2 * r**4
-            r = r - f / df
+            new = r - f / df
+            if np.array_equal(new, r):  # a fixed point: the remaining steps change nothing
+                break
+            r = new
         scale = np.where(rd > 0, r / np.maximum(rd, 1e-12), 1.0)
         return xd * scale, yd * scale
 

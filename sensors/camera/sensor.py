@@ -45,6 +45,9 @@ VISIBILITY_UP = (0.25, 0.5, 0.8)
 """Sample heights on an actor (fractions of its height) for the visibility rays."""
 BACKGROUND_RANGE_M = 1000.0
 """Farthest static surface taken as an actor's background; beyond it the sky is."""
+_GRID = np.array([(a, b) for a in VISIBILITY_ACROSS for b in VISIBILITY_UP])
+"""(9, 2) visibility sample points: fraction across, fraction up."""
+_NO_LAMPS = np.zeros((0, 3))
 
 
 def _visible_table() -> np.ndarray:
@@ -155,7 +158,8 @@ class Camera:
         chi = np.clip(hi, 0, [c.width_px, c.height_px])
         in_image = np.clip((chi[:, 0] - clo[:, 0]) * (chi[:, 1] - clo[:, 1]) / area, 0, 1) * front
 
-        centre_w = world.xyz[rows] + np.c_[np.zeros(n), np.zeros(n), world.height[rows] / 2]
+        centre_w = world.xyz[rows].copy()
+        centre_w[:, 2] += world.height[rows] / 2
         centre = (centre_w - cam) @ rot
         rng_m = np.linalg.norm(centre, axis=1)
         visible = self._visibility(scene, world, rows, cam)
@@ -171,14 +175,15 @@ class Camera:
             p = np.where(spot, p * t / env.soiling.uniform_transmission, p)
         p = np.where(rng_m <= c.max_range_m, p, 0.0)
         return CameraView(
-            rows, np.c_[clo, chi], height_px, in_image, visible, contrast, c_th, p, rng_m, centre
-        )
+            rows, np.hstack([clo, chi]), height_px, in_image, visible, contrast, c_th, p, rng_m,
+            centre,
+        )  # fmt: skip
 
     def _visibility(
         self, scene: RayScene, world: WorldState, rows: np.ndarray, cam: np.ndarray
     ) -> np.ndarray:
         """Share of 3 x 3 sample points across each actor that a ray from the lens reaches."""
-        grid = np.array([(a, b) for a in VISIBILITY_ACROSS for b in VISIBILITY_UP])
+        grid = _GRID
         n = len(rows)
         fwd = heading_vector(world.heading[rows])
         side = np.stack([-fwd[:, 1], fwd[:, 0]], 1)
@@ -259,7 +264,10 @@ class Camera:
             tb = np.where(hit_bg, np.exp(-beta * np.minimum(bg.distance, 1e4)), 0.0)
             l_t = l_t * tt + sky * (1 - tt)
             l_b = l_b * tb + sky * (1 - tb)
-        glare = light.glare_sources(env, cam, rot[:, 0], oncoming_lamps(scene, world, cam), fog)
+        # oncoming headlamps dazzle only out of daylight (LightingModel.glare_sources)
+        dazzle = env.oncoming_headlights and env.illumination != Illumination.DAY
+        lamps = oncoming_lamps(scene, world, cam) if dazzle else _NO_LAMPS
+        glare = light.glare_sources(env, cam, rot[:, 0], lamps, fog)
         l_v = light.veiling_luminance(env, dirs.astype(np.float64), glare)
         trans = env.soiling.uniform_transmission
         mean_l = 0.5 * (l_t + l_b)

@@ -29,6 +29,10 @@ from hiyari.sensors.outputs import HIT_NONE, ObjectList, PointCloud
 from hiyari.sensors.scene.ray_scene import DirectionIndex, RayScene, SensorRays
 from hiyari.traffic.world_state import WorldState
 
+PAD_M = 0.1
+"""Margin (m) on the actors' bounding spheres when picking the rays cast into the actor scene:
+the ray origins and directions are float32 while the spheres are tested in float64."""
+
 
 def _material_tables(lobe_rad: float) -> tuple[np.ndarray, np.ndarray]:
     """Diffuse reflectance and specular peak gain per material id (256 entries)."""
@@ -145,8 +149,10 @@ class Lidar:
             bend = rng.normal(0.0, math.radians(env.soiling.spot_deflection_deg), (len(j), 3))
             d = dirs_w[j] + bend.astype(np.float32)
             cast_dirs[j] = d / np.linalg.norm(d, axis=1, keepdims=True)
-        scan_time = 1.0 / c.rate_hz
-        pad = scan_time * (float(np.linalg.norm(v_ego)) + float(np.max(world.speed, initial=0.0)))
+        # the actors stand still in the scene for the whole scan (their motion is the points'
+        # skew below); only the rays' origins move, by at most the ego's travel in a scan, so
+        # that travel (plus PAD_M for float32 rounding) is what the actor spheres need
+        pad = float(np.linalg.norm(v_ego)) / c.rate_hz + PAD_M
         hits = scene.cast(
             origins, cast_dirs, c.max_range_m, SensorRays(self.index, origin, rot, pad)
         )

@@ -195,12 +195,27 @@ class ActorMesh:
     material: np.ndarray  # (F,) uint8
     actor_row: np.ndarray  # (F,) int32: row of the face's actor in the WorldState
     rounded: np.ndarray  # (F,) bool
-    centre: np.ndarray  # (F, 3) float32 centre of the face's part box, network coordinates
-    half: np.ndarray  # (F, 3) float32 half-size of the part box along heading, left, up, m
-    heading: np.ndarray  # (F,) float32 heading of the face's actor, rad
+    #: (F, 3) centre and half-size of each face's part box, unit template coordinates
+    unit_boxes: tuple[np.ndarray, np.ndarray]
+    world: WorldState  # the state the actors were placed from
 
     def __len__(self) -> int:
         return len(self.faces)
+
+    def part_boxes(self, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Of the part boxes of ``faces`` (indices): the centre (K, 3) in network
+        coordinates, the half-size (K, 3) along heading, left and up (m) and the actor's
+        heading (K,) (rad), all float32. Placed only for the faces asked for (the rays' hits
+        on rounded faces), with the arithmetic per element of placing them all."""
+        w, r = self.world, self.actor_row[faces]
+        size = np.stack([w.length[r], w.width[r], w.height[r]], 1)
+        centre, half = self.unit_boxes
+        placed = vehicle_to_world(centre[faces] * size, w.xyz[r], w.heading[r])
+        return (
+            placed.astype(np.float32),
+            (half[faces] * size).astype(np.float32),
+            w.heading[r].astype(np.float32),
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -265,20 +280,19 @@ def _layout(world: WorldState, appearance: ActorAppearance, keep: np.ndarray) ->
 
 def _place(layout: _Layout, world: WorldState) -> ActorMesh:
     """The layout's templates scaled to each actor's size and placed at its pose (the same
-    arithmetic per element as placing each class's actors in one array)."""
+    arithmetic per element as placing each class's actors in one array); the part boxes are
+    placed only when asked for (:meth:`ActorMesh.part_boxes`)."""
     size = np.stack([world.length, world.width, world.height], 1)
-    v, r = layout.vertex_row, layout.actor_row
+    v = layout.vertex_row
     verts = vehicle_to_world(layout.local * size[v], world.xyz[v], world.heading[v])
-    centre = vehicle_to_world(layout.centre * size[r], world.xyz[r], world.heading[r])
     return ActorMesh(
         verts.astype(np.float32),
         layout.faces,
         layout.material,
-        r,
+        layout.actor_row,
         layout.rounded,
-        centre.astype(np.float32),
-        (layout.half * size[r]).astype(np.float32),
-        world.heading[r].astype(np.float32),
+        (layout.centre, layout.half),
+        world,
     )
 
 

@@ -135,7 +135,7 @@ class RayScene:
         self._refits = 0
         self._centres = np.zeros((0, 3))
         self._radius = np.zeros(0)
-        self._velocity = np.zeros((0, 3))
+        self._velocity: np.ndarray | None = None
 
     def _commit(
         self, vertices: np.ndarray, faces: np.ndarray, refit: bool = False
@@ -187,9 +187,7 @@ class RayScene:
         self._radius = 0.5 * np.sqrt(
             world.length[rows] ** 2 + world.width[rows] ** 2 + world.height[rows] ** 2
         )
-        vel = np.zeros((len(world), 3))
-        vel[:, :2] = world.velocity
-        self._velocity = vel
+        self._velocity = None  # placed when a sensor asks (actor_velocity)
 
     def ensure(self, world: WorldState) -> None:
         """Update to ``world`` (keeping the ego id) unless it is already the current one."""
@@ -199,6 +197,10 @@ class RayScene:
 
     def actor_velocity(self, rows: np.ndarray) -> np.ndarray:
         """(n, 3) network-frame velocity of actors at WorldState ``rows``, m/s."""
+        if self._velocity is None:
+            vel = np.zeros((len(self.world), 3))
+            vel[:, :2] = self.world.velocity
+            self._velocity = vel
         return self._velocity[rows]
 
     def actor_bins(self, rays: SensorRays, max_range: float) -> tuple[np.ndarray, ...]:
@@ -237,10 +239,9 @@ class RayScene:
 
     def _ellipsoid_normal(self, prim: np.ndarray, points: np.ndarray) -> np.ndarray:
         """Normals at ``points`` of the ellipsoids inscribed in the part boxes of faces ``prim``."""
-        a = self.actors
-        d = points - a.centre[prim]
-        heading = a.heading[prim]
-        half2 = a.half[prim] ** 2
+        centre, half, heading = self.actors.part_boxes(prim)
+        d = points - centre
+        half2 = half**2
         fwd, left = unrotate_xy(d[:, 0], d[:, 1], heading)
         x, y = rotate_xy(fwd / half2[:, 0], left / half2[:, 1], heading)
         return np.stack([x, y, d[:, 2] / half2[:, 2]], 1).astype(np.float32)

@@ -20,8 +20,23 @@ from hiyari.sensors.lidar.config import LidarConfig
 from hiyari.sensors.lidar.sensor import Lidar
 from hiyari.sensors.outputs import HIT_NONE, HIT_STATIC
 from hiyari.sensors.scene.ray_scene import RayScene
-from hiyari.sensors.scene.synthetic import actor_world, wall
+from hiyari.sensors.scene.synthetic import actor_world, quad, street_scenario, wall
 from hiyari.traffic.actor_class import ActorClass
+from hiyari.traffic.world_state import WorldState
+
+FIELDS = (
+    "ids",
+    "cls",
+    "xyz",
+    "heading",
+    "speed",
+    "accel",
+    "length",
+    "width",
+    "height",
+    "lane",
+    "edge",
+)
 
 SENSOR_Z = 1.0
 
@@ -216,3 +231,41 @@ def test_impossible_lidar_parameters_are_rejected(change, message):
 def test_unknown_lidar_preset_lists_known_ones():
     with pytest.raises(HiyariError, match="64ch"):
         LidarConfig.preset("65ch")
+
+
+class _EveryRayScene(RayScene):
+    """A scene that casts every ray into the actor scene (no pick by the actors' spheres)."""
+
+    def cast(self, origins, directions, max_range, rays=None, normals=False, actors=True):
+        return super().cast(origins, directions, max_range, None, normals, actors)
+
+
+def test_rays_left_out_of_the_actor_cast_could_not_have_hit_an_actor():
+    # the ego fast (its rays' origins move 2 m in a scan) and pedestrians close beside it,
+    # whose small spheres the late rays of the scan see shifted by degrees; a truck and a car
+    # close by and the street's actors around: the picked rays must give the scan of every ray
+    world = street_scenario(occluder=True, ego_speed=20.0)
+    near = [
+        dict(id="truck_beside", cls=ActorClass.TRUCK, x=1.0, y=3.5, speed=25.0),
+        dict(id="car_behind", cls=ActorClass.CAR, x=-9.0, y=-1.75, speed=21.0),
+    ]
+    near += [
+        dict(id=f"walker{k}", cls=ActorClass.PEDESTRIAN, x=x, y=y, speed=1.0)
+        for k, (x, y) in enumerate([(0.5, -6.0), (-3.0, -6.5), (4.0, -7.0), (-6.0, 6.0)])
+    ]
+    beside = actor_world(near)
+    world = WorldState(
+        world.time, *(np.concatenate([getattr(world, f), getattr(beside, f)]) for f in FIELDS)
+    )
+    ground = quad([(-150, -60, 0), (150, -60, 0), (150, 60, 0), (-150, 60, 0)], Material.ASPHALT)
+    mesh = SceneMesh.concatenate([ground, wall(30.0, 4.0, 12.0, 3.0, Material.CONCRETE)])
+    ego = world.pose_of("ego")
+    lidar = Lidar(LidarConfig.preset("64ch"), Mount(x=0.0, z=1.9))
+    clouds = []
+    for scene in (RayScene(mesh), _EveryRayScene(mesh)):
+        scene.update(world, "ego")
+        clouds.append(lidar.scan(scene, ego, world, Environment(), np.random.default_rng(3)))
+    picked, every = clouds
+    assert (every.hit >= 0).sum() > 1000  # the actors are in the scan
+    for f in ("xyz", "range", "intensity", "hit"):
+        np.testing.assert_array_equal(getattr(picked, f), getattr(every, f))
