@@ -51,6 +51,13 @@ class AEBConfig:
     error on a track the planner trusted, and a lateral error of 1.35 m/s is enough to put a
     car in the next lane (1.35 m away side by side) in the ego's path within the full-brake
     TTC of 1 s (docs/models.md §4)."""
+    ahead_only: bool = True
+    """Act only on tracks whose front end is ahead of the ego's front: braking cannot avoid
+    an object the ego does not run into, and for one coming from behind or cutting in from
+    beside-and-behind it only raises the impact speed. With the rear radars, the stack braked
+    fully for cars overtaking from behind in the motorway catalogue's lane changes and rear
+    positions (M05-left_rear-2L-000: stage 3 at TTC 0.9 s to a car 13 m behind, impact 16.2
+    m/s against the C&C driver's 11.1; issue #30); production AEBs look forward only."""
     hold_after_stop: bool = True  # keep full brake once stopped with a threat ahead
     latch_until_stop: bool = True  # once braking, brake to standstill (as production AEBs do)
 
@@ -177,7 +184,11 @@ class AEBPlanner:
             if tracks.velocity_sigma is not None:
                 keep &= tracks.velocity_sigma <= self.aeb.max_velocity_sigma
             tracks = select(tracks, keep)
-        ttc = time_to_collision(tracks, ego, self.aeb, self._path.update(ego))
+        threats = tracks
+        if self.aeb.ahead_only and len(tracks):
+            front = tracks.position[:, 0] + track_extent(tracks, ego)[0]
+            threats = select(tracks, front > ego.length / 2)
+        ttc = time_to_collision(threats, ego, self.aeb, self._path.update(ego))
         k = int(np.argmin(ttc)) if len(ttc) else -1
         ttc_min = float(ttc[k]) if k >= 0 else float("inf")
         stage = self._stage(ttc_min, ego)
@@ -200,7 +211,7 @@ class AEBPlanner:
             aeb_stage=stage,
             aeb_decel=self._applied,
             ttc=ttc_min,
-            threat=str(tracks.truth[k]) if k >= 0 and ttc_min < np.inf else "",
+            threat=str(threats.truth[k]) if k >= 0 and ttc_min < np.inf else "",
         )
 
     def _stage(self, ttc: float, ego: Pose) -> AEBStage:

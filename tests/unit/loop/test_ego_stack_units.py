@@ -155,3 +155,22 @@ def test_camera_bearing_fused_with_radar_range():
     r = math.hypot(40.0, 1.9) + FusionConfig().radar_face_depth[0] * depth
     assert out.position[0, 0] == pytest.approx(r * math.cos(bearing), abs=0.05)
     assert out.position[0, 1] == pytest.approx(r * math.sin(bearing), abs=0.05)
+
+
+def test_aeb_ignores_what_comes_from_behind():
+    # a car 13 m behind in the ego's lane closing at 10 m/s: rear bumper gap 13 - 4.4 = 8.6 m,
+    # TTC 0.86 s, yet braking would only raise the impact speed; the same car ahead (closing)
+    # is a full-brake threat. M05-left_rear-2L-000 braked fully for the first (issue #30).
+    behind = _objs([[-13.0, 0.0]], [[10.0, 0.0]], [[4.0, 2.0, 1.5]])
+    ahead = _objs([[13.0, 0.0]], [[-10.0, 0.0]], [[4.0, 2.0, 1.5]])
+    assert time_to_collision(behind, EGO, AEBConfig(lateral_margin=0.0))[0] == pytest.approx(0.86)
+    cmd = AEBPlanner().plan(behind, EGO, 0.0)
+    assert cmd.aeb_stage == AEBStage.OFF and cmd.ttc == math.inf and cmd.threat == ""
+    assert AEBPlanner().plan(ahead, EGO, 0.0).aeb_stage == AEBStage.FULL
+    # beside the ego, cutting in at 2 m/s over 20 m/s (heading atan(0.1): half extent along
+    # x 2.09 m): centre 0.2 m ahead, its front 2.29 m, 0.11 m behind the ego's (2.4 m): not
+    # braked for; centre 0.6 m ahead, its front leads the ego's: braked for
+    beside = _objs([[0.2, 2.5]], [[0.0, -2.0]], [[4.0, 2.0, 1.5]])
+    assert AEBPlanner().plan(beside, EGO, 0.0).aeb_stage == AEBStage.OFF
+    level = _objs([[0.6, 2.5]], [[0.0, -2.0]], [[4.0, 2.0, 1.5]])
+    assert AEBPlanner().plan(level, EGO, 0.0).aeb_stage > AEBStage.OFF
