@@ -15,6 +15,7 @@ evaluated: OpenSCENARIO files rarely use this frame.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -64,10 +65,34 @@ def lane_length(engine: ScenarioEngine, road: str, lane: int, s0: float, s1: flo
     return math.copysign(float(np.hypot(np.diff(x), np.diff(y)).sum()), s1 - s0)
 
 
-def _ends(engine: ScenarioEngine, name: str) -> tuple[float, float]:
-    """(front, rear) of entity ``name``'s box from its reference point, m (along its x)."""
+def box_extent(engine: ScenarioEngine, name: str | None) -> tuple[float, float, float]:
+    """(front, rear, half width) of entity ``name``'s box from its reference point, m (along
+    and across its x; 0 for a point, ``name`` None)."""
+    if name is None:
+        return 0.0, 0.0, 0.0
     e = engine.actors[name].entity
-    return e.centre[0] + 0.5 * e.length, 0.5 * e.length - e.centre[0]
+    return e.centre[0] + 0.5 * e.length, 0.5 * e.length - e.centre[0], 0.5 * e.width
+
+
+def target(
+    engine: ScenarioEngine, b: LaneCondition, pose_of: Callable[[str], Pose]
+) -> tuple[Pose, str | None]:
+    """The pose (by ``pose_of``) and name of what condition ``b`` measures to: its position
+    (name None) or its entity."""
+    if isinstance(b, DistanceCondition) or (
+        isinstance(b, TimeToCollisionCondition) and b.entity is None
+    ):
+        return engine.resolver.resolve(b.position), None
+    return pose_of(b.entity), b.entity
+
+
+def time_measure(b: LaneCondition, dist: float, ahead: float, v: float, v_other: float) -> float:
+    """Headway (s) or time to collision (s) of ``b`` over ``dist`` m, the other ``ahead``
+    (signed, + ahead), at own speed ``v`` and the other's ``v_other`` along the frame (m/s)."""
+    if isinstance(b, TimeHeadwayCondition):
+        return dist / v if ahead > 0 and v > 1e-6 else math.inf
+    closing = (v - v_other) if ahead >= 0 else (v_other - v)
+    return dist / closing if closing > 1e-9 else math.inf
 
 
 def _gap(
@@ -87,8 +112,8 @@ def _gap(
     ahead = direction * lane_length(engine, me.road, me.lane, me.s, other.s)
     lon = abs(ahead)
     if freespace:
-        front, rear = _ends(engine, name)
-        o_front, o_rear = _ends(engine, other_name) if other_name else (0.0, 0.0)
+        front, rear, _ = box_extent(engine, name)
+        o_front, o_rear, _ = box_extent(engine, other_name)
         lon = max(0.0, lon - (front + o_rear if ahead >= 0 else rear + o_front))
     if dtype == DistanceType.LONGITUDINAL:
         return lon, ahead
@@ -101,26 +126,17 @@ def lane_measure(engine: ScenarioEngine, name: str, b: LaneCondition) -> float:
     """The distance (m; lanes laterally), headway (s) or time to collision (s) of ``b`` for
     triggering entity ``name`` in lane coordinates (NaN: not measurable now)."""
     me = engine.road_pose(name)
-    if isinstance(b, DistanceCondition):
-        other, other_name = engine.resolver.resolve(b.position), None
-    elif isinstance(b, TimeToCollisionCondition) and b.entity is None:
-        other, other_name = engine.resolver.resolve(b.position), None
-    else:
-        other, other_name = engine.road_pose(b.entity), b.entity
+    other, other_name = target(engine, b, engine.road_pose)
     dtype = getattr(b, "distance_type", DistanceType.EUCLIDEAN)
     dist, ahead = _gap(engine, name, me, other, other_name, b.freespace, dtype)
     if isinstance(b, RelativeDistanceCondition | DistanceCondition):
         return dist
-    v = engine.speed_of(name)
-    if isinstance(b, TimeHeadwayCondition):
-        return dist / v if ahead > 0 and v > 1e-6 else math.inf
     # along the lane: the other's speed counts with the sign of its direction against mine
     v_other = 0.0
     if other_name is not None:
         same = engine.travel_direction(other_name) == engine.travel_direction(name)
         v_other = engine.speed_of(other_name) * (1.0 if same else -1.0)
-    closing = (v - v_other) if ahead >= 0 else (v_other - v)
-    return dist / closing if closing > 1e-9 else math.inf
+    return time_measure(b, dist, ahead, engine.speed_of(name), v_other)
 
 
 def in_lane_frame(body: object) -> bool:

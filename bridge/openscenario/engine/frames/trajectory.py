@@ -16,7 +16,12 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from hiyari.bridge.openscenario.engine.frames.lane import LaneCondition
+from hiyari.bridge.openscenario.engine.frames.lane import (
+    LaneCondition,
+    box_extent,
+    target,
+    time_measure,
+)
 from hiyari.bridge.openscenario.model.actions import FollowTrajectoryAction
 from hiyari.bridge.openscenario.model.conditions import (
     CoordinateSystem,
@@ -24,8 +29,6 @@ from hiyari.bridge.openscenario.model.conditions import (
     DistanceType,
     EntityCondition,
     RelativeDistanceCondition,
-    TimeHeadwayCondition,
-    TimeToCollisionCondition,
     Trigger,
 )
 from hiyari.bridge.openscenario.model.storyboard import Storyboard
@@ -75,15 +78,6 @@ def check_trajectory_frames(board: Storyboard, triggers: list[Trigger]) -> None:
                         )
 
 
-def _extent(engine: ScenarioEngine, name: str | None) -> tuple[float, float, float]:
-    """(front, rear, half width) of entity ``name``'s box from its reference point (m; 0 for
-    a point)."""
-    if name is None:
-        return 0.0, 0.0, 0.0
-    e = engine.actors[name].entity
-    return e.centre[0] + 0.5 * e.length, 0.5 * e.length - e.centre[0], 0.5 * e.width
-
-
 def trajectory_measure(engine: ScenarioEngine, name: str, b: LaneCondition) -> float:
     """The distance (m), headway (s) or time to collision (s) of ``b`` for triggering entity
     ``name`` in the coordinates of its trajectory (NaN: it has none yet)."""
@@ -91,19 +85,14 @@ def trajectory_measure(engine: ScenarioEngine, name: str, b: LaneCondition) -> f
     if path is None:
         return math.nan
     me = engine.pose_of(name)
-    if isinstance(b, DistanceCondition) or (
-        isinstance(b, TimeToCollisionCondition) and b.entity is None
-    ):
-        other, other_name = engine.resolver.resolve(b.position), None
-    else:
-        other, other_name = engine.pose_of(b.entity), b.entity
+    other, other_name = target(engine, b, engine.pose_of)
     s_a, t_a = path.project(me.x, me.y)
     s_b, t_b = path.project(other.x, other.y)
     ahead = s_b - s_a
     lon, lat = abs(ahead), abs(t_b - t_a)
     if b.freespace:
-        front, rear, half = _extent(engine, name)
-        o_front, o_rear, o_half = _extent(engine, other_name)
+        front, rear, half = box_extent(engine, name)
+        o_front, o_rear, o_half = box_extent(engine, other_name)
         lon = max(0.0, lon - (front + o_rear if ahead >= 0 else rear + o_front))
         lat = max(0.0, lat - half - o_half)
     dtype = getattr(b, "distance_type", DistanceType.EUCLIDEAN)
@@ -113,10 +102,7 @@ def trajectory_measure(engine: ScenarioEngine, name: str, b: LaneCondition) -> f
     if isinstance(b, RelativeDistanceCondition | DistanceCondition):
         return dist
     v = engine.speed_of(name) * math.cos(me.h - path.direction(s_a))
-    if isinstance(b, TimeHeadwayCondition):
-        return dist / v if ahead > 0 and v > 1e-6 else math.inf
     v_other = 0.0
     if other_name is not None:
         v_other = engine.speed_of(other_name) * math.cos(other.h - path.direction(s_b))
-    closing = (v - v_other) if ahead >= 0 else (v_other - v)
-    return dist / closing if closing > 1e-9 else math.inf
+    return time_measure(b, dist, ahead, v, v_other)
