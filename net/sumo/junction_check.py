@@ -48,7 +48,7 @@ class JunctionReport:
         return ", ".join(parts) or "clean"
 
 
-def _paths(
+def link_paths(
     root: etree._Element,
 ) -> tuple[dict[str, shapely.LineString], dict[str, str], dict[str, str]]:
     """Per internal lane that starts a link, or is listed for it after an internal junction:
@@ -100,7 +100,7 @@ def check_junctions(net: str | Path | etree._Element) -> JunctionReport:
         root = net
     else:
         root = etree.parse(str(net), etree.XMLParser(huge_tree=True)).getroot()
-    paths, targets, sources = _paths(root)
+    paths, targets, sources = link_paths(root)
     report = JunctionReport()
     for j in root.iter("junction"):
         if j.get("type") in ("internal", "dead_end"):

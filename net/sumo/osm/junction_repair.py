@@ -46,7 +46,7 @@ from pathlib import Path
 import shapely
 from lxml import etree
 
-from hiyari.net.sumo.junction_check import _paths, check_junctions
+from hiyari.net.sumo.junction_check import check_junctions, link_paths
 from hiyari.sumo_tools import run_sumo_tool
 
 #: Half the width of a car, m (SUMO's passenger car and hiyari's CAR class are 1.8 m wide; the
@@ -149,7 +149,7 @@ def _foes(j: etree._Element) -> dict[int, str]:
 def car_conflicts(root: etree._Element) -> list[CarConflict]:
     """Car links of one junction that cross without being foes, or pass closer than
     CLOSE_PASS without crossing (neither from nor into one lane)."""
-    paths, targets, sources = _paths(root)
+    paths, targets, sources = link_paths(root)
     car = _car_lanes(root)
     out = [CarConflict(j, a, b, 0.0) for j, a, b in check_junctions(root).unregulated
            if a in car and b in car]  # fmt: skip
@@ -204,7 +204,7 @@ def _narrowed(
 def crossings_along_cars(root: etree._Element) -> list[tuple[str, str, str, float, float]]:
     """Crossings a car link that is not their foe passes within half a car's width of:
     (junction, crossing edge id, crossed edges, width, the width that clears them or 0)."""
-    paths, _, _ = _paths(root)
+    paths, _, _ = link_paths(root)
     car = _car_lanes(root)
     crossing = {}
     for e in root.iter("edge"):
