@@ -411,7 +411,9 @@ def _row_table(rows: EntityRows) -> np.ndarray:
                 rows.dtype,
                 rows.road,
                 np.isin(rows.kind, M.DURATION_KINDS)
-                | ((rows.kind == M.ACCEL) & (rows.dtype == M.DIR_LAT)),  # tracked every step
+                | (
+                    (rows.kind == M.ACCEL) & np.isin(rows.dtype, (M.DIR_LAT, M.DIR_NONE))
+                ),  # yaw rate
             ],  # fmt: skip
             axis=1,
         )

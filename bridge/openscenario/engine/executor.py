@@ -688,7 +688,7 @@ class ScenarioEngine:
         motion = None if on_path else quiet_motion(self.roads.odr, tb, on_road, self.dt)
         if motion is None:
             return None
-        where = GatherArrays(self._entity_rows, self._centre_offset, view.own)
+        where = GatherArrays(self._entity_rows, self._centre_offset, view.own, view.driven)
         elements = ElementArrays(view.active, self.tree.state, self.tree.transition)
         return (
             tuple(where), tuple(bank.arrays), tuple(self._fields), tuple(elements), *motion,
@@ -944,7 +944,7 @@ class ScenarioEngine:
         if self.bank.needs_road:
             tb.refresh(self.roads.odr)
         present = self._present
-        where = GatherArrays(rows, self._centre_offset, view.own)
+        where = GatherArrays(rows, self._centre_offset, view.own, view.driven)
         gather = (_world_arrays(world), tuple(where), tuple(tb.arrays))
         if view.located:
             gather_entities(*gather, tuple(self._fields))

@@ -224,7 +224,9 @@ def test_gathering_in_the_trigger_call_equals_gathering_first() -> None:
                 rng.uniform(-15, 15, (n_world, 3)), rng.uniform(-np.pi, np.pi, n_world),
                 rng.uniform(0, 20, n_world), rng.uniform(-5, 3, n_world),
             )  # fmt: skip
-            where = GatherArrays(rows, rng.uniform(-1, 2, (E, 2)), rng.random(E) < 0.5)
+            where = GatherArrays(
+                rows, rng.uniform(-1, 2, (E, 2)), rng.random(E) < 0.5, np.zeros(E, bool)
+            )
             actors = ActorTable(E).arrays._replace(
                 road_code=rng.integers(-1, 2, E), state=rng.uniform(0, 60, (len(MK.STATE), E)),
                 direction=rng.choice([-1.0, 1.0], E),

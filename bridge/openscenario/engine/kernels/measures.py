@@ -291,9 +291,14 @@ def single_measure(kind: int, direction: int, ea: tuple, eb: tuple) -> float:
     heading and in the plane (the WorldState's: speed times the heading's unit vector), so
     an entity's own lateral and vertical speeds are 0 and its relative velocity to B in its
     axes is (v_a - v_b cos(h_b - h_a), -v_b sin(h_b - h_a), 0). The vertical acceleration is
-    0 (level entities, planar motion); the lateral one is :func:`lateral_accel_measure`'s."""
-    if kind == SPEED:
-        return ea[E_V] if direction <= DIR_LON else 0.0
+    0 (level entities, planar motion); the lateral one is :func:`lateral_accel_measure`'s.
+    With no direction a speed is the velocity's magnitude (the standard's total speed; a
+    reversing entity's is positive) and the relative speed the difference of the speeds;
+    the total acceleration is :func:`total_accel_measure`'s."""
+    if kind == SPEED:  # with no direction the total speed: the velocity's magnitude
+        if direction == DIR_NONE:
+            return abs(ea[E_V])
+        return ea[E_V] if direction == DIR_LON else 0.0
     if kind == ACCEL:
         return ea[E_ACC] if direction <= DIR_LON else 0.0
     if direction == DIR_NONE:
@@ -320,6 +325,16 @@ def lateral_accel_measure(
         return math.nan, heading, now
     turn = (heading - last_h + math.pi) % (2.0 * math.pi) - math.pi
     return speed * turn / (now - last_t), heading, now
+
+
+@njit(cache=True)
+def total_accel_measure(longitudinal: float, lateral: float) -> float:
+    """Total acceleration (m/s^2): the magnitude of the acceleration vector from its
+    ``longitudinal`` and ``lateral`` components (planar motion: no vertical one); NaN while
+    the lateral one is (:func:`lateral_accel_measure`: the first evaluation)."""
+    if lateral != lateral:
+        return math.nan
+    return math.sqrt(longitudinal * longitudinal + lateral * lateral)
 
 
 @njit(cache=True)

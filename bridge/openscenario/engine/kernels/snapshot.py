@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hiyari.bridge.openscenario.engine.kernels.motion_kernel import S, T
+from hiyari.bridge.openscenario.engine.kernels.motion_kernel import S, T, V
 from hiyari.bridge.openscenario.engine.kernels.tables import (
     ActorArrays,
     EntityFields,
@@ -58,9 +58,10 @@ def gather_entities(
 ) -> None:
     """Per entity (``ent.rows``: its row in the ``world`` arrays, -1 absent), into ``out``
     (its arrays reused from step to step: no allocation): present, box centre, reference
-    point = centre - ``centre_offset`` in the vehicle frame, heading, speed, acceleration and
-    road coordinates. Absent entities read WorldState row 0 (or zeros when empty), as their
-    measures are discarded. Road coordinates: those of the ``own`` and present rows of the
+    point = centre - ``centre_offset`` in the vehicle frame, heading, speed and acceleration
+    along the heading (negative for a reversing ``driven`` entity) and road coordinates.
+    Absent entities read WorldState row 0 (or zeros when empty), as their measures are
+    discarded. Road coordinates: those of the ``own`` and present rows of the
     ActorTable (``actors``) on a road, with the centre ``centre_offset[:, 0]`` ahead of the
     reference point along the driving direction; NaN, NaN, 1 for the others."""
     world, ent, actors = WorldArrays(*world), GatherArrays(*ent), ActorArrays(*actors)
@@ -81,6 +82,10 @@ def gather_entities(
         centre[i, 0], centre[i, 1] = world.xyz[r, 0], world.xyz[r, 1]
         h = heading[r]
         out.heading[i], out.speed[i], out.accel[i] = h, world.speed[r], world.accel[r]
+        if ent.driven[i] and actors.state[V, i] < 0.0:
+            # reversing: SUMO's speed is the magnitude and its acceleration d|v|/dt; the
+            # entity's velocity along its heading is negative
+            out.speed[i], out.accel[i] = -world.speed[r], -world.accel[r]
         c, s = math.cos(h), math.sin(h)
         px, py = -offset[i, 0], -offset[i, 1]  # vehicle_to_world(-offset, ...)
         ref[i, 0] = (px * c - py * s) + centre[i, 0]

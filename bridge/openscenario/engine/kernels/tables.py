@@ -88,6 +88,7 @@ class GatherArrays(NamedTuple):
     rows: np.ndarray  # (E,) intp: its row in the WorldState arrays, -1: absent
     centre_offset: np.ndarray  # (E, 2) box centre from the reference point, vehicle frame, m
     own: np.ndarray  # (E,) bool: its road coordinates come from the ActorTable
+    driven: np.ndarray  # (E,) bool: the storyboard drives it (its speed's sign from the ActorTable)
 
 
 class EntityFields(NamedTuple):

@@ -21,7 +21,9 @@ from hiyari.bridge.openscenario.engine.kernels.measures import (
     ACCEL,
     COLLISION,
     DIR_LAT,
+    DIR_NONE,
     DISTANCE,
+    E_ACC,
     E_H,
     E_V,
     END_OF_ROAD,
@@ -40,6 +42,7 @@ from hiyari.bridge.openscenario.engine.kernels.measures import (
     pair_measure,
     point_measure,
     single_measure,
+    total_accel_measure,
     traveled_measure,
     ttc_above,
 )
@@ -87,8 +90,8 @@ def _row_holds(
     measures.duration_measure, or the distance travelled and the time it was measured at,
     see measures.traveled_measure), given its entities' presence and fields (``ea``, ``eb``:
     measures.entity_scalars; ``eb`` is any entity's when the row has none) and its point
-    (world x, y and road s, t: measures.point_measure). A lateral acceleration row keeps
-    the heading and time of its previous evaluation (measures.lateral_accel_measure; it is
+    (world x, y and road s, t: measures.point_measure). A lateral or total acceleration row
+    keeps the heading and time of its previous evaluation (measures.lateral_accel_measure; it is
     measured every step). An absent entity measures NaN,
     which no rule holds for. Scalars only: a compiled helper called with array arguments
     pays a reference count per array and row."""
@@ -98,8 +101,10 @@ def _row_holds(
     if kind == TRAVELED:
         m, since, last = traveled_measure(now, present_a, ea[E_V], since, last)
         return holds(m, value, rule), since, last
-    if kind == ACCEL and dtype == DIR_LAT:
+    if kind == ACCEL and (dtype == DIR_LAT or dtype == DIR_NONE):
         m, since, last = lateral_accel_measure(now, present_a, ea[E_H], ea[E_V], since, last)
+        if dtype == DIR_NONE:
+            m = total_accel_measure(ea[E_ACC], m)
         return holds(m, value, rule), since, last
     if not present_a or ((kind < SPEED or kind == REL_SPEED) and not present_b):
         return False, since, last
