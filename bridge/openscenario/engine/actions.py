@@ -412,7 +412,12 @@ class ActionStarter:
         ent_ref = self.e.actors[body.entity].entity
         direction = self.e.travel_direction(body.entity)
         cx_r, cx_a = ent_ref.centre[0], a.entity.centre[0]
-        if body.displacement == "trailingReferencedEntity":
+        trailing = body.displacement == "trailingReferencedEntity" or (
+            # any: on the side of the reference it is on (behind it when level or on
+            # another road)
+            body.displacement == "any" and (a.road != ref.road or (a.s - ref.s) * direction <= 0.0)
+        )
+        if trailing:
             lead = (
                 -(gap + (cx_a + a.entity.length / 2) - (cx_r - ent_ref.length / 2))
                 if body.freespace

@@ -100,7 +100,7 @@ class SpeedAction:
 class LongitudinalDistanceAction:
     """Put the actor at a gap (``distance`` m, or ``time_gap`` s times the reference's speed)
     ahead of ("leadingReferencedEntity") or behind ("trailingReferencedEntity") ``entity``
-    along the road, bumper to bumper when ``freespace``; ``continuous`` keeps that gap.
+    along the road ("any": on the side it is on), bumper to bumper when ``freespace``; ``continuous`` keeps that gap.
     With ``limits`` (DynamicConstraints: max acceleration, deceleration m/s^2, max speed
     m/s; None each where not given) the actor drives there (a critically damped follower
     within the limits) instead of being put there."""

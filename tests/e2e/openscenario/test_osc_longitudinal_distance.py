@@ -83,3 +83,25 @@ continuous="false" displacement="trailingReferencedEntity" coordinateSystem="roa
     assert at_end[1] == pytest.approx(
         17.0, abs=0.15
     )  # 12 m bumper to bumper: 17 m between references
+
+
+def test_any_displacement_keeps_the_side_the_actor_is_on(tmp_path: Path) -> None:
+    """displacement any: the actor behind the reference stays behind it (at s = 200 - 17 once
+    put there), the one ahead stays ahead (200 + 17); both 5 m long, centres alike: the 12 m
+    bumper-to-bumper gap is 17 m between reference points. The lead drives 20 m/s."""
+    keep = KEEP.replace('"trailingReferencedEntity"', '"any"')
+    init = teleport_speed("Ego", -5, 20, 10) + teleport_speed("Lead", -4, 200, 20)
+    init += teleport_speed("Back", -4, 150, 20) + teleport_speed("Front", -3, 260, 20)
+    for name in ("Back", "Front"):
+        init += f'<Private entityRef="{name}"><PrivateAction>{keep}</PrivateAction></Private>'
+    gaps = []
+
+    def on_step(sim, world, report, engine) -> None:
+        lead = engine.actors["Lead"]
+        gaps.append((engine.actors["Back"].s - lead.s, engine.actors["Front"].s - lead.s))
+
+    cars = {"Ego": "", "Lead": "", "Back": "", "Front": ""}
+    run_scenario(write(tmp_path / "a.xosc", scenario_xml(cars, init)), tmp_path, until=2.0,
+                 on_step=on_step)  # fmt: skip
+    assert all(b == pytest.approx(-17.0, abs=1e-9) for b, _ in gaps)
+    assert all(f == pytest.approx(17.0, abs=1e-9) for _, f in gaps)
