@@ -27,6 +27,7 @@ from hiyari.bridge.openscenario.engine.followers.speed_profile import (
     speed_profile,
 )
 from hiyari.bridge.openscenario.engine.followers.synchronize import Synchronizer
+from hiyari.bridge.openscenario.engine.frames.gap import gap_s, ref_length
 from hiyari.bridge.openscenario.engine.frames.links import road_ahead, walk
 from hiyari.bridge.openscenario.engine.global_actions import is_global, run_global
 from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
@@ -432,6 +433,12 @@ class ActionStarter:
                 else gap
             )
         a.road, a.s = ref.road, ref.s + direction * lead
+        if (
+            body.coordinate_system != "road"
+            and a.s == a.s
+            and 0.0 <= a.s <= ref_length(self.e, ref)
+        ):
+            a.s = gap_s(self.e, ref, a, direction * lead, body.coordinate_system)
         if not 0.0 <= a.s <= self.e.roads.odr.road(ref.road).length:
             # past the reference's road end: on along the road links (towards the road the
             # actor is on, at a junction)
