@@ -26,11 +26,11 @@ def _place(entity: str, road: int, s: float, speed: float) -> str:
 </Private>"""
 
 
-def _lane_distance(name: str, value: float, rule: str) -> str:
+def _lane_distance(name: str, value: float, rule: str, system: str = "lane") -> str:
     return f"""<Condition name="{name}" delay="0" conditionEdge="none"><ByEntityCondition>
 <TriggeringEntities triggeringEntitiesRule="any"><EntityRef entityRef="Follow"/></TriggeringEntities>
 <EntityCondition><RelativeDistanceCondition entityRef="Lead" freespace="false" relativeDistanceType="longitudinal"
-coordinateSystem="lane" value="{value}" rule="{rule}"/></EntityCondition></ByEntityCondition></Condition>"""
+coordinateSystem="{system}" value="{value}" rule="{rule}"/></EntityCondition></ByEntityCondition></Condition>"""
 
 
 def test_gap_and_lane_distance_across_a_junction(tmp_path: Path) -> None:
@@ -53,6 +53,15 @@ def test_gap_and_lane_distance_across_a_junction(tmp_path: Path) -> None:
         time_condition(0.1, "b", "none") + _lane_distance("far", 29.9, "lessThan"),
         "Far",
     )
+    # the same in road coordinates (the trigger kernel's road frame)
+    for name, value in (("RNear", 30.1), ("RFar", 29.9)):
+        stories += story(
+            "Ego",
+            NOOP,
+            time_condition(0.1, name + "t", "none")
+            + _lane_distance(name + "c", value, "lessThan", "road"),
+            name,
+        )
     text = scenario_xml({"Ego": "", "Lead": "", "Follow": ""}, init, stories,
                         f"<ConditionGroup>{time_condition(2.0, 'end')}</ConditionGroup>",
                         road=town_map(tmp_path / "town.xodr"))  # fmt: skip
@@ -68,3 +77,4 @@ def test_gap_and_lane_distance_across_a_junction(tmp_path: Path) -> None:
     assert {road for *_, road in seen} == {"101", "2"}
     started = {n for _, _, n, tr in engine.tree.log if tr == "startTransition"}
     assert "NearAction" in started and "FarAction" not in started
+    assert "RNearAction" in started and "RFarAction" not in started

@@ -44,12 +44,15 @@ class Snapshot:
     road_dir: np.ndarray  # (E,) +1 / -1 driving direction along s
     contacts: set[frozenset[int]]
     contact_any: np.ndarray  # (E,) bool
+    #: (E,) each road's code in the ActorTable's road_ids (-1: none; None: all -1)
+    road_code: np.ndarray | None = None
 
 
 #: Rows of the engine's per-entity float matrix (one allocation; its EntityFields and
 #: Snapshot hold the rows): heading (rad), speed (m/s), acceleration (m/s^2), road s of the
-#: box centre, road t (m) and driving direction (+1 / -1).
-F_HEADING, F_SPEED, F_ACCEL, F_ROAD_S, F_ROAD_T, F_ROAD_DIR = range(6)
+#: box centre, road t (m), driving direction (+1 / -1) and road (its code in the
+#: ActorTable's ``road_ids``; -1: none).
+F_HEADING, F_SPEED, F_ACCEL, F_ROAD_S, F_ROAD_T, F_ROAD_DIR, F_ROAD_CODE = range(7)
 
 
 @njit(cache=True)
@@ -102,5 +105,7 @@ def _road_coords(k: int, ent: GatherArrays, actors: ActorArrays, out: EntityFiel
         out.road_dir[k] = d
         out.road_s[k] = actors.state[S, k] + d * ent.centre_offset[k, 0]
         out.road_t[k] = actors.state[T, k]
+        out.road_code[k] = actors.road_code[k]
     else:
         out.road_s[k], out.road_t[k], out.road_dir[k] = np.nan, np.nan, 1.0
+        out.road_code[k] = -1.0

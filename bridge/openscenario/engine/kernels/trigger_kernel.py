@@ -37,6 +37,7 @@ from hiyari.bridge.openscenario.engine.kernels.measures import (
     duration_measure,
     entity_scalars,
     holds,
+    in_road_of,
     lateral_accel_measure,
     pack_entities,
     pair_measure,
@@ -151,10 +152,13 @@ def _condition_values(
             res = ent.contact[a, b] if b >= 0 else ent.contact_any[a]
         else:
             a, b = rows[r, R_A], rows[r, R_B]
+            ea, eb = entity_scalars(a, work), entity_scalars(max(b, 0), work)
+            if rows[r, R_ROAD] == ROAD_FRAME and b >= 0:
+                eb = in_road_of(ea, eb, trig.links)  # along the links when on another road
             res, since[r, 0], since[r, 1] = _row_holds(
                 rows[r, R_KIND], rows[r, R_RULE], trig.row_value[r], now, rows[r, R_FS] != 0,
                 rows[r, R_DTYPE], rows[r, R_ROAD], present[a], b >= 0 and present[b],
-                entity_scalars(a, work), entity_scalars(max(b, 0), work), ent.on_net[a],
+                ea, eb, ent.on_net[a],
                 since[r, 0], since[r, 1],
                 (points[r, 0], points[r, 1], points[r, 2], points[r, 3]),
             )  # fmt: skip
