@@ -208,7 +208,8 @@ class ConditionBank:
             for j, b in enumerate(road_ids):
                 if i != j and g is not None:
                     x0, x1 = road_ahead(g, a, 0.0, 1.0, b, 0.0), road_ahead(g, a, 0.0, 1.0, b, 1.0)
-                    links[i, j] = x0, round(x1 - x0)
+                    if x0 == x0 and x1 == x1:  # NaN: no link joins them
+                        links[i, j] = x0, round(x1 - x0)
         self.arrays = self.arrays._replace(links=links)
 
     def refresh_values(self) -> None:

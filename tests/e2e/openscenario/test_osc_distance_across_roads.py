@@ -10,7 +10,8 @@ from pathlib import Path
 
 import pytest
 from openscenario_files import run_scenario, scenario_xml, story, time_condition, write
-from xodr_authoring import town_map
+from xodr_authoring import TOWN, opendrive, road, town_map
+from xodr_authoring import write as write_xodr
 
 KEEP = """<LongitudinalAction><LongitudinalDistanceAction entityRef="Lead" distance="30" freespace="false"
 continuous="true" displacement="trailingReferencedEntity" coordinateSystem="road"/></LongitudinalAction>"""
@@ -78,3 +79,23 @@ def test_gap_and_lane_distance_across_a_junction(tmp_path: Path) -> None:
     started = {n for _, _, n, tr in engine.tree.log if tr == "startTransition"}
     assert "NearAction" in started and "FarAction" not in started
     assert "RNearAction" in started and "RFarAction" not in started
+
+
+def test_road_distance_between_unlinked_roads_never_holds(tmp_path: Path) -> None:
+    """Two parallel roads with no link between them (road 1 at y = 0, road 2 at y = 30): the
+    road-frame distance from one to the other is not measured, so neither rule holds."""
+    root = opendrive()
+    road(root, 1, (0.0, 0.0, 0.0), 200.0, TOWN)
+    road(root, 2, (0.0, 30.0, 0.0), 200.0, TOWN)
+    xodr = write_xodr(root, tmp_path / "apart.xodr")
+    init = _place("Ego", 1, 10, 0) + _place("Lead", 2, 50, 10) + _place("Follow", 1, 50, 10)
+    stories = "".join(
+        story("Ego", NOOP, _lane_distance(name, 1000.0, rule, "road"), name)
+        for name, rule in (("Below", "lessThan"), ("Above", "greaterThan"))
+    )
+    text = scenario_xml({"Ego": "", "Lead": "", "Follow": ""}, init, stories,
+                        f"<ConditionGroup>{time_condition(0.5, 'end')}</ConditionGroup>",
+                        road=xodr)  # fmt: skip
+    engine, report = run_scenario(write(tmp_path / "u.xosc", text), tmp_path, until=1.0)
+    started = {n for _, _, n, tr in engine.tree.log if tr == "startTransition"}
+    assert report.finished and not {"BelowAction", "AboveAction"} & started
