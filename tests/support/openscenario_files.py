@@ -200,8 +200,10 @@ def element_seeds(folder: Path) -> list[Path]:
     """Scenarios using elements that the ALKS and Euro NCAP sets do not (SpeedProfileAction
     with DynamicConstraints, a continuous LateralDistanceAction, RandomRouteAction through a
     junction, a timed NURBS followed with FollowTrajectoryAction, GeoPositions on a road with a
-    geoReference, variables and the deprecated ParameterAction), written into ``folder``:
-    seeds for the fuzz suite. Each runs to its stop trigger unmutated
+    geoReference, variables and the deprecated ParameterAction, a Clothoid and a Polyline
+    trajectory, SynchronizeAction with a final speed, GlobalActions: EnvironmentAction,
+    EntityAction delete / add, TrafficSwarm / Source / Sink / Stop actions), written into
+    ``folder``: seeds for the fuzz suite. Each runs to its stop trigger unmutated
     (tests/e2e/openscenario/test_element_seeds.py)."""
     profile = """<LongitudinalAction><SpeedProfileAction followingMode="position">
 <DynamicConstraints maxAcceleration="2" maxDeceleration="4"/>
@@ -253,8 +255,74 @@ continuous="true" displacement="leftToReferencedEntity" coordinateSystem="entity
             params='<ParameterDeclaration name="Gain" parameterType="double" value="1"/>',
             variables=VARIABLES,
         ),
+        "clothoid_trajectory.xosc": scenario_xml(
+            {"Ego": "", "Car": "", "Van": ""},
+            teleport_speed("Ego", -5, 20, 10) + teleport_speed("Car", -4, 50, 10)
+            + teleport_speed("Van", -3, 80, 10),
+            story("Car", CLOTHOID_FOLLOW, go, "C") + story("Van", POLYLINE_FOLLOW, go, "L"),
+            stop,
+        ),
+        "synchronize.xosc": scenario_xml(
+            cars,
+            teleport_speed("Ego", -4, 50, 10) + teleport_speed("Car", -3, 100, 0),
+            story("Car", SYNCHRONIZE, go, "Y"),
+            stop,
+        ),
+        "global_actions.xosc": scenario_xml(
+            {"Ego": "", "Car": "", "Van": ""},
+            FOG_INIT + teleport_speed("Ego", -5, 20, 10) + teleport_speed("Car", -4, 50, 10)
+            + teleport_speed("Van", -3, 120, 10),
+            global_story("Del", '<EntityAction entityRef="Car"><DeleteEntityAction/></EntityAction>', 0.5)
+            + global_story("Add", ADD_CAR, 1.5) + global_story("Sw", SWARM, 0.5)
+            + global_story("Src", SOURCE, 0.5) + global_story("Snk", SINK, 0.5)
+            + global_story("Off", '<TrafficAction trafficName="src"><TrafficStopAction/></TrafficAction>', 2.5),
+            stop,
+        ),
     }  # fmt: skip
     return [write(folder / name, text) for name, text in texts.items()]
+
+
+def global_story(name: str, action: str, t: float) -> str:
+    """One story running the GlobalAction body ``action`` once at ``t`` s."""
+    return f"""<Story name="{name}S"><Act name="{name}A"><ManeuverGroup maximumExecutionCount="1" name="{name}G">
+<Actors selectTriggeringEntities="false"/><Maneuver name="{name}M"><Event name="{name}" priority="override">
+<Action name="{name}Action"><GlobalAction>{action}</GlobalAction></Action>
+<StartTrigger><ConditionGroup>{time_condition(t, name + "t", "none")}</ConditionGroup></StartTrigger></Event></Maneuver></ManeuverGroup>
+<StartTrigger><ConditionGroup>{time_condition(0, name + "g", "none")}</ConditionGroup></StartTrigger></Act></Story>"""
+
+
+#: A clothoid from the car's start in lane -4 (y = -8), curvature 0 to 0.002 1/m over 100 m.
+CLOTHOID_FOLLOW = """<RoutingAction><FollowTrajectoryAction><TimeReference><None/></TimeReference>
+<TrajectoryFollowingMode followingMode="position"/><TrajectoryRef><Trajectory name="bend" closed="false"><Shape>
+<Clothoid curvature="0" curvaturePrime="0.00002" length="100"><Position><WorldPosition x="55" y="-8" h="0"/></Position></Clothoid>
+</Shape></Trajectory></TrajectoryRef></FollowTrajectoryAction></RoutingAction>"""
+#: A polyline from lane -3 (y = -4.5) into lane -4 over 40 m, untimed.
+POLYLINE_FOLLOW = """<RoutingAction><FollowTrajectoryAction><TimeReference><None/></TimeReference>
+<TrajectoryFollowingMode followingMode="position"/><TrajectoryRef><Trajectory name="drift" closed="false"><Shape><Polyline>
+<Vertex><Position><WorldPosition x="85" y="-4.5" h="0"/></Position></Vertex>
+<Vertex><Position><WorldPosition x="125" y="-8"/></Position></Vertex>
+<Vertex><Position><WorldPosition x="200" y="-8"/></Position></Vertex></Polyline>
+</Shape></Trajectory></TrajectoryRef></FollowTrajectoryAction></RoutingAction>"""
+#: The actor (at rest at s = 100) reaches s = 250 in lane -3 when the ego (10 m/s from
+#: s = 50) reaches s = 150, at 12 m/s over the last 30 m.
+SYNCHRONIZE = """<SynchronizeAction masterEntityRef="Ego">
+<TargetPositionMaster><LanePosition roadId="0" laneId="-4" s="150"/></TargetPositionMaster>
+<TargetPosition><LanePosition roadId="0" laneId="-3" s="250"/></TargetPosition>
+<FinalSpeed><AbsoluteSpeed value="12"><TargetDistanceSteadyState distance="30"/></AbsoluteSpeed></FinalSpeed>
+</SynchronizeAction>"""
+FOG_INIT = """<GlobalAction><EnvironmentAction><Environment name="Fog"><TimeOfDay animation="false" dateTime="2026-06-01T21:30:00"/>
+<Weather fractionalCloudCover="eightOktas"><Sun illuminance="10" azimuth="0" elevation="0.1"/><Fog visualRange="80"/>
+<Precipitation precipitationType="rain" precipitationIntensity="5"/></Weather>
+<RoadCondition frictionScaleFactor="0.7"/></Environment></EnvironmentAction></GlobalAction>"""
+ADD_CAR = """<EntityAction entityRef="Car"><AddEntityAction><Position>
+<LanePosition roadId="0" laneId="-4" s="200"/></Position></AddEntityAction></EntityAction>"""
+SWARM = """<TrafficAction trafficName="sw"><TrafficSwarmAction innerRadius="15" numberOfVehicles="3" offset="20"
+semiMajorAxis="120" semiMinorAxis="15"><CentralObject entityRef="Ego"/><InitialSpeedRange lowerLimit="8" upperLimit="12"/>
+<DirectionOfTravelDistribution same="1" opposite="0"/></TrafficSwarmAction></TrafficAction>"""
+SOURCE = """<TrafficAction trafficName="src"><TrafficSourceAction radius="0" rate="2" speed="20">
+<Position><LanePosition roadId="0" laneId="-1" s="100"/></Position></TrafficSourceAction></TrafficAction>"""
+SINK = """<TrafficAction trafficName="snk"><TrafficSinkAction radius="15">
+<Position><LanePosition roadId="0" laneId="-1" s="150"/></Position></TrafficSinkAction></TrafficAction>"""
 
 
 def action_state(action: str, state: str) -> str:

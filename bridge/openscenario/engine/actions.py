@@ -27,6 +27,8 @@ from hiyari.bridge.openscenario.engine.followers.speed_profile import (
     speed_profile,
 )
 from hiyari.bridge.openscenario.engine.followers.synchronize import Synchronizer
+from hiyari.bridge.openscenario.engine.frames.gap import gap_s, ref_length
+from hiyari.bridge.openscenario.engine.frames.links import road_ahead, walk
 from hiyari.bridge.openscenario.engine.global_actions import is_global, run_global
 from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
 from hiyari.bridge.openscenario.engine.kernels.shapes import lateral_duration, span
@@ -394,14 +396,15 @@ class ActionStarter:
 
     def _gap_error(self, a: Actor, body: LongitudinalDistanceAction) -> float:
         """Metres ``a`` is short of its gap position along the road (negative: past it)."""
-        s_now, road = a.s, a.road
+        s_now, road, lane = a.s, a.road, a.lane
+        direction = self.e.travel_direction(a.name)
         self._gap(a, body, place=False)
-        error = (a.s - s_now) * self.e.travel_direction(body.entity)
-        a.s, a.road = s_now, road
-        return error
+        goal_road, goal_s = a.road, a.s
+        a.s, a.road, a.lane = s_now, road, lane
+        return road_ahead(self.e.resolver.graph(), road, s_now, direction, goal_road, goal_s)
 
     def _gap(self, a: Actor, body: LongitudinalDistanceAction, place: bool = True) -> None:
-        ref = self.e.pose_of(body.entity)
+        ref, road = self.e.pose_of(body.entity), a.road
         if not ref.road or not a.road:
             raise HiyariError("LongitudinalDistanceAction needs both entities on a road")
         gap = (
@@ -412,7 +415,12 @@ class ActionStarter:
         ent_ref = self.e.actors[body.entity].entity
         direction = self.e.travel_direction(body.entity)
         cx_r, cx_a = ent_ref.centre[0], a.entity.centre[0]
-        if body.displacement == "trailingReferencedEntity":
+        trailing = body.displacement == "trailingReferencedEntity" or (
+            # any: on the side of the reference it is on (behind it when level or on
+            # another road)
+            body.displacement == "any" and (a.road != ref.road or (a.s - ref.s) * direction <= 0.0)
+        )
+        if trailing:
             lead = (
                 -(gap + (cx_a + a.entity.length / 2) - (cx_r - ent_ref.length / 2))
                 if body.freespace
@@ -425,6 +433,19 @@ class ActionStarter:
                 else gap
             )
         a.road, a.s = ref.road, ref.s + direction * lead
+        if (
+            body.coordinate_system != "road"
+            and a.s == a.s
+            and 0.0 <= a.s <= ref_length(self.e, ref)
+        ):
+            a.s = gap_s(self.e, ref, a, direction * lead, body.coordinate_system)
+        if not 0.0 <= a.s <= self.e.roads.odr.road(ref.road).length:
+            # past the reference's road end: on along the road links (towards the road the
+            # actor is on, at a junction)
+            graph = self.e.resolver.graph()
+            a.road, a.s, way = walk(graph, ref.road, ref.s, int(direction), lead, road)
+            if way != direction:  # entered at its end: the lane on the same side has the
+                a.lane = -a.lane  # other sign
         if place:
             place_actor(self.e.roads.odr, a)
 

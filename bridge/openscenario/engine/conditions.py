@@ -18,6 +18,7 @@ from collections.abc import Callable
 import numpy as np
 
 from hiyari.bridge.openscenario.engine.frames.lane import in_lane_frame
+from hiyari.bridge.openscenario.engine.frames.links import road_ahead
 from hiyari.bridge.openscenario.engine.frames.trajectory import in_trajectory_frame
 from hiyari.bridge.openscenario.engine.kernels import measures as M
 from hiyari.bridge.openscenario.engine.kernels import trigger_kernel as K
@@ -63,6 +64,7 @@ from hiyari.bridge.openscenario.model.conditions import (
     VariableCondition,
 )
 from hiyari.errors import HiyariError
+from hiyari.net.road.topology import RoadGraph
 
 _RULES = list(Rule)
 _EDGES = {Edge.NONE: 0, Edge.RISING: 1, Edge.FALLING: 2, Edge.RISING_OR_FALLING: 3}
@@ -185,11 +187,30 @@ class ConditionBank:
         self.arrays = TriggerArrays(
             self.cond, self.time_value, self.static, self.group_start, self.trigger_group,
             self.prev, self.history, self.row_table, self.rows.value, self.points, self.since,
-            self._work, self._counts, self._flags, self._fired,
+            self._work, self._counts, self._flags, self._fired, np.full((0, 0, 2), np.nan),
         )  # fmt: skip
         self.n_fired = 0
         self._values_version = -1
         self.refresh_values()
+
+    def link_roads(self, road_ids: list[str], graph: Callable[[], RoadGraph]) -> None:
+        """The road-frame links table for roads ``road_ids`` (ActorTable codes; rebuilt when
+        more roads are in use): road b's s in road a's frame as ``shift + sign * s``, from the
+        way along the road links (``graph()``) between their s = 0 points (frames.links);
+        NaN where no link joins them."""
+        k = len(road_ids)
+        if self.arrays.links.shape[0] == k:
+            return
+        links = np.full((k, k, 2), np.nan)
+        g = graph() if k > 1 else None
+        for i, a in enumerate(road_ids):
+            links[i, i] = 0.0, 1.0
+            for j, b in enumerate(road_ids):
+                if i != j and g is not None:
+                    x0, x1 = road_ahead(g, a, 0.0, 1.0, b, 0.0), road_ahead(g, a, 0.0, 1.0, b, 1.0)
+                    if x0 == x0 and x1 == x1:  # NaN: no link joins them
+                        links[i, j] = x0, round(x1 - x0)
+        self.arrays = self.arrays._replace(links=links)
 
     def refresh_values(self) -> None:
         """Re-read the conditions on variables and parameters when a value changed (their
@@ -267,6 +288,7 @@ class ConditionBank:
             snap.present, snap.centre, snap.ref, snap.heading, snap.length, snap.width,
             snap.speed, snap.accel, snap.on_net, snap.road_s, snap.road_t, snap.road_dir,
             contact, snap.contact_any,
+            snap.road_code if snap.road_code is not None else np.full(len(snap.heading), -1.0),
         )  # fmt: skip
         ent = tuple(ent)  # the kernels take tables as plain tuples (see kernels.tables)
         if len(self.point_rows):
@@ -411,7 +433,9 @@ def _row_table(rows: EntityRows) -> np.ndarray:
                 rows.dtype,
                 rows.road,
                 np.isin(rows.kind, M.DURATION_KINDS)
-                | ((rows.kind == M.ACCEL) & (rows.dtype == M.DIR_LAT)),  # tracked every step
+                | (
+                    (rows.kind == M.ACCEL) & np.isin(rows.dtype, (M.DIR_LAT, M.DIR_NONE))
+                ),  # yaw rate
             ],  # fmt: skip
             axis=1,
         )

@@ -43,6 +43,7 @@ from hiyari.bridge.openscenario.engine.kernels.command_kernel import command_ste
 from hiyari.bridge.openscenario.engine.kernels.snapshot import (
     F_ACCEL,
     F_HEADING,
+    F_ROAD_CODE,
     F_ROAD_DIR,
     F_ROAD_S,
     F_ROAD_T,
@@ -268,20 +269,20 @@ class ScenarioEngine:
         # the snapshot's arrays, filled in place every step (see snapshot.gather_entities)
         self._present = np.zeros(n, dtype=bool)
         self._centre, self._ref = np.zeros((n, 2)), np.zeros((n, 2))
-        self._ent = np.zeros((6, n))
+        self._ent = np.zeros((7, n))
         self._no_contact = np.zeros(n, dtype=bool)  # never written
         out = self._ent
         self._snap = Snapshot(
             0.0, self._present, self._ref, self._centre, out[F_HEADING], self._length,
             self._width, out[F_SPEED], out[F_ACCEL], self._no_contact, out[F_ROAD_S],
-            out[F_ROAD_T], out[F_ROAD_DIR], set(), self._no_contact,
+            out[F_ROAD_T], out[F_ROAD_DIR], set(), self._no_contact, out[F_ROAD_CODE],
         )  # fmt: skip
         # the same arrays as the kernels take them, for steps without contacts and without
         # end-of-road conditions (the quiet step, and the gather before entities are located)
         self._fields = EntityFields(
             self._present, self._centre, self._ref, out[F_HEADING], self._length, self._width,
             out[F_SPEED], out[F_ACCEL], self._no_contact, out[F_ROAD_S], out[F_ROAD_T],
-            out[F_ROAD_DIR], self.bank.no_contact, self._no_contact,
+            out[F_ROAD_DIR], self.bank.no_contact, self._no_contact, out[F_ROAD_CODE],
         )  # fmt: skip
         self._near: dict[str, tuple[str, float]] = {}  # last road and s of located entities
         self._view_cache: _View | None = None
@@ -688,7 +689,9 @@ class ScenarioEngine:
         motion = None if on_path else quiet_motion(self.roads.odr, tb, on_road, self.dt)
         if motion is None:
             return None
-        where = GatherArrays(self._entity_rows, self._centre_offset, view.own)
+        if bank.needs_road:
+            bank.link_roads(tb.road_ids, self.resolver.graph)
+        where = GatherArrays(self._entity_rows, self._centre_offset, view.own, view.driven)
         elements = ElementArrays(view.active, self.tree.state, self.tree.transition)
         return (
             tuple(where), tuple(bank.arrays), tuple(self._fields), tuple(elements), *motion,
@@ -924,6 +927,7 @@ class ScenarioEngine:
                 out[F_ROAD_DIR, k] = forward(self.roads.odr, p.road, p.lane)
                 out[F_ROAD_S, k] = p.s + out[F_ROAD_DIR, k] * self._cx[k]
                 out[F_ROAD_T, k] = p.t
+                out[F_ROAD_CODE, k] = self.table.code_of(p.road)
 
     def _map_rows(self, world: WorldState) -> None:
         """Rows of the entities in ``world`` (-1: absent), rebuilt when its ids change."""
@@ -944,12 +948,14 @@ class ScenarioEngine:
         if self.bank.needs_road:
             tb.refresh(self.roads.odr)
         present = self._present
-        where = GatherArrays(rows, self._centre_offset, view.own)
+        where = GatherArrays(rows, self._centre_offset, view.own, view.driven)
         gather = (_world_arrays(world), tuple(where), tuple(tb.arrays))
         if view.located:
             gather_entities(*gather, tuple(self._fields))
             gather = None
             self._located_road_coords(present)
+        if self.bank.needs_road:
+            self.bank.link_roads(self.table.road_ids, self.resolver.graph)
         n = len(rows)
         contacts: set[frozenset[int]] = set()
         contact_any = self._no_contact

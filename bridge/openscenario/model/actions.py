@@ -100,10 +100,12 @@ class SpeedAction:
 class LongitudinalDistanceAction:
     """Put the actor at a gap (``distance`` m, or ``time_gap`` s times the reference's speed)
     ahead of ("leadingReferencedEntity") or behind ("trailingReferencedEntity") ``entity``
-    along the road, bumper to bumper when ``freespace``; ``continuous`` keeps that gap.
+    along the road ("any": on the side it is on), bumper to bumper when ``freespace``; ``continuous`` keeps that gap.
     With ``limits`` (DynamicConstraints: max acceleration, deceleration m/s^2, max speed
     m/s; None each where not given) the actor drives there (a critically damped follower
-    within the limits) instead of being put there."""
+    within the limits) instead of being put there. The gap is measured in
+    ``coordinate_system``: "entity" along the reference's heading (x axis), "road" along the
+    road's s, "lane" along the centre line of the reference's lane."""
 
     entity: str
     distance: float | None
@@ -112,6 +114,7 @@ class LongitudinalDistanceAction:
     continuous: bool
     displacement: str = "trailingReferencedEntity"
     limits: tuple[float | None, float | None, float | None] | None = None
+    coordinate_system: str = "entity"
 
 
 @dataclass(frozen=True)

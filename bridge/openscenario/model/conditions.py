@@ -214,8 +214,9 @@ class TimeToCollisionCondition:
 
 @dataclass(frozen=True)
 class SpeedCondition:
-    """Speed (m/s) compared with ``value``: the speed, or with ``direction`` (longitudinal,
-    lateral, vertical: the entity's axes) its velocity's component along that axis."""
+    """Speed (m/s) compared with ``value``: the total speed (the velocity's magnitude,
+    positive when reversing), or with ``direction`` (longitudinal, lateral, vertical: the
+    entity's axes) the velocity's signed component along that axis."""
 
     value: float
     rule: Rule
@@ -236,9 +237,10 @@ class RelativeSpeedCondition:
 
 @dataclass(frozen=True)
 class AccelerationCondition:
-    """Acceleration along the heading (m/s^2) compared with ``value``; with ``direction``
-    lateral: the acceleration across the heading (the speed times the yaw rate, positive to
-    the left), vertical: along the entity's up axis."""
+    """Acceleration (m/s^2) compared with ``value``: the total acceleration (the magnitude of
+    the acceleration vector, never negative), or with ``direction`` its signed component:
+    longitudinal along the heading, lateral across it (the speed times the yaw rate,
+    positive to the left), vertical along the entity's up axis."""
 
     value: float
     rule: Rule

@@ -33,7 +33,17 @@ def _track(seed: Path, folder: Path, until: float) -> tuple:
     return engine, report, np.array(t), np.array(xy)
 
 
-@pytest.mark.parametrize("name", ["speed_profile", "lateral_distance", "random_route"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "speed_profile",
+        "lateral_distance",
+        "random_route",
+        "clothoid_trajectory",
+        "synchronize",
+        "global_actions",
+    ],
+)
 def test_seeds_stopped_by_time_run_to_it(seeds: dict[str, Path], name: str, tmp_path: Path):
     _, report = run_scenario(seeds[name], tmp_path, until=6.0, dt=DT)
     assert report.finished and report.time == pytest.approx(4.0)

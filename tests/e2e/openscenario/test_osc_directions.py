@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from openscenario_files import (
     ROADS,
     run_scenario,
@@ -67,3 +68,43 @@ def test_directional_speeds_and_accelerations(tmp_path: Path) -> None:
     started = {n for _, _, n, tr in engine.tree.log if tr == "startTransition"}
     for name, _, fires in CASES:
         assert (name + "Action" in started) == fires, name
+
+
+#: From 10 m/s to -6 m/s (reversing) at 4 m/s^2, started at t = 0.05 (the first step; the
+#: speed changes from there): v(t) = 10 - 4 (t - 0.05), -5.9 at t = 4.025, -6 from t = 4.05.
+REVERSE = """<LongitudinalAction><SpeedAction><SpeedActionDynamics dynamicsShape="linear" dynamicsDimension="rate" value="4"/>
+<SpeedActionTarget><AbsoluteTargetSpeed value="-6"/></SpeedActionTarget></SpeedAction></LongitudinalAction>"""
+
+#: (story name, condition body, from time (s), expected start (s)). With no direction the
+#: total speed |v| and the total acceleration |a| (the standard's "total"), never negative;
+#: with longitudinal the signed components. |a| = 4 m/s^2 over the steps the speed changes
+#: in (measured from t = 0.1: the first measure, at 0.05, has no yaw rate yet), 0 from the
+#: step after t = 4.05; |v| > 5.9 and v < -5.9 from the first step after t = 4.025; while
+#: reversing (v < 0 from t = 2.55) the longitudinal acceleration stays -4 (SUMO's is d|v|/dt).
+TOTALS = [
+    ("TotAcc", '<AccelerationCondition value="3.9" rule="greaterThan"/>', 0.0, 0.1),
+    ("LonAcc", '<AccelerationCondition value="-3.9" rule="lessThan" direction="longitudinal"/>', 0.0, 0.1),
+    ("TotAccZero", '<AccelerationCondition value="0.01" rule="lessThan"/>', 1.0, 4.1),
+    ("TotSpeed", '<SpeedCondition value="5.9" rule="greaterThan"/>', 3.0, 4.05),
+    ("LonSpeed", '<SpeedCondition value="-5.9" rule="lessThan" direction="longitudinal"/>', 3.0, 4.05),
+    ("LonAccBack", '<AccelerationCondition value="-3.9" rule="lessThan" direction="longitudinal"/>', 3.0, 3.0),
+]  # fmt: skip
+
+
+def test_total_speed_and_acceleration_without_direction(tmp_path: Path) -> None:
+    # the events act on a third car (holding its speed), not on the measured one
+    init = (
+        teleport_speed("Ego", -1, 20, 20)
+        + teleport_speed("Car", -1, 200, 10)
+        + teleport_speed("Obs", -2, 300, 20)
+    )
+    stories = story("Car", REVERSE, time_condition(0.0, "go", "none"), "Go")
+    for name, body, after, _ in TOTALS:
+        when = time_condition(after, name + "T", "none") + _entity_condition(name + "C", body)
+        stories += story("Obs", HOLD, when, name)
+    stop = f"<ConditionGroup>{time_condition(5.0, 'end')}</ConditionGroup>"
+    xml = scenario_xml({"Ego": "", "Car": "", "Obs": ""}, init, stories, stop)
+    engine, _ = run_scenario(write(tmp_path / "t.xosc", xml), tmp_path, until=5.5)
+    started = {n: t for t, _, n, tr in engine.tree.log if tr == "startTransition"}
+    for name, _, _, expected in TOTALS:
+        assert started.get(name + "Action") == pytest.approx(expected), name

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 from openscenario_files import (
+    ROADS,
     run_scenario,
     scenario_xml,
     story,
@@ -83,3 +84,55 @@ continuous="false" displacement="trailingReferencedEntity" coordinateSystem="roa
     assert at_end[1] == pytest.approx(
         17.0, abs=0.15
     )  # 12 m bumper to bumper: 17 m between references
+
+
+def test_any_displacement_keeps_the_side_the_actor_is_on(tmp_path: Path) -> None:
+    """displacement any: the actor behind the reference stays behind it (at s = 200 - 17 once
+    put there), the one ahead stays ahead (200 + 17); both 5 m long, centres alike: the 12 m
+    bumper-to-bumper gap is 17 m between reference points. The lead drives 20 m/s."""
+    keep = KEEP.replace('"trailingReferencedEntity"', '"any"')
+    init = teleport_speed("Ego", -5, 20, 10) + teleport_speed("Lead", -4, 200, 20)
+    init += teleport_speed("Back", -4, 150, 20) + teleport_speed("Front", -3, 260, 20)
+    for name in ("Back", "Front"):
+        init += f'<Private entityRef="{name}"><PrivateAction>{keep}</PrivateAction></Private>'
+    gaps = []
+
+    def on_step(sim, world, report, engine) -> None:
+        lead = engine.actors["Lead"]
+        gaps.append((engine.actors["Back"].s - lead.s, engine.actors["Front"].s - lead.s))
+
+    cars = {"Ego": "", "Lead": "", "Back": "", "Front": ""}
+    run_scenario(write(tmp_path / "a.xosc", scenario_xml(cars, init)), tmp_path, until=2.0,
+                 on_step=on_step)  # fmt: skip
+    assert all(b == pytest.approx(-17.0, abs=1e-9) for b, _ in gaps)
+    assert all(f == pytest.approx(17.0, abs=1e-9) for _, f in gaps)
+
+
+def test_gap_in_entity_lane_and_road_coordinates_on_a_curve(tmp_path: Path) -> None:
+    """On the road curving left with a 250 m radius, lane -3 (t = -4.5 m: a 254.5 m radius):
+    30 m behind the lead measured along the road's s is 30 m of s; along the lane's centre
+    line 30 * 250 / 254.5 = 29.4695 m of s; along the lead's heading (the chord's projection
+    R sin(phi) = 30) 250 * asin(30 / 254.5) = 29.5382 m of s. All three were 30 before the
+    action read its coordinateSystem."""
+    expected = {"road": 30.0, "lane": 30.0 * 250.0 / 254.5,
+                "entity": 250.0 * math.asin(30.0 / 254.5)}  # fmt: skip
+    init = teleport_speed("Ego", -4, 20, 10) + teleport_speed("Lead", -3, 150, 10)
+    for system in expected:
+        name = f"F{system}"
+        init += teleport_speed(name, -3, 60, 10)
+        keep = KEEP.replace('distance="12" freespace="true"', 'distance="30" freespace="false"')
+        keep = keep.replace('coordinateSystem="road"', f'coordinateSystem="{system}"')
+        init += f'<Private entityRef="{name}"><PrivateAction>{keep}</PrivateAction></Private>'
+    gaps: dict[str, list[float]] = {s: [] for s in expected}
+
+    def on_step(sim, world, report, engine) -> None:
+        for system in expected:
+            gaps[system].append(engine.actors["Lead"].s - engine.actors[f"F{system}"].s)
+
+    cars = {"Ego": "", "Lead": "", **{f"F{s}": "" for s in expected}}
+    text = scenario_xml(cars, init, road=ROADS / "alks_road_left_radius_250m.xodr")
+    run_scenario(write(tmp_path / "c.xosc", text), tmp_path, until=1.0, on_step=on_step)
+    for system, want in expected.items():
+        # the lane's length is a polyline through points 0.5 m apart (frames.lane.STEP):
+        # its chords are short of the arc by L^2 / (24 R^2), 4.8e-6 m over the 30 m
+        assert all(g == pytest.approx(want, abs=1e-5) for g in gaps[system]), system

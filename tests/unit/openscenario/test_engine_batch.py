@@ -15,6 +15,7 @@ from hiyari.bridge.openscenario.engine.kernels import motion_kernel as MK
 from hiyari.bridge.openscenario.engine.kernels.snapshot import (
     F_ACCEL,
     F_HEADING,
+    F_ROAD_CODE,
     F_ROAD_DIR,
     F_ROAD_S,
     F_ROAD_T,
@@ -182,17 +183,18 @@ def _gathered_snapshot(t: float, length: np.ndarray, width: np.ndarray) -> tuple
         np.zeros(E, bool),
         np.zeros((E, 2)),
         np.zeros((E, 2)),
-        np.zeros((6, E)),
+        np.zeros((7, E)),
     )
     on_net, contact_any = np.ones(E, bool), np.zeros(E, bool)
     snap = Snapshot(
         t, present, ref, centre, ent[F_HEADING], length, width, ent[F_SPEED], ent[F_ACCEL],
         on_net, ent[F_ROAD_S], ent[F_ROAD_T], ent[F_ROAD_DIR], set(), contact_any,
+        ent[F_ROAD_CODE],
     )  # fmt: skip
     fields = EntityFields(
         present, centre, ref, ent[F_HEADING], length, width, ent[F_SPEED], ent[F_ACCEL],
         on_net, ent[F_ROAD_S], ent[F_ROAD_T], ent[F_ROAD_DIR], np.zeros((E, E), bool),
-        contact_any,
+        contact_any, ent[F_ROAD_CODE],
     )  # fmt: skip
     return snap, fields
 
@@ -224,7 +226,9 @@ def test_gathering_in_the_trigger_call_equals_gathering_first() -> None:
                 rng.uniform(-15, 15, (n_world, 3)), rng.uniform(-np.pi, np.pi, n_world),
                 rng.uniform(0, 20, n_world), rng.uniform(-5, 3, n_world),
             )  # fmt: skip
-            where = GatherArrays(rows, rng.uniform(-1, 2, (E, 2)), rng.random(E) < 0.5)
+            where = GatherArrays(
+                rows, rng.uniform(-1, 2, (E, 2)), rng.random(E) < 0.5, np.zeros(E, bool)
+            )
             actors = ActorTable(E).arrays._replace(
                 road_code=rng.integers(-1, 2, E), state=rng.uniform(0, 60, (len(MK.STATE), E)),
                 direction=rng.choice([-1.0, 1.0], E),

@@ -134,9 +134,14 @@ def test_gathered_reference_points_equal_vehicle_to_world() -> None:
     out = EntityFields(
         np.zeros(4, bool), np.zeros((4, 2)), np.zeros((4, 2)), zero.copy(), zero, zero,
         zero.copy(), zero.copy(), no, zero.copy(), zero.copy(), zero.copy(),
-        np.zeros((4, 4), bool), no,
+        np.zeros((4, 4), bool), no, zero.copy(),
     )  # fmt: skip
-    tables = WorldArrays(xyz, h, h, h), GatherArrays(rows, offset, no), ActorTable(4).arrays, out
+    tables = (
+        WorldArrays(xyz, h, h, h),
+        GatherArrays(rows, offset, no, no),
+        ActorTable(4).arrays,
+        out,
+    )
     gather_entities(*(tuple(t) for t in tables))  # as plain tuples (see kernels.tables)
     present, centre, ref, heading = out.present, out.centre, out.ref, out.heading
     assert present.tolist() == [True, False, True, True]

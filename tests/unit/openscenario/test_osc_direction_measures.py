@@ -44,3 +44,12 @@ def test_lateral_acceleration_is_speed_times_yaw_rate() -> None:
     m, _, _ = M.lateral_accel_measure(1.0, True, -3.1, 10.0, 3.1, 0.9)
     assert m == pytest.approx(10.0 * (2 * math.pi - 6.2) / 0.1)
     assert all(math.isnan(x) for x in M.lateral_accel_measure(1.0, False, 0.0, 1.0, 0.0, 0.9))
+
+
+def test_total_speed_and_acceleration_are_magnitudes() -> None:
+    reversing, other = _entity(0.0, -3.0, -2.0), _entity(0.0, 1.0)
+    assert M.single_measure(M.SPEED, M.DIR_NONE, reversing, other) == 3.0
+    assert M.single_measure(M.SPEED, M.DIR_LON, reversing, other) == -3.0
+    # braking at 3 m/s^2 while turning left with 4 m/s^2: |a| = 5
+    assert M.total_accel_measure(-3.0, 4.0) == 5.0
+    assert math.isnan(M.total_accel_measure(-3.0, math.nan))

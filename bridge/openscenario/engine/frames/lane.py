@@ -6,10 +6,13 @@ road: the longitudinal distance is the length of the triggering entity's lane's 
 between their road s (on a curve longer or shorter than the s difference by the lane's offset
 times the curvature); the lateral distance is the number of lanes between their lanes (lane 0
 not counted, whatever their offsets within the lanes); euclidean combines the longitudinal
-distance with the road t difference (m). On different roads, or off the roads, nothing is
-measured (NaN: no rule holds). Speeds are taken along the lane (the entities' own speeds,
-signed by their directions of travel). Measured in Python each step the condition is
-evaluated: OpenSCENARIO files rarely use this frame.
+distance with the road t difference (m). On different roads linked by road links or a
+junction the longitudinal distance is the way along their reference lines (frames.links; the
+lane's offset is not counted there) and the lateral one the difference of the lane ids as on
+one road; on unlinked roads, or off the roads, nothing is measured (NaN: no rule holds).
+Speeds are taken along the lane (the entities' own speeds, signed by their directions of
+travel). Measured in Python each step the condition is evaluated: OpenSCENARIO files rarely
+use this frame.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from hiyari.bridge.openscenario.engine.frames.links import road_ahead
 from hiyari.bridge.openscenario.engine.positions import Pose
 from hiyari.bridge.openscenario.model.conditions import (
     CoordinateSystem,
@@ -106,10 +110,16 @@ def _gap(
 ) -> tuple[float, float]:
     """(distance by ``dtype``, longitudinal distance signed: + with ``other`` ahead) of
     ``other`` from entity ``name`` at ``me`` in lane coordinates; NaN off its road."""
-    if not me.road or other.road != me.road:
+    if not me.road or not other.road:
         return math.nan, math.nan
     direction = engine.travel_direction(name)
-    ahead = direction * lane_length(engine, me.road, me.lane, me.s, other.s)
+    if other.road == me.road:
+        ahead = direction * lane_length(engine, me.road, me.lane, me.s, other.s)
+    else:
+        graph = engine.resolver.graph()
+        ahead = road_ahead(graph, me.road, me.s, direction, other.road, other.s)
+        if math.isnan(ahead):
+            return math.nan, math.nan
     lon = abs(ahead)
     if freespace:
         front, rear, _ = box_extent(engine, name)

@@ -95,9 +95,12 @@ class EntityRows:
 # ---------------------------------------------------------------------------------- entities
 #: Fields of an entity's scalars (the tuple :func:`entity_scalars` returns): box centre x, y
 #: and reference point x, y (m), heading (rad) with its cos and sin, length and width (m),
-#: speed (m/s), acceleration (m/s^2), road s and t (m) and road direction (+1 / -1).
-E_X, E_Y, E_RX, E_RY, E_H, E_COS, E_SIN, E_LEN, E_WID, E_V, E_ACC, E_S, E_T, E_DIR = range(14)
-N_FIELDS = 14
+#: speed (m/s), acceleration (m/s^2), road s and t (m), road direction (+1 / -1) and road
+#: code (ActorTable.road_ids; -1: none).
+E_X, E_Y, E_RX, E_RY, E_H, E_COS, E_SIN, E_LEN, E_WID, E_V, E_ACC, E_S, E_T, E_DIR, E_ROAD = range(
+    15
+)
+N_FIELDS = 15
 
 
 @njit(cache=True)
@@ -117,6 +120,7 @@ def pack_entities(ent: EntityFields, out: np.ndarray) -> None:
             ent.length[k], ent.width[k], ent.speed[k], ent.accel[k]
         )  # fmt: skip
         out[k, E_S], out[k, E_T], out[k, E_DIR] = ent.road_s[k], ent.road_t[k], ent.road_dir[k]
+        out[k, E_ROAD] = ent.road_code[k]
 
 
 @njit(cache=True)
@@ -127,10 +131,30 @@ def entity_scalars(k: int, packed: np.ndarray) -> tuple:
         packed[k, E_X], packed[k, E_Y], packed[k, E_RX], packed[k, E_RY], packed[k, E_H],
         packed[k, E_COS], packed[k, E_SIN], packed[k, E_LEN], packed[k, E_WID],
         packed[k, E_V], packed[k, E_ACC], packed[k, E_S], packed[k, E_T], packed[k, E_DIR],
+        packed[k, E_ROAD],
     )  # fmt: skip
 
 
 # ---------------------------------------------------------------------------------- pairs
+@njit(cache=True)
+def in_road_of(ea: tuple, eb: tuple, links: np.ndarray) -> tuple:
+    """B's fields with its road s, t and direction expressed on A's road (``links``: road
+    b's s in road a's frame is shift + sign * s, see ConditionBank.link_roads; a road
+    entered at its end turns t and the direction with it): both roads' s then measure along
+    the road links. B's road s NaN when the roads are not linked (no rule holds)."""
+    ra, rb = int(ea[E_ROAD]), int(eb[E_ROAD])
+    if ra == rb or ra < 0 or rb < 0:
+        return eb
+    shift, sign = math.nan, 1.0
+    if ra < links.shape[0] and rb < links.shape[0]:
+        shift, sign = links[ra, rb, 0], links[ra, rb, 1]
+    return (
+        eb[E_X], eb[E_Y], eb[E_RX], eb[E_RY], eb[E_H], eb[E_COS], eb[E_SIN], eb[E_LEN],
+        eb[E_WID], eb[E_V], eb[E_ACC], shift + sign * eb[E_S], sign * eb[E_T],
+        sign * eb[E_DIR], ea[E_ROAD],
+    )  # fmt: skip
+
+
 @njit(cache=True)
 def _entity_distance(fs: bool, dtype: int, ea: tuple, eb: tuple) -> float:
     """Distance (m) of B from A in A's frame, by distance type: between the reference points,
@@ -291,9 +315,14 @@ def single_measure(kind: int, direction: int, ea: tuple, eb: tuple) -> float:
     heading and in the plane (the WorldState's: speed times the heading's unit vector), so
     an entity's own lateral and vertical speeds are 0 and its relative velocity to B in its
     axes is (v_a - v_b cos(h_b - h_a), -v_b sin(h_b - h_a), 0). The vertical acceleration is
-    0 (level entities, planar motion); the lateral one is :func:`lateral_accel_measure`'s."""
-    if kind == SPEED:
-        return ea[E_V] if direction <= DIR_LON else 0.0
+    0 (level entities, planar motion); the lateral one is :func:`lateral_accel_measure`'s.
+    With no direction a speed is the velocity's magnitude (the standard's total speed; a
+    reversing entity's is positive) and the relative speed the difference of the speeds;
+    the total acceleration is :func:`total_accel_measure`'s."""
+    if kind == SPEED:  # with no direction the total speed: the velocity's magnitude
+        if direction == DIR_NONE:
+            return abs(ea[E_V])
+        return ea[E_V] if direction == DIR_LON else 0.0
     if kind == ACCEL:
         return ea[E_ACC] if direction <= DIR_LON else 0.0
     if direction == DIR_NONE:
@@ -320,6 +349,16 @@ def lateral_accel_measure(
         return math.nan, heading, now
     turn = (heading - last_h + math.pi) % (2.0 * math.pi) - math.pi
     return speed * turn / (now - last_t), heading, now
+
+
+@njit(cache=True)
+def total_accel_measure(longitudinal: float, lateral: float) -> float:
+    """Total acceleration (m/s^2): the magnitude of the acceleration vector from its
+    ``longitudinal`` and ``lateral`` components (planar motion: no vertical one); NaN while
+    the lateral one is (:func:`lateral_accel_measure`: the first evaluation)."""
+    if lateral != lateral:
+        return math.nan
+    return math.sqrt(longitudinal * longitudinal + lateral * lateral)
 
 
 @njit(cache=True)

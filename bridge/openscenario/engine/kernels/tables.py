@@ -88,6 +88,7 @@ class GatherArrays(NamedTuple):
     rows: np.ndarray  # (E,) intp: its row in the WorldState arrays, -1: absent
     centre_offset: np.ndarray  # (E, 2) box centre from the reference point, vehicle frame, m
     own: np.ndarray  # (E,) bool: its road coordinates come from the ActorTable
+    driven: np.ndarray  # (E,) bool: the storyboard drives it (its speed's sign from the ActorTable)
 
 
 class EntityFields(NamedTuple):
@@ -108,6 +109,7 @@ class EntityFields(NamedTuple):
     road_dir: np.ndarray  # (E,) +1 / -1: driving direction along s
     contact: np.ndarray  # (E, E) bool
     contact_any: np.ndarray  # (E,) bool: in contact with anything
+    road_code: np.ndarray  # (E,) float: its road's code in ActorTable.road_ids (-1: none)
 
 
 class TriggerArrays(NamedTuple):
@@ -129,6 +131,7 @@ class TriggerArrays(NamedTuple):
     counts: np.ndarray  # (2, C) int64: rows holding and rows evaluated per condition
     flags: np.ndarray  # (2, C) bool: raw and edged values
     fired: np.ndarray  # (T,) bool: the result
+    links: np.ndarray  # (K, K, 2) road b's s in road a's frame: shift, sign (NaN: unlinked)
 
 
 class ElementArrays(NamedTuple):

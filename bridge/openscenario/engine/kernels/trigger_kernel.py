@@ -21,7 +21,9 @@ from hiyari.bridge.openscenario.engine.kernels.measures import (
     ACCEL,
     COLLISION,
     DIR_LAT,
+    DIR_NONE,
     DISTANCE,
+    E_ACC,
     E_H,
     E_V,
     END_OF_ROAD,
@@ -35,11 +37,13 @@ from hiyari.bridge.openscenario.engine.kernels.measures import (
     duration_measure,
     entity_scalars,
     holds,
+    in_road_of,
     lateral_accel_measure,
     pack_entities,
     pair_measure,
     point_measure,
     single_measure,
+    total_accel_measure,
     traveled_measure,
     ttc_above,
 )
@@ -87,8 +91,8 @@ def _row_holds(
     measures.duration_measure, or the distance travelled and the time it was measured at,
     see measures.traveled_measure), given its entities' presence and fields (``ea``, ``eb``:
     measures.entity_scalars; ``eb`` is any entity's when the row has none) and its point
-    (world x, y and road s, t: measures.point_measure). A lateral acceleration row keeps
-    the heading and time of its previous evaluation (measures.lateral_accel_measure; it is
+    (world x, y and road s, t: measures.point_measure). A lateral or total acceleration row
+    keeps the heading and time of its previous evaluation (measures.lateral_accel_measure; it is
     measured every step). An absent entity measures NaN,
     which no rule holds for. Scalars only: a compiled helper called with array arguments
     pays a reference count per array and row."""
@@ -98,8 +102,10 @@ def _row_holds(
     if kind == TRAVELED:
         m, since, last = traveled_measure(now, present_a, ea[E_V], since, last)
         return holds(m, value, rule), since, last
-    if kind == ACCEL and dtype == DIR_LAT:
+    if kind == ACCEL and (dtype == DIR_LAT or dtype == DIR_NONE):
         m, since, last = lateral_accel_measure(now, present_a, ea[E_H], ea[E_V], since, last)
+        if dtype == DIR_NONE:
+            m = total_accel_measure(ea[E_ACC], m)
         return holds(m, value, rule), since, last
     if not present_a or ((kind < SPEED or kind == REL_SPEED) and not present_b):
         return False, since, last
@@ -146,10 +152,13 @@ def _condition_values(
             res = ent.contact[a, b] if b >= 0 else ent.contact_any[a]
         else:
             a, b = rows[r, R_A], rows[r, R_B]
+            ea, eb = entity_scalars(a, work), entity_scalars(max(b, 0), work)
+            if rows[r, R_ROAD] == ROAD_FRAME and b >= 0:
+                eb = in_road_of(ea, eb, trig.links)  # along the links when on another road
             res, since[r, 0], since[r, 1] = _row_holds(
                 rows[r, R_KIND], rows[r, R_RULE], trig.row_value[r], now, rows[r, R_FS] != 0,
                 rows[r, R_DTYPE], rows[r, R_ROAD], present[a], b >= 0 and present[b],
-                entity_scalars(a, work), entity_scalars(max(b, 0), work), ent.on_net[a],
+                ea, eb, ent.on_net[a],
                 since[r, 0], since[r, 1],
                 (points[r, 0], points[r, 1], points[r, 2], points[r, 3]),
             )  # fmt: skip

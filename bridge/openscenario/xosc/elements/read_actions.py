@@ -142,7 +142,8 @@ def _limits(ctx: Ctx, dyn: etree._Element) -> tuple[float | None, float | None, 
 def _long_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
     dyn = el.find("DynamicConstraints")
     limits = None if dyn is None else _limits(ctx, dyn)
-    if ctx.text(el, "coordinateSystem", "entity") not in ("entity", "road", "lane"):
+    system = ctx.text(el, "coordinateSystem", "entity")
+    if system not in ("entity", "road", "lane"):
         raise ctx.unsupported(el, f"coordinateSystem {el.get('coordinateSystem')}")
     return LongitudinalDistanceAction(
         ctx.text(el, "entityRef"),
@@ -152,6 +153,7 @@ def _long_distance(ctx: Ctx, el: etree._Element) -> ActionBody:
         ctx.flag(el, "continuous"),
         ctx.text(el, "displacement", "trailingReferencedEntity"),
         limits,
+        system,
     )
 
 
