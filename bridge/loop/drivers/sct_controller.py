@@ -169,12 +169,14 @@ class SCTController:
             return np.full(len(rows), np.nan)
         table, seg = view.table, view.table.seg
         contact = model.contact
+        # one layout whatever made the state (SUMO's read gives strided columns, a subset or a
+        # hand-made state contiguous ones): each layout is a compile of its own, about 30 s
         return decide_rows(
             rows,
             state.speed,
             state.accel,
-            state.length,
-            state.width,
+            np.ascontiguousarray(state.length),
+            np.ascontiguousarray(state.width),
             state.xyz,
             np.asarray(v_max, float),
             np.asarray(a_free, float),
