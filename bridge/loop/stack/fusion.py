@@ -135,16 +135,24 @@ class FusionConfig:
     ego's front while the car cut in at equal speed: full AEB with no ground-truth conflict
     (issue #30). (0, 0): radar positions taken as centres."""
     absorb_parts: bool = True
-    """An observation the assignment leaves over (each track takes one per cycle) whose
-    position (for a radar object: the centre it implies) lies inside the footprint of a
-    confirmed car, truck or bus track updated in the same cycle is a second part of that
-    vehicle (a LiDAR cluster of its far corner, a radar point left unpaired beside the
-    camera + LiDAR pair), not a new object: it starts no track. Started, such a twin took a
-    class from its fragment's size (a corner under 1 m long: a pedestrian, whose sideways
-    speed the fusion does not clamp) and drifted toward the ego: full AEB for a car standing
-    1.4 m beside the ego's path (motorway catalogue M08-front-3L-000, issue #30). Nothing can
-    stand inside a vehicle, so no real object is lost; a pedestrian stepping out in front of
-    a parked car is outside its footprint."""
+    """An observation the assignment leaves over (each track takes one per cycle) inside the
+    footprint of a confirmed car, truck or bus track updated in the same cycle (a radar
+    point: the centre it implies, FusionConfig.radar_face_depth) is a part of that vehicle,
+    not a new object, when it is a radar point or has a measured size shorter than
+    ``part_length_frac`` of the track's (a LiDAR cluster of one corner): it starts no track.
+    Started, such twins (radar-born, then fed by LiDAR clusters of one corner) took a class
+    from a fragment's size (a corner under 1 m long: a pedestrian, whose sideways speed the
+    fusion does not clamp) and drifted toward the ego: full AEB for a car standing 1.4 m
+    beside the ego's path (motorway catalogue M08-front-3L-000, issue #30).
+    Nothing can stand inside a vehicle, so no real object is lost; a pedestrian stepping out
+    in front of a parked car is outside its footprint."""
+    part_length_frac: float = 0.5
+    """Longest part (fraction of the track's length) ``absorb_parts`` takes for a part. A
+    whole view of the vehicle is not absorbed: in the side-truck layouts the car ahead had a
+    LiDAR box 1 m beyond the centre of the track it fed (a twin of the car, 1 m short);
+    absorbed, the track that box fed was starved, was born again later with a velocity fitted
+    to a few positions (5.6 m/s closing) and the AEB braked fully
+    (tests/unit/loop/test_side_truck.py)."""
     max_age_s: float = 0.5  # drop a track not updated for this long
     use_unpaired_camera: bool = True  # camera-only objects (camera range) become tracks
 
@@ -418,15 +426,20 @@ class KalmanFusion:
         self, o: _Obs, xy: np.ndarray, behind: np.ndarray, updated: list[int], ego: Pose
     ) -> bool:
         """Whether observation ``o`` left over by the assignment, at ``xy`` (network frame;
-        ``behind`` (tracks, 2): the shift to the centre it implies per track), lies inside the
-        footprint of a confirmed vehicle track updated this cycle: another part of that vehicle
-        (FusionConfig.absorb_parts), not a new object."""
-        if not self.config.absorb_parts:
+        ``behind`` (tracks, 2): the shift to the centre it implies per track), is a part of a
+        vehicle already tracked, not a new object (FusionConfig.absorb_parts): inside the
+        footprint of a confirmed vehicle track updated this cycle, with a measured size
+        shorter than ``part_length_frac`` of the track's or a radar point (no size)."""
+        cfg = self.config
+        sized = bool(np.all(np.isfinite(o.size[:2])))
+        if not cfg.absorb_parts or not (sized or o.near_face):
             return False
         for i in updated:
             tr = self._tracks[i]
             if not tr.confirmed or tr.cls not in _ABSORBING:
                 continue
+            if sized and o.size[0] > cfg.part_length_frac * tr.size[0]:
+                continue  # as long as the vehicle: a whole view of it (or of another one)
             speed = float(np.hypot(tr.x[2], tr.x[3]))
             heading = (
                 float(np.arctan2(tr.x[3], tr.x[2]))
