@@ -39,7 +39,7 @@ MAX_VELOCITY_SIGMA = AEBConfig().max_velocity_sigma
 def measure(workdir: Path, only: list[str] | None = None) -> list[dict]:
     """One row per case: collision, least ground-truth TTC (s), highest AEB stage, false AEB
     braking episodes, largest |lateral-speed error| of the truck's tracks the planner acts on
-    and of all its reported tracks (m/s)."""
+    and of all its reported tracks, with that track's velocity sigma then (m/s)."""
     from hiyari.bridge.loop.execute import execute
     from hiyari.bridge.loop.spec import EgoSetup, import_road, model_spec
     from hiyari.bridge.loop.stack.interfaces import EgoStep
@@ -55,14 +55,14 @@ def measure(workdir: Path, only: list[str] | None = None) -> list[dict]:
             net = import_road(build_scenario(combo, xodr, shift), workdir / "roads")
             nets[combo.geometry] = (xodr, net)
         xodr, net = nets[combo.geometry]
-        lateral: list[float] = []
+        lateral: list[tuple[float, float]] = []  # (error m/s, the track's velocity sigma m/s)
         acted: list[float] = []
 
         def on_step(
             world: WorldState,
             step: EgoStep,
             collisions: list,
-            lateral: list[float] = lateral,
+            lateral: list[tuple[float, float]] = lateral,
             acted: list[float] = acted,
         ) -> None:
             ego = world.pose(int(np.flatnonzero(world.ids == "Ego")[0]))
@@ -72,7 +72,7 @@ def measure(workdir: Path, only: list[str] | None = None) -> list[dict]:
                 truck = world.pose(int(np.flatnonzero(world.ids == "Occluder")[0]))
                 true_vy = ego.world_to_vehicle_vec(truck.velocity)[1]
                 error = abs(float(tracks.velocity[k, 1] - true_vy))
-                lateral.append(error)
+                lateral.append((error, float(sigma[k]) if sigma is not None else float("nan")))
                 if tracks.cls[k] >= 0 and (sigma is None or sigma[k] <= MAX_VELOCITY_SIGMA):
                     acted.append(error)
 
@@ -86,7 +86,8 @@ def measure(workdir: Path, only: list[str] | None = None) -> list[dict]:
                 aeb_max_stage=res.aeb_max_stage,
                 false_aeb_brakings=res.false_braking()["aeb"].events,
                 truck_lateral_error_max_mps=max(acted, default=0.0),
-                truck_lateral_error_any_track_max_mps=max(lateral, default=0.0),
+                truck_lateral_error_any_track_max_mps=max(lateral, default=(0.0, 0.0))[0],
+                truck_lateral_error_any_track_sigma_mps=max(lateral, default=(0.0, 0.0))[1],
             )
         )
     return rows
