@@ -141,7 +141,7 @@ def track_heading(tracks: ObjectList, ego: Pose, min_speed: float = 0.5) -> np.n
     from a speed within the noise is noise: a car standing beside the path whose track
     moved at 1.36 m/s +- 0.67 over ground, 0.15 m/s of it sideways, was turned 6 degrees
     and its corner reached 0.25 m into the ego's widened corridor (partial braking with
-    ground truth 0.73 m clear; motorway catalogue M24-front-3L-000, issue #30).
+    ground truth about 0.7 m clear; motorway catalogue M24-front-3L-000, issue #30).
     """
     vx_abs = np.nan_to_num(tracks.velocity[:, 0]) + ego.speed
     vy_abs = np.nan_to_num(tracks.velocity[:, 1])

@@ -178,10 +178,10 @@ def test_aeb_ignores_what_comes_from_behind():
 
 
 def test_a_heading_within_the_velocity_noise_is_not_taken():
-    """Motorway catalogue M24-front-3L-000 with sensors (issue #30): a car standing 2.44 m to
-    the ego's left (its side 0.73 m clear of the ego's), 31 m ahead, the ego at 23.94 m/s. Its
-    track moved at 1.36 m/s over ground (-1.35 along, -0.15 sideways) with a velocity sigma of
-    0.67 m/s. Taken along that velocity its footprint turned 6 degrees: half extent sideways
+    """Motorway catalogue M24-front-3L-000 with sensors (issue #30): a car standing to the
+    ego's left, its track 2.44 m off the ego's axis (the car's centre 2.57 m), 31 m ahead, the
+    ego at 23.94 m/s. Its track moved at 1.36 m/s over ground (-1.35 along, -0.15 sideways)
+    with a velocity sigma of 0.67 m/s. Taken along that velocity its footprint turned 6 degrees: half extent sideways
     (4.64 sin 6.3 deg + 1.87 cos 6.3 deg) / 2 = 1.18 m, so at the longitudinal overlap from
     (31 - 2.32 - 2.4) / 25.29 = 1.04 s its side at 2.44 - 0.16 - 1.18 = 1.10 m was inside the
     widened ego's 0.95 + 0.2 = 1.15 m: TTC 1.04 s, partial braking. Aligned with the ego (the
