@@ -15,6 +15,7 @@ import numpy as np
 from hiyari.bridge.loop.result import DetectionStats, RunResult
 from hiyari.bridge.loop.stack.interfaces import EgoStack, EgoStep
 from hiyari.kinematics import Pose
+from hiyari.risk.metrics.clearance import near_miss_time
 from hiyari.risk.metrics.ground_truth import TruthConfig, gap_to, path_headway, time_to_collision
 from hiyari.risk.metrics.visibility import in_line_of_sight
 from hiyari.sensors.outputs import ObjectList
@@ -185,6 +186,10 @@ def _metrics(
     ttc = time_to_collision(xy, world.heading, world.speed, world.length, world.width, row, truth)
     ttc_true = float(ttc.min())
     headway = path_headway(xy, world.heading, world.speed, world.length, world.width, row, truth)
+    near_miss = near_miss_time(
+        xy, world.heading, world.speed, world.length, world.width, world.cls, row,
+        res.clearances.rule, truth,
+    )  # fmt: skip
     res.min_ttc = min(res.min_ttc, ttc_true)
     gap = float("inf")
     k = hooks.gap_target(world, row)
@@ -215,6 +220,7 @@ def _metrics(
     s.gap.append(gap)
     s.ttc_true.append(ttc_true)
     s.headway_true.append(headway)
+    s.near_miss_true.append(near_miss)
     s.ttc_stack.append(cmd.ttc)
     s.aeb_stage.append(int(cmd.aeb_stage))
     s.aeb_decel.append(cmd.aeb_decel)

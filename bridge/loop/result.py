@@ -66,6 +66,8 @@ class TimeSeries:
     ttc_true: ground-truth TTC over all actors, s (inf: none within the horizon).
     headway_true: ground-truth time headway behind the nearest actor in or entering the ego's
     path, s (inf: none; risk.metrics.ground_truth.path_headway).
+    near_miss_true: ground-truth time until some actor comes within its near-miss limit of
+    the ego's sides, s (inf: none; risk.metrics.clearance.near_miss_time).
     ttc_stack: the ego stack's own smallest TTC, s. aeb_stage: AEBStage as int (decided this
     step). aeb_decel: the AEB deceleration applied this step (after the actuation delay and
     while latched), m/s^2 >= 0.
@@ -78,6 +80,7 @@ class TimeSeries:
     gap: list[float] = field(default_factory=list)
     ttc_true: list[float] = field(default_factory=list)
     headway_true: list[float] = field(default_factory=list)
+    near_miss_true: list[float] = field(default_factory=list)
     ttc_stack: list[float] = field(default_factory=list)
     aeb_stage: list[int] = field(default_factory=list)
     aeb_decel: list[float] = field(default_factory=list)
@@ -155,8 +158,9 @@ class RunResult:
         """AEB stages and over-comfort braking with no ground-truth conflict
         (hiyari.risk.metrics.false_braking.false_activations)."""
         s = self.series
+        near = s.near_miss_true if len(s.near_miss_true) == len(s) else None
         return false_activations(
-            s.t, s.ego_accel_cmd, s.aeb_stage, s.ttc_true, self.activation_rule
+            s.t, s.ego_accel_cmd, s.aeb_stage, s.ttc_true, self.activation_rule, near
         )[0]
 
     def near_misses(self) -> list[Passing]:
@@ -178,7 +182,10 @@ class RunResult:
         s = self.series
         aeb = s.aeb_decel if len(s.aeb_decel) == len(s) else np.zeros(len(s))
         headway = s.headway_true if len(s.headway_true) == len(s) else None
-        return false_braking(s.t, s.ego_accel_cmd, s.ttc_true, aeb, headway=headway)
+        near = s.near_miss_true if len(s.near_miss_true) == len(s) else None
+        return false_braking(
+            s.t, s.ego_accel_cmd, s.ttc_true, aeb, headway=headway, near_miss_time=near
+        )
 
     def verdict(self) -> str:
         """'not tested', 'collision', 'near miss' or 'no collision' (in that order)."""

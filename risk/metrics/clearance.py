@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from hiyari.kinematics import footprint_distance, footprint_extent, unrotate, wrap_angle
+from hiyari.risk.metrics.ground_truth import TruthConfig, time_to_collision
 from hiyari.traffic.actor_class import ActorClass
 
 #: Actor classes taken as vulnerable road users (unprotected: EU ITS Directive 2010/40/EU's
@@ -116,3 +117,32 @@ class PassingClearances:
         """The passes that were near misses (``exclude``: an actor hit, whose contact is a
         collision, not a near miss), by actor id."""
         return [p for name, p in sorted(self.passes.items()) if p.near_miss and name != exclude]
+
+
+def near_miss_time(
+    xy: np.ndarray,
+    heading: np.ndarray,
+    speed: np.ndarray,
+    length: np.ndarray,
+    width: np.ndarray,
+    cls: np.ndarray,
+    ego: int,
+    rule: NearMissRule = NearMissRule(),
+    truth: TruthConfig | None = None,
+) -> float:
+    """Ground truth: the first time (s) at which some actor comes within its near-miss limit
+    (``rule.limit`` at the ego's speed, by whether it is a VRU) of the ego's sides, everybody
+    keeping their velocities: the TTC to the ego's footprint widened by that limit on each
+    side (risk.metrics.ground_truth.time_to_collision). inf when none does within
+    ``truth.horizon`` or the ego is slower than ``rule.min_speed`` (nothing is passed).
+    Arrays as a WorldState's columns (world m, rad, m/s); ``ego`` its row.
+
+    Where this is finite, braking answers a hazard ground truth holds: passing there would be
+    a near miss (docs/models.md §4, "False activations")."""
+    v_ego = float(speed[ego])
+    if v_ego < rule.min_speed or len(xy) < 2:
+        return float("inf")
+    vru = np.isin(np.asarray(cls), VRU_CLASSES)
+    margin = np.where(vru, rule.limit(True, v_ego), rule.limit(False, v_ego))
+    truth = truth or TruthConfig()
+    return float(time_to_collision(xy, heading, speed, length, width, ego, truth, margin).min())

@@ -5,7 +5,8 @@ maximal run of braking steps. An episode is the AEB's when the AEB applied a dec
 it, else the ACC's (following or speed keeping). It is false when ground truth gives no reason
 for it at any of its steps: braking that starts early for a hazard that then materialises, or
 that holds on to standstill after one, is not false. Reasons: a finite ground-truth time to
-collision with some actor (hiyari.risk.metrics.ground_truth, 10 s horizon by default); for the
+collision with some actor (hiyari.risk.metrics.ground_truth, 10 s horizon by default), or to
+an actor coming within its near-miss limit of the ego's sides (risk.metrics.clearance); for the
 ACC also a real actor ahead in, or entering, the ego's path within ``follow_thw`` of time
 headway (following braking: a car cutting in slower than the ego and still moving sideways has
 an infinite constant-velocity TTC, as it is predicted to cross the ego's path, yet braking to
@@ -42,12 +43,15 @@ def false_braking(
     min_decel: float = 0.5,
     headway: np.ndarray | None = None,
     follow_thw: float = FOLLOW_THW,
+    near_miss_time: np.ndarray | None = None,
 ) -> dict[str, FalseBraking]:
     """{"aeb": ..., "acc": ...} from per-step series: time ``t`` (s), commanded acceleration
     ``accel`` (m/s^2), ground-truth TTC ``ttc_true`` (s, inf: no hazard), the AEB's applied
     deceleration ``aeb_decel`` (m/s^2, positive; 0 when it does not brake) and the ground-truth
     time headway behind the nearest actor in the ego's path ``headway`` (s, inf: none; None:
-    not known, only the TTC counts).
+    not known, only the TTC counts); ``near_miss_time`` (s, inf: none; None: not known): the
+    ground-truth time until some actor comes within its near-miss limit of the ego's sides, a
+    hazard like a finite TTC (risk.metrics.clearance.near_miss_time).
 
     Each step lasts until the next one (the last one as long as its predecessor)."""
     t = np.asarray(t, float)
@@ -60,7 +64,10 @@ def false_braking(
     start = brake & ~np.concatenate([[False], brake[:-1]])
     episode = np.cumsum(start) - 1  # episode index per braking step
     k = int(start.sum())
-    hazard = np.bincount(episode[brake], np.isfinite(np.asarray(ttc_true, float))[brake], k) > 0
+    finite = np.isfinite(np.asarray(ttc_true, float))
+    if near_miss_time is not None and len(near_miss_time) == n:
+        finite |= np.isfinite(np.asarray(near_miss_time, float))
+    hazard = np.bincount(episode[brake], finite[brake], k) > 0
     near = np.zeros(n, bool) if headway is None else np.asarray(headway, float) < follow_thw
     following = np.bincount(episode[brake], near[brake], k) > 0
     by_aeb = np.bincount(episode[brake], (np.asarray(aeb_decel, float) > 0)[brake], k) > 0
@@ -85,7 +92,10 @@ class FalseActivationRule:
     harder than ``comfort_decel``; an activation is a maximal run of such steps, gaps shorter
     than ``join_gap`` bridged. It is false when at none of its steps a ground-truth actor is in
     conflict with the ego: every ground-truth TTC (hiyari.risk.metrics.ground_truth.
-    time_to_collision, footprints overlapping along the ego's corridor) above ``conflict_ttc``. docs/models.md §4, "False activations".
+    time_to_collision, footprints overlapping) above ``conflict_ttc``, and no actor coming
+    within its near-miss limit of the ego's sides sooner than that (hiyari.risk.metrics.
+    clearance.near_miss_time: a pass that close is a hazard braking answers). docs/models.md §4, "False
+    activations".
     """
 
     #: m/s^2: the ACC's comfort limit (ACCConfig.max_decel): only the AEB brakes harder.
@@ -108,11 +118,13 @@ def false_activations(
     aeb_stage: np.ndarray,
     ttc_true: np.ndarray,
     rule: FalseActivationRule = FalseActivationRule(),
+    near_miss_time: np.ndarray | None = None,
 ) -> tuple[int, float]:
     """(count, first time s or nan) of false activations (:class:`FalseActivationRule`) from
     per-step series: time ``t`` (s), commanded acceleration ``accel`` (m/s^2), AEB stage
-    decided (int, 0: off) and the smallest ground-truth TTC over all actors ``ttc_true`` (s,
-    inf: none)."""
+    decided (int, 0: off), the smallest ground-truth TTC over all actors ``ttc_true`` (s,
+    inf: none) and the ground-truth time until some actor comes within its near-miss limit of
+    the ego's sides ``near_miss_time`` (s, inf: none; None: not recorded)."""
     t = np.asarray(t, float)
     n = len(t)
     if n == 0:
@@ -128,7 +140,10 @@ def false_activations(
     new = np.concatenate([[True], gap])
     episode = np.cumsum(new) - 1
     k = int(new.sum())
-    conflict = np.asarray(ttc_true, float)[steps] <= rule.conflict_ttc
+    soonest = np.asarray(ttc_true, float)
+    if near_miss_time is not None and len(near_miss_time) == n:
+        soonest = np.minimum(soonest, np.asarray(near_miss_time, float))
+    conflict = soonest[steps] <= rule.conflict_ttc
     justified = np.bincount(episode, conflict, k) > 0
     false = ~justified
     if not false.any():

@@ -44,11 +44,13 @@ def time_to_collision(
     width: np.ndarray,
     ego: int,
     config: TruthConfig = TruthConfig(),
+    margin: float | np.ndarray = 0.0,
 ) -> np.ndarray:
     """(N,) TTC (s) of each of N actors with actor ``ego`` (inf for the ego itself).
 
     ``xy`` (N, 2) ground-rectangle centres, ``heading`` (N,) rad, ``speed`` (N,) m/s along
-    the heading, ``length`` / ``width`` (N,) m.
+    the heading, ``length`` / ``width`` (N,) m; ``margin`` (scalar or (N,)) m added to each
+    side of the ego's width against each actor (0: contact).
     """
     xy = np.asarray(xy, float)
     vel = np.asarray(speed, float)[:, None] * heading_vector(heading)
@@ -57,9 +59,8 @@ def time_to_collision(
     rel_vel = unrotate(vel - vel[ego], h0)
     moving = np.asarray(speed) > config.min_speed
     rel_heading = np.where(moving, wrap_angle(np.asarray(heading) - h0), 0.0)
-    ttc = footprint_entry_time(
-        rel_pos, rel_vel, rel_heading, length[ego], width[ego], length, width
-    )
+    ego_width = width[ego] + 2.0 * np.asarray(margin, float)
+    ttc = footprint_entry_time(rel_pos, rel_vel, rel_heading, length[ego], ego_width, length, width)
     ttc = np.where(ttc <= config.horizon, ttc, np.inf)
     ttc[ego] = np.inf
     return ttc

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -174,3 +175,26 @@ def test_aeb_ignores_what_comes_from_behind():
     assert AEBPlanner().plan(beside, EGO, 0.0).aeb_stage == AEBStage.OFF
     level = _objs([[0.6, 2.5]], [[0.0, -2.0]], [[4.0, 2.0, 1.5]])
     assert AEBPlanner().plan(level, EGO, 0.0).aeb_stage > AEBStage.OFF
+
+
+def test_a_heading_within_the_velocity_noise_is_not_taken():
+    """Motorway catalogue M24-front-3L-000 with sensors (issue #30): a car standing to the
+    ego's left, its track 2.44 m off the ego's axis (the car's centre 2.57 m), 31 m ahead, the
+    ego at 23.94 m/s. Its track moved at 1.36 m/s over ground (-1.35 along, -0.15 sideways)
+    with a velocity sigma of 0.67 m/s. Taken along that velocity its footprint turned 6 degrees: half extent sideways
+    (4.64 sin 6.3 deg + 1.87 cos 6.3 deg) / 2 = 1.18 m, so at the longitudinal overlap from
+    (31 - 2.32 - 2.4) / 25.29 = 1.04 s its side at 2.44 - 0.16 - 1.18 = 1.10 m was inside the
+    widened ego's 0.95 + 0.2 = 1.15 m: TTC 1.04 s, partial braking. Aligned with the ego (the
+    speed is within 3 sigma of zero) its side stays at 2.28 - 0.935 = 1.35 m: no threat."""
+    ego = Pose(0.0, 0.0, 0.0, 0.0, 23.94, 0.0, 4.8, 1.9)
+    tracks = _objs([[31.0, 2.44]], [[-25.29, -0.15]], [[4.64, 1.87, 1.5]])
+    cfg = AEBConfig()
+    assert time_to_collision(tracks, ego, cfg)[0] == pytest.approx(1.04, abs=0.01)  # no sigma
+    noisy = replace(tracks, velocity_sigma=np.array([0.67]))
+    assert time_to_collision(noisy, ego, cfg)[0] == math.inf
+    # a car crossing at 1.5 m/s known to 0.3 m/s keeps its heading across the road
+    crossing = replace(
+        _objs([[16.6, -4.0]], [[-20.0, 1.5]], [[4.5, 1.8, 1.5]]), velocity_sigma=np.array([0.3])
+    )
+    ext_x, ext_y = track_extent(crossing, Pose(0.0, 0.0, 0.0, 0.0, 20.0, 0.0, 4.8, 1.9))
+    assert ext_y[0] == pytest.approx(2.25) and ext_x[0] == pytest.approx(0.9)

@@ -169,3 +169,26 @@ def test_the_planner_waits_until_a_young_track_s_velocity_is_known():
         out = fresh.update([_lidar(v * t + x, 3.5)], Pose(v * t, 0, 0, 0, v), t)
         assert len(out) == (1 if k == 2 else 0)
     assert out.velocity_sigma[0] > planner.aeb.max_velocity_sigma
+
+
+def test_a_fragment_inside_a_tracked_car_starts_no_second_track():
+    """A car stopped 25 m ahead, 3.3 m to the right (the next lane), tracked from the camera
+    and the LiDAR box; then the LiDAR also reports a 0.8 m cluster of its near corner, classed
+    a pedestrian by its size. Left over by the assignment (one observation per track), it
+    started a second track, a 'pedestrian' whose sideways speed the fusion does not clamp: in
+    the motorway catalogue's M08-front-3L-000 such a twin drifted toward the ego's path and the
+    AEB braked fully for a car standing 1.4 m beside it (issue #30)."""
+    fusion = KalmanFusion()
+    cam = _objs([[25.0, -3.3]], [[np.nan, np.nan]], [[4.5, 1.8, 1.5]], "camera", 0)
+    for k in range(10):
+        out = fusion.update([cam, _lidar(25.0, -3.3)], STOPPED, 0.05 * k)
+    assert len(out) == 1
+    corner = _objs([[23.4, -2.7]], [[np.nan, np.nan]], [[0.8, 0.6, 1.2]], "lidar", 5)
+    for k in range(10, 20):
+        out = fusion.update([cam, _lidar(25.0, -3.3), corner], STOPPED, 0.05 * k)
+    assert len(out) == 1 and out.cls[0] == 0
+    # a pedestrian just outside the car's footprint (stepping out in front of it) is tracked
+    walker = _objs([[22.4, -2.7]], [[np.nan, np.nan]], [[0.3, 0.5, 1.7]], "lidar", 5, "child")
+    for k in range(20, 25):
+        out = fusion.update([cam, _lidar(25.0, -3.3), walker], STOPPED, 0.05 * k)
+    assert sorted(out.truth.tolist()) == ["child", "parked"]
