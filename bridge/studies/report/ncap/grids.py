@@ -36,7 +36,7 @@ def _order(values: list[str]) -> list[str]:
 def _cell_text(test: NcapTest, row: dict, score: PointScore) -> str:
     if score.colour is None:
         return "NT"
-    if test.scoring == "fcw":
+    if test.scoring in ("fcw", "fcwttc26"):
         w = row["warning_ttc_s"]
         return f"{float(w):.1f}s" if w != "" else "no FCW"
     if str(row["contact"]) != "True":
