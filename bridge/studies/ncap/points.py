@@ -89,7 +89,7 @@ def _grid_row(point: NcapPoint) -> dict:
         "index": point.index,
         "seed": point.seed,
         "row": p.get(t.row, ""),
-        "col": p.get(t.col, "") if t.col else "",
+        "col": "/".join(str(p.get(c, "")) for c in (t.col, t.col2) if c),
     }
 
 

@@ -58,6 +58,9 @@ class NcapTest:
     #: the scenario the test's points count in (the 2026 FCW grids share their AEB
     #: scenario's points); '' is the test's own key
     scenario: str = ""
+    #: a second column parameter: the grid's columns are its pairs with ``col`` (the 2026
+    #: crossing grids run each speed pair from both sides)
+    col2: str | None = None
     #: the run parameter naming the lighting ('Sunny' day, 'Night' night) when the file's
     #: own grid holds both (2026); None: hiyari runs each lighting of ``lightings``
     lighting_param: str | None = None
@@ -184,7 +187,7 @@ TESTS_2026: tuple[NcapTest, ...] = (
     _t26("CCFtap", "Car-to-Car Front turn-across-path", "CCFtap", "Target_final_speed_kph",
          "avoidance"),
     _t26("CCCscp", "Car-to-Car Crossing straight crossing path", "CCCscp",
-         "Target_final_speed_kph", "avoidance"),
+         "Target_final_speed_kph", "avoidance", col2="ImpactSide"),
     _t26("CMRs", "Car-to-Motorcyclist Rear stationary (AEB)", "CMRs", _IL, "rel26"),
     _t26("CMRs-FCW", "Car-to-Motorcyclist Rear stationary (FCW)", "CMRs_FCW", _IL, "fcw26",
          scenario="CMRs"),
@@ -193,7 +196,7 @@ TESTS_2026: tuple[NcapTest, ...] = (
     _t26("CMFtap", "Car-to-Motorcyclist Front turn-across-path", "CMFtap",
          "Target_final_speed_kph", "avoidance"),
     _t26("CMCscp", "Car-to-Motorcyclist Crossing straight crossing path", "CMCscp",
-         "Target_final_speed_kph", "avoidance"),
+         "Target_final_speed_kph", "avoidance", col2="ImpactSide"),
     _t26("CPLA", "Pedestrian Longitudinal Adult (AEB)", "CPLA", _IL, "rel26",
          target_speed="Target_final_speed_kph", **_DN26),
     _t26("CPLA-FCW", "Pedestrian Longitudinal Adult (FCW)", "CPLA_FCW", _IL, "fcwttc26",

@@ -100,3 +100,12 @@ def test_results_rows_scored_with_the_2026_rules() -> None:
     assert ccrs.colour is R and ccrs.voids_scenario  # a contact up to 20 km/h voids CCRs
     late = score_row(t["CCRs"], _row(speed_before_window_kmh="44.0"))
     assert late.colour is None and "braked before" in late.not_tested
+
+
+def test_crossing_grids_have_a_column_per_speed_and_side() -> None:
+    from hiyari.bridge.studies.report.ncap.grids import _order
+
+    t = {x.key: x for x in select_tests(CA2026)}
+    assert (t["CCCscp"].col, t["CCCscp"].col2) == ("Target_final_speed_kph", "ImpactSide")
+    assert _order(["20/1", "10/1", "10/-1", "20/-1"]) == ["10/-1", "10/1", "20/-1", "20/1"]
+    assert _order(["50", "25", "75"]) == ["25", "50", "75"]
