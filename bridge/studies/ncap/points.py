@@ -18,8 +18,8 @@ import numpy as np
 from hiyari.bridge.loop.execute import RunOptions, execute
 from hiyari.bridge.loop.result import RunResult
 from hiyari.bridge.loop.xosc_runs import XoscRun
-from hiyari.bridge.studies.ncap import scoring
-from hiyari.bridge.studies.ncap.protocols import NcapTest
+from hiyari.bridge.studies.ncap import scoring, scoring2026
+from hiyari.bridge.studies.ncap.protocols import CA2026, NcapTest
 from hiyari.bridge.studies.ncap.stack import stack_factory
 from hiyari.units import mps_to_kmh
 
@@ -89,7 +89,7 @@ def _grid_row(point: NcapPoint) -> dict:
         "index": point.index,
         "seed": point.seed,
         "row": p.get(t.row, ""),
-        "col": p.get(t.col, "") if t.col else "",
+        "col": "/".join(str(p.get(c, "")) for c in (t.col, t.col2) if c),
     }
 
 
@@ -143,6 +143,8 @@ def _number(value: object) -> float | None:
 def point_weight(test: NcapTest, row: dict) -> float:
     """The weight of a results row's point in its scenario (scoring.point_weight): its test
     speed and overlap when the grid has them."""
+    if test.protocol == CA2026:  # CA-FC 5.3.1: every Standard Range grid cell the same
+        return 1.0
     speed = _number(row.get("row")) if test.row == "Ego_speed_kph" else None
     overlap = _number(row.get("col")) if test.col == "Overlap" else None
     return scoring.point_weight(test.key, speed, overlap)
@@ -153,11 +155,15 @@ def score_row(test: NcapTest, row: dict) -> scoring.PointScore:
     light, weight = row["lighting"], point_weight(test, row)
     if row["status"] != "ok":
         return scoring.PointScore(
-            test.key, light, None, f"run failed: {row['error']}", weight=weight
+            test.scenario_key, light, None, f"run failed: {row['error']}", weight=weight
         )
     if str(row.get("tested", "")) == "False":  # hiyari.risk.metrics.tested: never a pass
         return scoring.PointScore(
-            test.key, light, None, f"not tested: {row.get('untested_cause', '')}", weight=weight
+            test.scenario_key,
+            light,
+            None,
+            f"not tested: {row.get('untested_cause', '')}",
+            weight=weight,
         )
     test_kmh = float(row["test_speed_kmh"])
     held, worst = scoring.speed_held([float(row["speed_before_window_kmh"])], test_kmh)
@@ -166,7 +172,7 @@ def score_row(test: NcapTest, row: dict) -> scoring.PointScore:
         below, above = scoring.SPEED_TOLERANCE_KMH.value  # type: ignore[misc]
         why = "it braked before the test began" if worst < test_kmh else "it was too fast"
         return scoring.PointScore(
-            test.key, light, None,
+            test.scenario_key, light, None,
             f"the ego was at {worst:.1f} km/h before the test window (true TTC {window} s), "
             f"not at its test speed {test_kmh:g} km/h (+{above:g} / -{below:g} km/h): {why}",
             weight=weight,
@@ -174,13 +180,13 @@ def score_row(test: NcapTest, row: dict) -> scoring.PointScore:
     contact = str(row["contact"]) == "True"
     impact = _number(row.get("impact_speed_kmh")) if contact else 0.0
     impact = 0.0 if impact is None else impact
+    if test.relative and contact:  # CCRm, targets moving along the ego's path: Vrel_impact
+        impact = float(row["relative_impact_speed_kmh"])
     voids = False
+    warning = _number(row.get("warning_ttc_s"))
     if test.scoring == "fcw":
-        w = _number(row.get("warning_ttc_s"))
-        colour, _ = scoring.fcw_colour(test_kmh, w, contact, impact)
+        colour, _ = scoring.fcw_colour(test_kmh, warning, contact, impact)
     elif test.scoring == "ccr":
-        if test.relative:  # CCRm: the relative impact speed
-            impact = float(row["relative_impact_speed_kmh"]) if contact else 0.0
         colour = scoring.ccr_colour(test.key, test_kmh, contact, impact)
         limit = float(scoring.CCRS_AVOIDANCE_UP_TO_KMH.value)  # type: ignore[arg-type]
         voids = test.key == "CCRs" and contact and test_kmh <= limit + 1e-9
@@ -188,8 +194,16 @@ def score_row(test: NcapTest, row: dict) -> scoring.PointScore:
         colour = scoring.headon_colour(test_kmh, contact, impact)
     elif test.scoring == "avoidance":
         colour = scoring.avoidance_colour(contact)
+    elif test.scoring == "rel26":
+        colour = scoring2026.rel_colour(test_kmh, contact, impact)
+        limit = float(scoring.CCRS_AVOIDANCE_UP_TO_KMH.value)  # type: ignore[arg-type]
+        voids = test.key == "CCRs" and contact and test_kmh <= limit + 1e-9
+    elif test.scoring == "fcw26":
+        colour = scoring2026.fcw_rel_colour(test_kmh, warning, contact, impact)
+    elif test.scoring == "fcwttc26":
+        colour = scoring2026.fcw_ttc_colour(warning)
+    elif test.scoring == "headon26":
+        colour = scoring2026.reduction_colour(test_kmh, contact, impact)
     else:
-        key = "relative_impact_speed_kmh" if test.relative else "impact_speed_kmh"
-        impact = float(row[key]) if contact else 0.0
         colour = scoring.impact_colour(contact, impact, float(row["reference_kmh"]))
-    return scoring.PointScore(test.key, light, colour, weight=weight, voids_scenario=voids)
+    return scoring.PointScore(test.scenario_key, light, colour, weight=weight, voids_scenario=voids)

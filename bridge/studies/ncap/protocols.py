@@ -15,12 +15,17 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+from hiyari.bridge.studies.ncap.scoring2026 import SCENARIO_POINTS
 from hiyari.checkout import shared_dir
 from hiyari.errors import HiyariError
 
 #: Environment variable naming the root of the Euro NCAP set (the folder holding OpenSCENARIO/).
 ENV_DIR = "HIYARI_NCAP_DIR"
+#: The 2023 protocols, the ones 'all' runs (the files in the shared set).
 PROTOCOL_NAMES = ("c2c", "vru")
+#: The 2026 Crash Avoidance - Frontal Collisions protocol: Vector's CA-FC_2026 folder, not in
+#: the shared set (--files names a checkout holding it).
+CA2026 = "ca2026"
 
 
 @dataclass(frozen=True)
@@ -50,13 +55,29 @@ class NcapTest:
     lightings: tuple[str, ...] = ("day",)
     night_assumed: bool = True
     points_assumed: bool = True
+    #: the scenario the test's points count in (the 2026 FCW grids share their AEB
+    #: scenario's points); '' is the test's own key
+    scenario: str = ""
+    #: a second column parameter: the grid's columns are its pairs with ``col`` (the 2026
+    #: crossing grids run each speed pair from both sides)
+    col2: str | None = None
+    #: the run parameter naming the lighting ('Sunny' day, 'Night' night) when the file's
+    #: own grid holds both (2026); None: hiyari runs each lighting of ``lightings``
+    lighting_param: str | None = None
+
+    @property
+    def scenario_key(self) -> str:
+        """The scenario whose points the test's points count in."""
+        return self.scenario or self.key
 
     @property
     def relative(self) -> bool:
         """Whether the point is judged by the relative impact speed (CCRm, and the VRU
         longitudinal tests: the target moves along the ego's path) rather than the ego's
         impact speed (CCRs and CCRb: Vimpact, SA Collision Avoidance v10.4.1 3.3.1)."""
-        return self.key == "CCRm" or (self.protocol == "vru" and self.target_speed is not None)
+        if self.key == "CCRm":
+            return True
+        return self.protocol in ("vru", CA2026) and self.target_speed is not None
 
 
 _C = "AEB_C2C_2023/Variations/NCAP_AEB_C2C_"
@@ -134,12 +155,74 @@ TESTS: tuple[NcapTest, ...] = (
 )  # fmt: skip
 
 
+_F = "CA-FC_2026/Variations/StandardRange/"
+_P26 = {"points_assumed": False}
+_DN26 = {"lightings": DN, "night_assumed": False, "lighting_param": "LightingConditions"}
+_IL = "ImpactLocation"
+_SPEED = "Ego_speed_kph"
+
+
+def _t26(key: str, title: str, file: str, col: str | None, scoring: str, **kw: object) -> NcapTest:
+    """A 2026 test; its points are its scenario's (scoring2026.SCENARIO_POINTS), a test that
+    counts in another's scenario (``scenario``) adds none."""
+    points = 0.0 if kw.get("scenario") else float(SCENARIO_POINTS.value[key])  # type: ignore[index]
+    return NcapTest(
+        key, CA2026, title, f"{_F}{file}.xosc", _SPEED, col, scoring, points, **{**_P26, **kw}
+    )  # type: ignore[arg-type]
+
+
+#: The 2026 CA-FC Standard Range tests of Vector's set, in datasheet order. Points:
+#: scoring2026.SCENARIO_POINTS. Scoring: "rel26" (relative impact speed bands), "fcw26"
+#: (CCRs/CMRs FCW: the robot brakes after the warning), "fcwttc26" (CPLA/CBLA FCW: warning
+#: TTC), "headon26" (speed reduction), "avoidance" (no contact).
+TESTS_2026: tuple[NcapTest, ...] = (
+    _t26("CCRs", "Car-to-Car Rear stationary (AEB)", "CCRs", _IL, "rel26"),
+    _t26("CCRs-FCW", "Car-to-Car Rear stationary (FCW)", "CCRs_FCW", _IL, "fcw26",
+         scenario="CCRs"),
+    _t26("CCRm", "Car-to-Car Rear moving", "CCRm", _IL, "rel26",
+         target_speed="Target_init_speed_kph"),
+    _t26("CCRb", "Car-to-Car Rear braking", "CCRb", _IL, "rel26",
+         target_speed="Target_init_speed_kph"),
+    _t26("CCFhos", "Car-to-Car Front head-on straight", "CCFhos", _IL, "headon26"),
+    _t26("CCFtap", "Car-to-Car Front turn-across-path", "CCFtap", "Target_final_speed_kph",
+         "avoidance"),
+    _t26("CCCscp", "Car-to-Car Crossing straight crossing path", "CCCscp",
+         "Target_final_speed_kph", "avoidance", col2="ImpactSide"),
+    _t26("CMRs", "Car-to-Motorcyclist Rear stationary (AEB)", "CMRs", _IL, "rel26"),
+    _t26("CMRs-FCW", "Car-to-Motorcyclist Rear stationary (FCW)", "CMRs_FCW", _IL, "fcw26",
+         scenario="CMRs"),
+    _t26("CMRb", "Car-to-Motorcyclist Rear braking", "CMRb", _IL, "rel26",
+         target_speed="Target_init_speed_kph"),
+    _t26("CMFtap", "Car-to-Motorcyclist Front turn-across-path", "CMFtap",
+         "Target_final_speed_kph", "avoidance"),
+    _t26("CMCscp", "Car-to-Motorcyclist Crossing straight crossing path", "CMCscp",
+         "Target_final_speed_kph", "avoidance", col2="ImpactSide"),
+    _t26("CPLA", "Pedestrian Longitudinal Adult (AEB)", "CPLA", _IL, "rel26",
+         target_speed="Target_final_speed_kph", **_DN26),
+    _t26("CPLA-FCW", "Pedestrian Longitudinal Adult (FCW)", "CPLA_FCW", _IL, "fcwttc26",
+         scenario="CPLA", **_DN26),
+    _t26("CPNA", "Pedestrian Nearside Adult", "CPNA", _IL, "rel26", **_DN26),
+    _t26("CPFA", "Pedestrian Farside Adult", "CPFA", _IL, "rel26", **_DN26),
+    _t26("CPNCO", "Pedestrian Nearside Child Obstructed", "CPNCO", _IL, "rel26", **_DN26),
+    _t26("CBLA", "Bicyclist Longitudinal Adult (AEB)", "CBLA", _IL, "rel26",
+         target_speed="Target_final_speed_kph"),
+    _t26("CBLA-FCW", "Bicyclist Longitudinal Adult (FCW)", "CBLA_FCW", _IL, "fcwttc26",
+         scenario="CBLA"),
+    _t26("CBNA", "Bicyclist Nearside Adult", "CBNA", _IL, "rel26"),
+    _t26("CBNAO", "Bicyclist Nearside Adult Obstructed", "CBNAO", _IL, "rel26"),
+    _t26("CBFA", "Bicyclist Farside Adult", "CBFA", _IL, "rel26"),
+)  # fmt: skip
+
+
 def select_tests(protocol: str, only: tuple[str, ...] = ()) -> list[NcapTest]:
-    """The tests of ``protocol`` ("c2c", "vru" or "all"), restricted to the keys in ``only``
-    when given; HiyariError for an unknown protocol or key."""
-    if protocol not in (*PROTOCOL_NAMES, "all"):
-        raise HiyariError(f"--protocol: unknown protocol {protocol!r} (c2c, vru or all)")
-    tests = [t for t in TESTS if protocol in ("all", t.protocol)]
+    """The tests of ``protocol`` ("c2c", "vru", "all": both, or "ca2026"), restricted to the
+    keys in ``only`` when given; HiyariError for an unknown protocol or key."""
+    if protocol not in (*PROTOCOL_NAMES, "all", CA2026):
+        raise HiyariError(f"--protocol: unknown protocol {protocol!r} (c2c, vru, all or ca2026)")
+    if protocol == CA2026:
+        tests = list(TESTS_2026)
+    else:
+        tests = [t for t in TESTS if protocol in ("all", t.protocol)]
     unknown = sorted(set(only) - {t.key for t in tests})
     if unknown:
         known = ", ".join(t.key for t in tests)

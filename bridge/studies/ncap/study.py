@@ -100,11 +100,19 @@ def plan(options: NcapOptions) -> list[NcapPoint]:
             for run in load_plan(path, setup).expand():
                 if options.speeds and not _kept_speed(test, run.params, options.speeds):
                     continue
+                if test.lighting_param and _lighting(run.params, test) != lighting:
+                    continue
                 pid = f"{test.key}-{lighting}-{run.index:03d}"
                 points.append(NcapPoint(pid, test, lighting, run, options.stack))
     if not points:
         raise HiyariError(f"--speeds {_speeds(options.speeds)}: no test point has these speeds")
     return points
+
+
+def _lighting(params: dict[str, str], test: NcapTest) -> str:
+    """'night' when the run's own lighting parameter says Night, else 'day'."""
+    value = str(params.get(test.lighting_param or "", "")).strip().lower()
+    return "night" if value == "night" else "day"
 
 
 def _speeds(speeds: tuple[float, ...]) -> str:
@@ -256,12 +264,16 @@ def totals(tests: list[NcapTest], points: object, protocol: str) -> list[scoring
     out = []
     for name in PROTOCOL_NAMES if protocol == "all" else (protocol,):
         mine = [t for t in tests if t.protocol == name]
+        scenarios = list(dict.fromkeys(t.scenario_key for t in mine))
         if mine:
             out.append(
                 scoring.protocol_score(
-                    name, (scoring.scenario_score(t.key, t.max_points, pts) for t in mine)
+                    name,
+                    (scoring.scenario_score(
+                        s, sum(t.max_points for t in mine if t.scenario_key == s), pts)
+                     for s in scenarios),
                 )
-            )
+            )  # fmt: skip
     return out
 
 

@@ -91,11 +91,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         "ncap",
         help="run the Euro NCAP 2023 AEB Car-to-Car and VRU grids, score them, write the datasheet",
         description="Runs every test point of the Euro NCAP 2023 AEB C2C and VRU protocols' "
-        "grids (Vector's OpenSCENARIO files), scores them and writes the datasheet; exit "
+        "grids (Vector's OpenSCENARIO files), or the 2026 CA-FC Standard Range grids, scores "
+        "them and writes the datasheet; exit "
         "status 3 when a test point lost points or could not be tested.",
     )
     p.add_argument("-o", "--out", required=True, help="output folder (resumable)")
-    p.add_argument("--protocol", choices=["c2c", "vru", "all"], default="all")
+    p.add_argument("--protocol", choices=["c2c", "vru", "all", "ca2026"], default="all",
+                   help="all: the 2023 C2C and VRU protocols; ca2026: the 2026 Crash "
+                        "Avoidance - Frontal Collisions Standard Range (Vector's CA-FC_2026 "
+                        "folder under --files)")  # fmt: skip
     p.add_argument("--perception", choices=["perfect", "sensors"], default="perfect")
     p.add_argument("--environment", default="clear",
                    help="disturbance preset of the day tests; night tests run at night with "

@@ -25,10 +25,11 @@ NOT_TESTED_RGB = (0.75, 0.75, 0.75)
 
 
 def _order(values: list[str]) -> list[str]:
-    """Distinct values, numerically sorted when all are numbers, else in first-seen order."""
+    """Distinct values, numerically sorted when all are numbers (or '/'-joined numbers: the
+    two-parameter columns), else in first-seen order."""
     seen = list(dict.fromkeys(values))
     try:
-        return sorted(seen, key=float)
+        return sorted(seen, key=lambda v: tuple(float(x) for x in v.split("/")))
     except ValueError:
         return seen
 
@@ -36,7 +37,7 @@ def _order(values: list[str]) -> list[str]:
 def _cell_text(test: NcapTest, row: dict, score: PointScore) -> str:
     if score.colour is None:
         return "NT"
-    if test.scoring == "fcw":
+    if test.scoring in ("fcw", "fcwttc26"):
         w = row["warning_ttc_s"]
         return f"{float(w):.1f}s" if w != "" else "no FCW"
     if str(row["contact"]) != "True":
@@ -67,7 +68,7 @@ def grid_figure(test: NcapTest, rows: list[dict], scores: list[PointScore]) -> F
         ax.set_ylim(len(ys), 0)
         ax.set_xticks([i + 0.5 for i in range(len(xs))], xs if test.col else [""] * len(xs))
         ax.set_yticks([i + 0.5 for i in range(len(ys))], ys)
-        ax.set_xlabel(test.col or "")
+        ax.set_xlabel(" / ".join(c for c in (test.col, test.col2) if c))
         ax.set_ylabel(test.row)
         ax.tick_params(length=0, labelsize=8)
         ax.set_title(f"{test.key} {light}", fontsize=9)

@@ -10,7 +10,8 @@ import json
 from pathlib import Path
 
 from hiyari.atomic import write_text_atomic
-from hiyari.bridge.studies.ncap import scoring
+from hiyari.bridge.studies.ncap import scoring, scoring2026
+from hiyari.bridge.studies.ncap.protocols import CA2026
 from hiyari.bridge.studies.ncap.study import NcapResult, activation_counts
 from hiyari.bridge.studies.report.ncap.grids import write_grid
 
@@ -35,11 +36,17 @@ def write_report(out: Path, result: NcapResult, config: dict) -> Path:
     page's path."""
     e = html.escape
     by_test = {t.key: t for t in result.tests}
-    parts = [f"<h1>Euro NCAP 2023 AEB datasheet</h1><p>Test protocols: "
-             f"{e(scoring.C2C_TEST)}; {e(scoring.VRU_TEST)}. Assessment: "
-             f"{e(scoring.C2C_ASSESSMENT)}; {e(scoring.VRU_ASSESSMENT)}. "
-             '<span class="assumed">Values marked assumed were not found in the assessment '
-             "protocols (see the rules below).</span></p>"]  # fmt: skip
+    is_2026 = any(t.protocol == CA2026 for t in result.tests)
+    if is_2026:
+        docs = (f"<h1>Euro NCAP 2026 Crash Avoidance datasheet (Standard Range)</h1><p>Test "
+                f"protocol: {e(scoring2026.CAFC_TEST)}. Assessment: "
+                f"{e(scoring2026.CAFC_ASSESSMENT)}. ")  # fmt: skip
+    else:
+        docs = (f"<h1>Euro NCAP 2023 AEB datasheet</h1><p>Test protocols: "
+                f"{e(scoring.C2C_TEST)}; {e(scoring.VRU_TEST)}. Assessment: "
+                f"{e(scoring.C2C_ASSESSMENT)}; {e(scoring.VRU_ASSESSMENT)}. ")  # fmt: skip
+    parts = [docs + '<span class="assumed">Values marked assumed were not found in the '
+             "assessment protocols (see the rules below).</span></p>"]  # fmt: skip
     parts.append("<h2 id=scores>Scores</h2>" + _table(
         ["protocol", "points", "of", "%"],
         [[p.protocol.upper(), f"{p.points:.2f}", f"{p.max_points:.2f}", f"{p.percent:.1f}"]
@@ -88,7 +95,7 @@ def write_report(out: Path, result: NcapResult, config: dict) -> Path:
         ["rule", "value", "source", "assumed"],
         [[e(r.name), e(r.shown or _value(r.value)), e(r.source),
           "assumed" if r.assumed else "found"]
-         for r in scoring.RULES]))  # fmt: skip
+         for r in (scoring2026.RULES if is_2026 else ()) + scoring.RULES]))  # fmt: skip
     parts.append("<h2 id=config>Configuration</h2>" + _table(
         ["", ""], [[e(k), e(str(v))] for k, v in config.items()]))  # fmt: skip
     page = out / "report.html"
