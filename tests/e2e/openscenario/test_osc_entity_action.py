@@ -8,27 +8,19 @@ from pathlib import Path
 
 import pytest
 from openscenario_files import (
+    global_story,
     run_scenario,
     scenario_xml,
     teleport_speed,
-    time_condition,
     write,
 )
-
-
-def _global_event(name: str, action: str, t: float) -> str:
-    return f"""<Story name="{name}S"><Act name="{name}A"><ManeuverGroup maximumExecutionCount="1" name="{name}G">
-<Actors selectTriggeringEntities="false"/><Maneuver name="{name}M"><Event name="{name}" priority="override">
-<Action name="{name}Action"><GlobalAction>{action}</GlobalAction></Action>
-<StartTrigger><ConditionGroup>{time_condition(t, name + "t", "none")}</ConditionGroup></StartTrigger></Event></Maneuver></ManeuverGroup>
-<StartTrigger><ConditionGroup>{time_condition(0, name + "go", "none")}</ConditionGroup></StartTrigger></Act></Story>"""
 
 
 def test_delete_then_add_an_entity(tmp_path: Path) -> None:
     delete = '<EntityAction entityRef="Car"><DeleteEntityAction/></EntityAction>'
     add = """<EntityAction entityRef="Car"><AddEntityAction><Position>
 <LanePosition roadId="0" laneId="-3" s="300"/></Position></AddEntityAction></EntityAction>"""
-    stories = _global_event("Del", delete, 0.99) + _global_event("Add", add, 1.99)
+    stories = global_story("Del", delete, 0.99) + global_story("Add", add, 1.99)
     init = teleport_speed("Ego", -4, 20, 10) + teleport_speed("Car", -3, 100, 10)
     seen = {}
 

@@ -7,20 +7,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from openscenario_files import (
+    global_story,
     run_scenario,
     scenario_xml,
     teleport_speed,
-    time_condition,
     write,
 )
-
-
-def _global(name: str, action: str, t: float) -> str:
-    return f"""<Story name="{name}S"><Act name="{name}A"><ManeuverGroup maximumExecutionCount="1" name="{name}G">
-<Actors selectTriggeringEntities="false"/><Maneuver name="{name}M"><Event name="{name}" priority="override">
-<Action name="{name}Action"><GlobalAction>{action}</GlobalAction></Action>
-<StartTrigger><ConditionGroup>{time_condition(t, name + "t", "none")}</ConditionGroup></StartTrigger></Event></Maneuver></ManeuverGroup>
-<StartTrigger><ConditionGroup>{time_condition(0, name + "g", "none")}</ConditionGroup></StartTrigger></Act></Story>"""
 
 
 def _traffic(tmp_path: Path, stories: str, until: float) -> dict[float, dict[str, float]]:
@@ -43,7 +35,11 @@ def test_source_sink_and_stop(tmp_path: Path) -> None:
     sink = """<TrafficAction trafficName="snk"><TrafficSinkAction radius="15">
 <Position><LanePosition roadId="0" laneId="-3" s="150"/></Position></TrafficSinkAction></TrafficAction>"""
     stop = '<TrafficAction trafficName="src"><TrafficStopAction/></TrafficAction>'
-    stories = _global("Src", source, 0.0) + _global("Snk", sink, 0.0) + _global("Stop", stop, 1.99)
+    stories = (
+        global_story("Src", source, 0.0)
+        + global_story("Snk", sink, 0.0)
+        + global_story("Stop", stop, 1.99)
+    )
     seen = _traffic(tmp_path, stories, 6.5)
     ids = set().union(*seen.values())
     # 2 a second from 0.05 s (at 0.55, 1.05, 1.55) until the stop at 2.0 s: 3 vehicles
@@ -56,7 +52,7 @@ def test_swarm_around_the_ego(tmp_path: Path) -> None:
     swarm = """<TrafficAction trafficName="sw"><TrafficSwarmAction innerRadius="15" numberOfVehicles="5" offset="20"
 semiMajorAxis="120" semiMinorAxis="15"><CentralObject entityRef="Ego"/><InitialSpeedRange lowerLimit="8" upperLimit="12"/>
 <DirectionOfTravelDistribution same="1" opposite="0"/></TrafficSwarmAction></TrafficAction>"""
-    seen = _traffic(tmp_path, _global("Sw", swarm, 0.0), 3.5)
+    seen = _traffic(tmp_path, global_story("Sw", swarm, 0.0), 3.5)
     assert len(seen[1.0]) == 5 and len(seen[3.0]) == 5
     # all around the ego (10 m/s from 20): within the ellipse along x
     ego_x = 20 + 10 * 3.0 + 1.4
@@ -73,7 +69,7 @@ def test_area_filled_on_a_road_range_and_kept_full(tmp_path: Path) -> None:
 </ScenarioObjectTemplate></EntityDistributionEntry></EntityDistribution></TrafficDistributionEntry></TrafficDistribution>
 <TrafficArea><RoadRange><RoadCursor roadId="0" s="300"><Lane id="-3"/><Lane id="-4"/></RoadCursor>
 <RoadCursor roadId="0" s="400"/></RoadRange></TrafficArea></TrafficAreaAction></TrafficAction>"""
-    seen = _traffic(tmp_path, _global("Ar", area, 0.0), 2.5)
+    seen = _traffic(tmp_path, global_story("Ar", area, 0.0), 2.5)
     # 4 SUMO vehicles between s = 300 and 400 (box centres within 5 m of its spots); one that
     # drives out no longer counts and another takes its place
     for t in (1.0, 2.0):
